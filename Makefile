@@ -1,0 +1,39 @@
+# The two commands of the README: `make run` and `make test`. Both install the Debian
+# packages they need first (`make deps`), so they work on a fresh Debian 12 machine.
+BUILD_DIR ?= build
+JOBS ?= $(shell nproc)
+PACKAGES = cmake g++ make libeigen3-dev libspectra-dev libcgal-dev libgeographiclib-dev \
+           libyaml-cpp-dev libhdf5-dev catch2 libcli11-dev
+SUDO = $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
+EXAMPLE ?= cases/examples/seed-room.yaml
+
+.PHONY: deps build run test sanitize bench clean
+
+deps:
+	@missing=$$(for p in $(PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'install ok installed' || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  if [ -n "$(SUDO)" ]; then echo "make deps: not root, installing with sudo:$$missing"; fi; \
+	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $$missing; \
+	fi
+
+build: deps
+	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release
+	cmake --build $(BUILD_DIR) -j $(JOBS)
+
+run: build
+	./$(BUILD_DIR)/radnet run $(EXAMPLE) -o $(BUILD_DIR)/$(notdir $(basename $(EXAMPLE))).h5
+
+test: build
+	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+# Debug build with AddressSanitizer and UndefinedBehaviorSanitizer, all tests.
+sanitize: deps
+	cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=Debug -DRADNET_SANITIZE=ON
+	cmake --build build-sanitize -j $(JOBS)
+	cd build-sanitize && ctest --output-on-failure -j $(JOBS)
+
+bench: build
+	./$(BUILD_DIR)/bench/bench_solver docs/solver-benchmark.md
+
+clean:
+	rm -rf $(BUILD_DIR) build-sanitize

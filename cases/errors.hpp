@@ -1,0 +1,38 @@
+#pragma once
+// The two error channels of the command line (DESIGN.md §3): bad input (exit 2) with a
+// location, and numerical failure (exit 3).
+#include <stdexcept>
+#include <string>
+
+namespace radnet::cases {
+
+/// Bad input. what() reads "FILE:LINE:COLUMN: MESSAGE" (1-based line and column;
+/// 0 when the problem has no position, e.g. a file that cannot be opened).
+class InputError : public std::runtime_error {
+ public:
+  InputError(const std::string& file, int line, int column, const std::string& message)
+      : std::runtime_error(file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " + message),
+        file_(file), line_(line), column_(column) {}
+  const std::string& file() const { return file_; }
+  int line() const { return line_; }
+  int column() const { return column_; }
+
+ private:
+  std::string file_;
+  int line_;
+  int column_;
+};
+
+/// A numerical failure: no convergence, singular system, non-finite result.
+class NumericalError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// A check of `radnet check` failed (exit 1).
+class CheckFailed : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace radnet::cases

@@ -1,0 +1,134 @@
+// radnet command line (DESIGN.md §3): run, check, validate.
+// Exit codes: 0 success, 1 a check failed, 2 bad input, 3 numerical failure.
+#include "cases/errors.hpp"
+#include "cases/expectations.hpp"
+#include "cases/network_case.hpp"
+#include "cases/run_network.hpp"
+#include "cases/yaml_support.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+namespace {
+
+using namespace radnet::cases;
+
+constexpr int kExitCheckFailed = 1;
+constexpr int kExitBadInput = 2;
+constexpr int kExitNumerical = 3;
+
+NetworkCase loadCase(const std::string& path) {
+  const YamlDocument doc = YamlDocument::load(path);
+  if (!doc.root().IsMap()) throw doc.error(doc.root(), "expected a case: a mapping with 'name' and 'network' keys");
+  if (isNetworkCase(doc)) return loadNetworkCase(doc);
+  if (doc.root()["geometry"].IsDefined())
+    throw doc.error(doc.root()["geometry"],
+                    "geometry cases are not supported by this build yet (the geometry stage is issue 3); "
+                    "give the network directly under 'network:'");
+  throw doc.error(doc.root(), "case: missing required key 'network' (the network form: nodes and view_factors)");
+}
+
+std::string defaultOutput(const std::string& case_path) {
+  return std::filesystem::path(case_path).stem().string() + ".h5";
+}
+
+// Runs `body`, mapping each error channel to its exit code with a message on stderr.
+template <class Body>
+int guarded(Body&& body) {
+  try {
+    return body();
+  } catch (const InputError& e) {
+    std::cerr << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const NumericalError& e) {
+    std::cerr << "radnet: numerical failure: " << e.what() << "\n";
+    return kExitNumerical;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "radnet: invalid input: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "radnet: out of memory: the case is too large for this machine\n";
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "radnet: error: " << e.what() << "\n";
+    return kExitNumerical;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"radnet: thermal radiation network solver for spacecraft"};
+  app.require_subcommand(1);
+
+  std::string run_case, run_output;
+  bool quiet = false;
+  int threads = 0;
+  long long seed = -1;
+  auto* run = app.add_subcommand("run", "run a case: network, eigenpairs, band solves; write HDF5");
+  run->add_option("case", run_case, "case file (YAML)")->required();
+  run->add_option("-o,--output", run_output, "output HDF5 file (default: <case name>.h5 in this directory)");
+  run->add_flag("-q,--quiet", quiet, "no progress on stderr");
+  run->add_option("--threads", threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+  run->add_option("--seed", seed, "random seed for ray casting (overrides the case)");
+
+  std::vector<std::string> check_cases;
+  auto* check = app.add_subcommand("check", "run cases with an 'expect:' block; exit 1 on any regression");
+  check->add_option("cases", check_cases, "case files (YAML)")->required();
+
+  std::string validate_case;
+  auto* validate = app.add_subcommand("validate", "parse and validate a case only");
+  validate->add_option("case", validate_case, "case file (YAML)")->required();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return kExitBadInput;
+  }
+
+  std::ostringstream sink;
+  if (*run) {
+    return guarded([&] {
+      const NetworkCase c = loadCase(run_case);
+      std::ostream& progress = quiet ? static_cast<std::ostream&>(sink) : std::cerr;
+      const NetworkRunResult r = runNetworkCase(c, progress);
+      const std::string out = run_output.empty() ? defaultOutput(run_case) : run_output;
+      writeNetworkResult(c, r, out);
+      printNetworkSummary(c, r, std::cout);
+      if (!quiet) std::cerr << "radnet: wrote " << out << "\n";
+      return 0;
+    });
+  }
+  if (*validate) {
+    return guarded([&] {
+      const NetworkCase c = loadCase(validate_case);
+      std::cout << validate_case << ": valid (" << c.names.size() << " nodes)\n";
+      return 0;
+    });
+  }
+  // check: every case runs; the worst outcome decides the exit code.
+  int worst = 0, failed_total = 0;
+  for (const auto& path : check_cases) {
+    const int code = guarded([&] {
+      const NetworkCase c = loadCase(path);
+      if (c.expectations.empty()) throw InputError(path, 0, 0, "no 'expect:' block: nothing to check");
+      const NetworkRunResult r = runNetworkCase(c, sink);
+      std::cout << "== " << path << " (" << c.name << ")\n";
+      const int failed = evaluateExpectations(
+          c.expectations, [&](const Expectation& x) { return lookupNetworkResult(c, r, x); }, std::cout);
+      failed_total += failed;
+      return failed ? kExitCheckFailed : 0;
+    });
+    worst = std::max(worst, code);
+  }
+  std::cout << (failed_total == 0 && worst == 0 ? "all checks passed" : "checks FAILED") << "\n";
+  return worst;
+}

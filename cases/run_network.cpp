@@ -1,0 +1,179 @@
+#include "cases/run_network.hpp"
+
+#include "cases/errors.hpp"
+#include "cases/hdf5_writer.hpp"
+
+#include <chrono>
+#include <ctime>
+#include <iomanip>
+#include <ostream>
+
+namespace radnet::cases {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+std::string utcNow() {
+  const std::time_t t = std::time(nullptr);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  return buf;
+}
+
+// The dense exact GR costs O(n³); above this the low-rank form E V C Vᵀ E is used.
+constexpr int kDenseExchangeLimit = 3000;
+
+}  // namespace
+
+NetworkRunResult runNetworkCase(const NetworkCase& c, std::ostream& progress) {
+  NetworkRunResult r;
+  auto t0 = Clock::now();
+  r.network = std::make_unique<solver::Network>(c.buildNetwork());
+  const solver::Network& net = *r.network;
+  r.timings_s.emplace_back("network", secondsSince(t0));
+  progress << "radnet: network of " << net.size() << " nodes (" << (net.isSparse() ? "sparse" : "dense")
+           << "), reciprocity correction moved a view factor by at most " << net.reciprocity().max_view_factor_change
+           << "\n";
+
+  // One eigendecomposition serves both bands: bound ‖S‖ by the larger reflectance of the two.
+  Eigen::VectorXd s = c.reflectance.cwiseQuotient(c.area);
+  if (c.emissivity) s = s.cwiseMax((Eigen::VectorXd::Ones(net.size()) - *c.emissivity).cwiseQuotient(c.area));
+  solver::EigenRequest req;
+  req.rank = c.solver.rank;
+  req.tolerance = c.solver.tolerance;
+  req.max_s = std::max(s.maxCoeff(), 1e-300);
+  req.max_rank = c.solver.max_rank;
+  req.method = c.solver.method;
+  t0 = Clock::now();
+  r.pairs = solver::decomposeConductance(net, req);
+  r.timings_s.emplace_back("eigendecomposition", secondsSince(t0));
+  if (r.pairs.status != solver::Status::Converged)
+    throw NumericalError(std::string("eigendecomposition of G ") + solver::toString(r.pairs.status) + ": " +
+                         r.pairs.message);
+  progress << "radnet: " << r.pairs.rank() << " eigenpairs (" << solver::toString(r.pairs.method) << "), largest |λ| "
+           << std::abs(r.pairs.values[0]) << " m², largest dropped ≤ " << r.pairs.dropped_bound << " m²\n";
+
+  t0 = Clock::now();
+  const double refine_tol = c.solver.refineEnabled() ? c.solver.tolerance : 0.0;
+  solver::LowRankBandSolver band(net, r.pairs, c.reflectance);
+  r.solution = band.solve(c.initial_exitance, refine_tol);
+  r.timings_s.emplace_back("band solve", secondsSince(t0));
+  if (r.solution.status != solver::Status::Converged)
+    throw NumericalError(std::string("band solve ") + solver::toString(r.solution.status) + ": " +
+                         r.solution.message);
+
+  if (c.emissivity) {
+    t0 = Clock::now();
+    const bool exact = c.solver.refineEnabled() && net.size() <= kDenseExchangeLimit;
+    if (exact) {
+      r.exchange = solver::exchangeFactorsDense(net, *c.emissivity);
+      r.exchange_method = "dense LU";
+    } else {
+      solver::LowRankBandSolver ir(net, r.pairs, Eigen::VectorXd::Ones(net.size()) - *c.emissivity);
+      r.exchange = solver::exchangeFactorsLowRank(net, ir, *c.emissivity);
+      r.exchange_method = "low rank";
+    }
+    r.timings_s.emplace_back("exchange factors", secondsSince(t0));
+    if (r.exchange->status != solver::Status::Converged)
+      throw NumericalError(std::string("exchange factors ") + solver::toString(r.exchange->status) + ": " +
+                           r.exchange->message);
+  }
+  return r;
+}
+
+void writeNetworkResult(const NetworkCase& c, const NetworkRunResult& r, const std::string& path) {
+  const solver::Network& net = *r.network;
+  Hdf5Writer h5(path);
+  h5.attribute("/meta", "program", std::string("radnet"));
+  h5.attribute("/meta", "version", std::string(RADNET_VERSION));
+  h5.attribute("/meta", "case_name", c.name);
+  h5.attribute("/meta", "created_utc", utcNow());
+  h5.writeText("/meta/case_yaml", c.yaml_text);
+
+  h5.writeStrings("/nodes/name", net.names());
+  h5.writeVector("/nodes/area", net.area(), "m^2");
+  h5.writeVector("/nodes/reflectance", c.reflectance, "1");
+  h5.writeVector("/nodes/initial_exitance", c.initial_exitance, "W/m^2");
+  if (c.emissivity) h5.writeVector("/nodes/emissivity", *c.emissivity, "1");
+
+  h5.writeMatrix("/network/view_factors", net.viewFactors(), "1");
+  h5.writeVector("/network/space_view_factor", net.spaceViewFactor(), "1");
+  h5.writeMatrix("/network/conductance", net.denseConductance(), "m^2");
+  h5.attribute("/network", "reciprocity_max_view_factor_change", net.reciprocity().max_view_factor_change);
+  h5.attribute("/network", "closure_max_row_overshoot", net.reciprocity().max_row_overshoot);
+  if (r.exchange) {
+    h5.writeMatrix("/network/radiative_exchange", r.exchange->gr, "m^2");
+    h5.writeVector("/network/gr_space", r.exchange->gr_space, "m^2");
+    h5.attribute("/network/radiative_exchange", "method", r.exchange_method);
+  }
+
+  h5.writeVector("/eigen/values", r.pairs.values, "m^2");
+  h5.writeMatrix("/eigen/vectors", r.pairs.vectors, "1");
+  h5.attribute("/eigen", "rank", static_cast<long long>(r.pairs.rank()));
+  h5.attribute("/eigen", "tolerance", r.pairs.tolerance);
+  h5.attribute("/eigen", "method", std::string(solver::toString(r.pairs.method)));
+  h5.attribute("/eigen", "largest_dropped_eigenvalue_bound", r.pairs.dropped_bound);
+
+  h5.writeVector("/solution/exitance", r.solution.exitance.col(0), "W/m^2");
+  h5.writeVector("/solution/irradiance", r.solution.irradiance.col(0), "W/m^2");
+
+  for (const auto& [stage, seconds] : r.timings_s) h5.attribute("/report", "time_" + stage + "_s", seconds);
+  h5.attribute("/report", "truncation_residual", r.solution.max_residual);
+  h5.attribute("/report", "refined", static_cast<long long>(r.solution.refined));
+  h5.attribute("/report", "refine_iterations", static_cast<long long>(r.solution.refine_iterations));
+  h5.attribute("/report", "view_factor_error", net.reciprocity().max_view_factor_change);
+  h5.commit();
+}
+
+void printNetworkSummary(const NetworkCase& c, const NetworkRunResult& r, std::ostream& out) {
+  const solver::Network& net = *r.network;
+  out << "case " << c.name << ": " << net.size() << " nodes\n";
+  out << std::left << std::setw(16) << "node" << std::right << std::setw(12) << "area m²" << std::setw(10) << "ρ"
+      << std::setw(10) << "ε" << std::setw(14) << "M_o W/m²" << std::setw(14) << "M W/m²" << std::setw(14)
+      << "H W/m²" << std::setw(12) << "F_space" << "\n";
+  for (int i = 0; i < net.size(); ++i) {
+    out << std::left << std::setw(16) << net.names()[static_cast<size_t>(i)] << std::right << std::setprecision(5)
+        << std::setw(12) << net.area()[i] << std::setw(10) << c.reflectance[i] << std::setw(10);
+    if (c.emissivity) out << (*c.emissivity)[i]; else out << "-";
+    out << std::setw(14) << c.initial_exitance[i] << std::setw(14) << r.solution.exitance(i, 0) << std::setw(14)
+        << r.solution.irradiance(i, 0) << std::setw(12) << net.spaceViewFactor()[i] << "\n";
+  }
+  out << "eigenpairs: rank " << r.pairs.rank() << " of " << net.size() << " (" << solver::toString(r.pairs.method)
+      << "), largest dropped |λ| ≤ " << r.pairs.dropped_bound << " m²\n";
+  out << "residual ‖M_o − (I − S G) M‖/‖M_o‖ with the full G: " << std::scientific << std::setprecision(3)
+      << r.solution.max_residual << std::defaultfloat
+      << (r.solution.refined ? " (refined, " + std::to_string(r.solution.refine_iterations) + " CG iterations)"
+                             : " (eigenvector radiosity, not refined)")
+      << "\n";
+  if (r.exchange)
+    out << "exchange factors GR (" << r.exchange_method << "), Σ GR_space = " << r.exchange->gr_space.sum()
+        << " m²\n";
+  out << "timings:";
+  for (const auto& [stage, seconds] : r.timings_s) out << " " << stage << " " << std::setprecision(3) << seconds << " s;";
+  out << "\n";
+}
+
+std::optional<double> lookupNetworkResult(const NetworkCase& c, const NetworkRunResult& r, const Expectation& x) {
+  const solver::Network& net = *r.network;
+  const int i = x.node.empty() ? -1 : net.indexOf(x.node);
+  const int j = x.to.empty() ? -1 : net.indexOf(x.to);
+  (void)c;
+  if (x.quantity == "exitance") return r.solution.exitance(i, 0);
+  if (x.quantity == "irradiance") return r.solution.irradiance(i, 0);
+  if (x.quantity == "view_factor") return net.denseConductance()(i, j) / net.area()[i];
+  if (x.quantity == "space_view_factor") return net.spaceViewFactor()[i];
+  if (x.quantity == "eigenvalue") {
+    if (x.index >= r.pairs.rank()) return std::nullopt;
+    return r.pairs.values[x.index];
+  }
+  if (!r.exchange) return std::nullopt;
+  if (x.quantity == "radiative_exchange") return r.exchange->gr(i, j);
+  if (x.quantity == "gr_space") return r.exchange->gr_space[i];
+  return std::nullopt;
+}
+
+}  // namespace radnet::cases

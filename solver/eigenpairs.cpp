@@ -1,0 +1,177 @@
+#include "solver/eigenpairs.hpp"
+
+#include <Spectra/MatOp/DenseSymMatProd.h>
+#include <Spectra/MatOp/SparseSymMatProd.h>
+#include <Spectra/SymEigsSolver.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace radnet::solver {
+
+const char* toString(EigenMethod m) {
+  switch (m) {
+    case EigenMethod::Auto: return "auto";
+    case EigenMethod::Dense: return "dense";
+    case EigenMethod::Lanczos: return "lanczos";
+  }
+  return "unknown";
+}
+
+namespace {
+
+// Reorders pairs by decreasing |λ| (eq. 15 keeps the largest magnitudes, of either sign).
+EigenPairs sortedByMagnitude(const Eigen::VectorXd& values, const Eigen::MatrixXd& vectors) {
+  std::vector<int> order(static_cast<size_t>(values.size()));
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return std::abs(values[a]) > std::abs(values[b]); });
+  EigenPairs out;
+  out.values.resize(values.size());
+  out.vectors.resize(vectors.rows(), values.size());
+  for (int i = 0; i < values.size(); ++i) {
+    out.values[i] = values[order[static_cast<size_t>(i)]];
+    out.vectors.col(i) = vectors.col(order[static_cast<size_t>(i)]);
+  }
+  return out;
+}
+
+template <class Op>
+EigenPairs runLanczos(Op& op, int n, int nev, int max_iterations, double tolerance) {
+  const int ncv = std::min(n, std::max(2 * nev + 1, nev + 20));
+  Spectra::SymEigsSolver<Op> eigs(op, nev, ncv);
+  eigs.init();
+  const Eigen::Index nconv =
+      eigs.compute(Spectra::SortRule::LargestMagn, max_iterations, tolerance, Spectra::SortRule::LargestMagn);
+  EigenPairs out;
+  out.method = EigenMethod::Lanczos;
+  out.iterations = static_cast<int>(eigs.num_iterations());
+  if (eigs.info() == Spectra::CompInfo::Successful) {
+    out = [&] {
+      EigenPairs p = sortedByMagnitude(eigs.eigenvalues(), eigs.eigenvectors());
+      p.method = EigenMethod::Lanczos;
+      p.iterations = static_cast<int>(eigs.num_iterations());
+      return p;
+    }();
+  } else {
+    out.status = Status::NotConverged;
+    out.message = "Lanczos (Spectra) converged " + std::to_string(nconv) + " of " + std::to_string(nev) +
+                  " eigenpairs in " + std::to_string(eigs.num_iterations()) + " restarts";
+  }
+  return out;
+}
+
+}  // namespace
+
+int rankForTolerance(const Eigen::Ref<const Eigen::VectorXd>& values, double tolerance, double max_s) {
+  // values sorted by decreasing |λ|: keep until every dropped |λ| · s_max ≤ tolerance.
+  int k = static_cast<int>(values.size());
+  while (k > 0 && std::abs(values[k - 1]) * max_s <= tolerance) --k;
+  return std::max(k, 1);
+}
+
+EigenPairs truncate(const EigenPairs& pairs, int k) {
+  k = std::clamp(k, 0, pairs.rank());
+  EigenPairs out = pairs;
+  out.values = pairs.values.head(k);
+  out.vectors = pairs.vectors.leftCols(k);
+  out.dropped_bound = k < pairs.rank() ? std::abs(pairs.values[k]) : pairs.dropped_bound;
+  return out;
+}
+
+Eigen::MatrixXd reconstruct(const EigenPairs& pairs) {
+  return pairs.vectors * pairs.values.asDiagonal() * pairs.vectors.transpose();
+}
+
+EigenPairs denseEigenPairs(const Eigen::Ref<const Eigen::MatrixXd>& g) {
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(g);
+  if (es.info() != Eigen::Success) {
+    EigenPairs out;
+    out.status = Status::NotConverged;
+    out.message = "dense symmetric eigensolver (Eigen) did not converge";
+    return out;
+  }
+  EigenPairs out = sortedByMagnitude(es.eigenvalues(), es.eigenvectors());
+  out.method = EigenMethod::Dense;
+  return out;
+}
+
+EigenPairs lanczosEigenPairs(const SymmetricOperator& op, int nev, int max_iterations, double tolerance) {
+  SymmetricOperator copy = op;
+  return runLanczos(copy, op.n, nev, max_iterations, tolerance);
+}
+
+namespace {
+
+EigenPairs lanczosOnNetwork(const Network& net, int nev, const EigenRequest& req) {
+  const int n = net.size();
+  if (net.isSparse()) {
+    Spectra::SparseSymMatProd<double> op(net.sparseConductance());
+    return runLanczos(op, n, nev, req.lanczos_max_iterations, req.lanczos_tolerance);
+  }
+  const Eigen::MatrixXd g = net.denseConductance();
+  Spectra::DenseSymMatProd<double> op(g);
+  return runLanczos(op, n, nev, req.lanczos_max_iterations, req.lanczos_tolerance);
+}
+
+bool finite(const EigenPairs& p) { return p.values.allFinite() && p.vectors.allFinite(); }
+
+}  // namespace
+
+EigenPairs decomposeConductance(const Network& net, const EigenRequest& req) {
+  const int n = net.size();
+  if (req.rank < 0) throw std::invalid_argument("eigen rank must be >= 0 (0 = from the tolerance)");
+  if (req.rank == 0 && !(std::isfinite(req.tolerance) && req.tolerance >= 0))
+    throw std::invalid_argument("eigen truncation tolerance must be finite and >= 0");
+  const double max_s = req.max_s > 0 ? req.max_s : net.area().cwiseInverse().maxCoeff();
+  const int cap = req.max_rank > 0 ? std::min(req.max_rank, n) : n;
+
+  EigenMethod method = req.method;
+  if (method == EigenMethod::Auto) {
+    // Ashdown §10: QR-type methods below ~400 elements, Lanczos above, unless most pairs are wanted.
+    method = (n <= 400 || (req.rank > 0 && 4 * req.rank > n)) ? EigenMethod::Dense : EigenMethod::Lanczos;
+  }
+  // Spectra needs nev < n and a Krylov space larger than nev.
+  if (method == EigenMethod::Lanczos && (n < 4 || req.rank >= n - 1)) method = EigenMethod::Dense;
+
+  EigenPairs result;
+  if (method == EigenMethod::Dense) {
+    EigenPairs all = denseEigenPairs(net.denseConductance());
+    if (all.status != Status::Converged) return all;
+    const int k = req.rank > 0 ? std::min(req.rank, n) : std::min(cap, rankForTolerance(all.values, req.tolerance, max_s));
+    result = truncate(all, k);
+  } else if (req.rank > 0) {
+    result = lanczosOnNetwork(net, req.rank, req);
+    result.dropped_bound = result.status == Status::Converged ? std::abs(result.values[result.rank() - 1]) : 0.0;
+  } else {
+    // Grow the number of pairs until the smallest one found already meets the tolerance
+    // (then every pair not found does too, since Lanczos returns the largest |λ|).
+    int nev = std::min(16, n - 2);
+    for (;;) {
+      result = lanczosOnNetwork(net, nev, req);
+      if (result.status != Status::Converged) return result;
+      const bool enough = std::abs(result.values[nev - 1]) * max_s <= req.tolerance;
+      if (enough || nev >= cap) break;
+      if (2 * nev >= n - 1) {  // most of the spectrum is wanted: the dense solver is cheaper
+        EigenPairs all = denseEigenPairs(net.denseConductance());
+        if (all.status != Status::Converged) return all;
+        result = truncate(all, std::min(cap, rankForTolerance(all.values, req.tolerance, max_s)));
+        result.tolerance = req.tolerance;
+        return result;
+      }
+      nev = std::min(2 * nev, n - 2);
+    }
+    const int k = std::min(cap, rankForTolerance(result.values, req.tolerance, max_s));
+    result = truncate(result, k);
+    if (k == nev) result.dropped_bound = std::abs(result.values[k - 1]);  // bound: not yet computed
+  }
+  result.tolerance = req.rank > 0 ? 0.0 : req.tolerance;
+  if (result.status == Status::Converged && !finite(result)) {
+    result.status = Status::NonFinite;
+    result.message = "eigenpairs of G are not finite";
+  }
+  return result;
+}
+
+}  // namespace radnet::solver

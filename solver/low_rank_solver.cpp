@@ -1,0 +1,178 @@
+#include "solver/low_rank_solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace radnet::solver {
+
+Eigen::VectorXd relativeResidual(const Eigen::Ref<const Eigen::MatrixXd>& gm, const Eigen::VectorXd& area,
+                                 const Eigen::VectorXd& reflectance, const Eigen::Ref<const Eigen::MatrixXd>& mo,
+                                 const Eigen::Ref<const Eigen::MatrixXd>& m) {
+  const Eigen::VectorXd s = reflectance.cwiseQuotient(area);
+  const Eigen::MatrixXd r = mo - m + s.asDiagonal() * gm;
+  Eigen::VectorXd out(mo.cols());
+  for (Eigen::Index c = 0; c < mo.cols(); ++c) {
+    const double scale = mo.col(c).norm();
+    out[c] = scale > 0 ? r.col(c).norm() / scale : r.col(c).norm();
+  }
+  return out;
+}
+
+LowRankBandSolver::LowRankBandSolver(const Network& net, const EigenPairs& pairs, Eigen::VectorXd reflectance)
+    : net_(net), rho_(std::move(reflectance)), values_(pairs.values), vectors_(pairs.vectors) {
+  checkRange(net, rho_, "reflectance", 0.0, 1.0);
+  if (pairs.status != Status::Converged || pairs.rank() == 0 || vectors_.rows() != net.size()) {
+    status_ = pairs.status == Status::Converged ? Status::Singular : pairs.status;
+    message_ = "no usable eigenpairs: " + (pairs.message.empty() ? std::string("rank 0") : pairs.message);
+    return;
+  }
+  sqrt_rho_ = rho_.cwiseSqrt();
+  const Eigen::VectorXd s = rho_.cwiseQuotient(net.area());
+  // W = Vᵀ S V (k×k) costs O(n k²); then C = (I − Λ W)⁻¹ Λ = Λ (I − W Λ)⁻¹ (push-through).
+  const Eigen::MatrixXd w = vectors_.transpose() * s.asDiagonal() * vectors_;
+  const int k = rank();
+  const Eigen::MatrixXd lhs = Eigen::MatrixXd::Identity(k, k) - values_.asDiagonal() * w;
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(lhs);
+  // I − Λ W is singular when S G'_k has the eigenvalue 1 (a closed, lossless cavity).
+  lu.setThreshold(1e-13);
+  if (!lu.isInvertible()) {
+    status_ = Status::Singular;
+    message_ = "I − Λ Vᵀ S V is singular: the network has no loss (closed cavity with ρ = 1?)";
+    return;
+  }
+  core_ = lu.solve(Eigen::MatrixXd(values_.asDiagonal()));
+  core_ = 0.5 * (core_ + core_.transpose());  // symmetric in exact arithmetic
+  if (!core_.allFinite()) {
+    status_ = Status::NonFinite;
+    message_ = "low-rank core C is not finite";
+  }
+}
+
+Eigen::MatrixXd LowRankBandSolver::applyCore(const Eigen::Ref<const Eigen::MatrixXd>& x) const {
+  // Three thin products, O(n k P): never the n×n matrix V C Vᵀ.
+  return vectors_ * (core_ * (vectors_.transpose() * x));
+}
+
+BandSolution LowRankBandSolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& mo, double refine_tolerance,
+                                      int max_refine_iterations) const {
+  BandSolution sol;
+  if (mo.rows() != net_.size()) throw std::invalid_argument("initial exitance must have one row per node");
+  if (!mo.allFinite()) throw std::invalid_argument("initial exitance contains a non-finite value");
+  if (status_ != Status::Converged) {
+    sol.status = status_;
+    sol.message = message_;
+    return sol;
+  }
+  // A H' = G' M' = V C Vᵀ M_o and M' = M_o + ρ ∘ H' (exact for G'_k).
+  sol.irradiance = net_.area().cwiseInverse().asDiagonal() * applyCore(mo);
+  sol.exitance = mo + rho_.asDiagonal() * sol.irradiance;
+  sol.residual = relativeResidual(net_.applyConductance(sol.exitance), net_.area(), rho_, mo, sol.exitance);
+  sol.max_residual = sol.residual.size() ? sol.residual.maxCoeff() : 0.0;
+  if (refine_tolerance > 0 && sol.max_residual > refine_tolerance) refine(mo, sol, refine_tolerance, max_refine_iterations);
+  if (!sol.exitance.allFinite() || !sol.irradiance.allFinite()) {
+    sol.status = Status::NonFinite;
+    sol.message = "band solution is not finite";
+  }
+  return sol;
+}
+
+Eigen::MatrixXd LowRankBandSolver::applyPreconditioner(const Eigen::Ref<const Eigen::MatrixXd>& r,
+                                                       bool low_rank) const {
+  // P = A⁻¹ + A⁻¹ R^½ V C Vᵀ R^½ A⁻¹ = (A − R^½ G'_k R^½)⁻¹ by the same identity as the core.
+  const Eigen::VectorXd inv_area = net_.area().cwiseInverse();
+  Eigen::MatrixXd y = inv_area.asDiagonal() * r;
+  if (!low_rank) return y;
+  const Eigen::MatrixXd t = sqrt_rho_.asDiagonal() * y;
+  return y + inv_area.asDiagonal() * (sqrt_rho_.asDiagonal() * applyCore(t));
+}
+
+// Refinement with the full G. The symmetric form of eq. 20 without dividing by ρ:
+// with z = R^½ H (so M = M_o + R^½ z),
+//     (A − R^½ G R^½) z = R^½ G M_o,
+// which is SPD when the spectral radius of S G is below 1, and valid for ρ = 0 nodes
+// (their z is 0). Batched conjugate gradients, one GEMM with G per iteration for all
+// columns, preconditioned by the low-rank inverse (A − R^½ G'_k R^½)⁻¹. If truncation
+// made that preconditioner indefinite (dropped negative λ), CG falls back to the
+// diagonal preconditioner A⁻¹ and says so in the message. The M-form residual is
+// A⁻¹ R^½ (b − K z), so each column stops on the same criterion that is reported.
+void LowRankBandSolver::refine(const Eigen::Ref<const Eigen::MatrixXd>& mo, BandSolution& sol, double tol,
+                               int max_iter) const {
+  const Eigen::VectorXd& area = net_.area();
+  const Eigen::VectorXd r_weight = area.cwiseInverse().cwiseProduct(sqrt_rho_);
+  const Eigen::Index cols = mo.cols();
+  auto applyK = [&](const Eigen::MatrixXd& z) -> Eigen::MatrixXd {
+    return area.asDiagonal() * z - sqrt_rho_.asDiagonal() * net_.applyConductance(sqrt_rho_.asDiagonal() * z);
+  };
+  Eigen::VectorXd scale(cols);
+  for (Eigen::Index c = 0; c < cols; ++c) scale[c] = std::max(mo.col(c).norm(), std::numeric_limits<double>::min());
+
+  const Eigen::MatrixXd b = sqrt_rho_.asDiagonal() * net_.applyConductance(mo);
+  Eigen::MatrixXd z = sqrt_rho_.asDiagonal() * sol.irradiance;  // the low-rank answer as the start
+  bool low_rank_pc = true;
+  sol.refined = true;
+  int total = 0;
+  for (int restart = 0; restart < 4 && total < max_iter; ++restart) {
+    Eigen::MatrixXd r = b - applyK(z);
+    Eigen::MatrixXd y = applyPreconditioner(r, low_rank_pc);
+    Eigen::VectorXd rz = (r.cwiseProduct(y)).colwise().sum().transpose();
+    if (low_rank_pc && (rz.array() < 0).any()) {  // indefinite preconditioner: use the diagonal one
+      low_rank_pc = false;
+      y = applyPreconditioner(r, false);
+      rz = (r.cwiseProduct(y)).colwise().sum().transpose();
+    }
+    Eigen::MatrixXd p = y;
+    auto converged = [&](const Eigen::MatrixXd& res) {
+      Eigen::VectorXd rel = (r_weight.asDiagonal() * res).colwise().norm().transpose().cwiseQuotient(scale);
+      return std::pair<bool, Eigen::VectorXd>{(rel.array() <= tol).all(), rel};
+    };
+    bool done = converged(r).first;
+    bool broke_down = false;
+    while (!done && total < max_iter) {
+      const Eigen::MatrixXd q = applyK(p);
+      const Eigen::VectorXd pq = (p.cwiseProduct(q)).colwise().sum().transpose();
+      Eigen::VectorXd alpha = Eigen::VectorXd::Zero(cols);
+      for (Eigen::Index c = 0; c < cols; ++c) {
+        if (rz[c] == 0.0) continue;  // column already exact
+        if (!(pq[c] > 0.0)) { broke_down = true; break; }
+        alpha[c] = rz[c] / pq[c];
+      }
+      if (broke_down) break;
+      z += p * alpha.asDiagonal();
+      r -= q * alpha.asDiagonal();
+      ++total;
+      done = converged(r).first;
+      if (done) break;
+      y = applyPreconditioner(r, low_rank_pc);
+      const Eigen::VectorXd rz_new = (r.cwiseProduct(y)).colwise().sum().transpose();
+      if (low_rank_pc && (rz_new.array() < 0).any()) { low_rank_pc = false; break; }  // restart with A⁻¹
+      Eigen::VectorXd beta = Eigen::VectorXd::Zero(cols);
+      for (Eigen::Index c = 0; c < cols; ++c) beta[c] = rz[c] > 0 ? rz_new[c] / rz[c] : 0.0;
+      p = y + p * beta.asDiagonal();
+      rz = rz_new;
+      if (!z.allFinite()) break;
+    }
+    if (broke_down) {
+      sol.status = Status::Singular;
+      sol.message = "refinement: A − R^½ G R^½ is not positive definite (spectral radius of S G ≥ 1?)";
+      break;
+    }
+    // Recompute the true residual (the recurrence drifts); restart if it is not yet met.
+    sol.exitance = mo + sqrt_rho_.asDiagonal() * z;
+    const Eigen::MatrixXd gm = net_.applyConductance(sol.exitance);
+    sol.residual = relativeResidual(gm, area, rho_, mo, sol.exitance);
+    sol.max_residual = sol.residual.maxCoeff();
+    sol.irradiance = area.cwiseInverse().asDiagonal() * gm;
+    if (sol.max_residual <= tol || !z.allFinite()) break;
+  }
+  sol.refine_iterations = total;
+  if (sol.status == Status::Converged && !(sol.max_residual <= tol)) {
+    sol.status = Status::NotConverged;
+    sol.message = "refinement reached " + std::to_string(total) + " iterations with residual " +
+                  std::to_string(sol.max_residual) + " > " + std::to_string(tol);
+  }
+  if (!low_rank_pc && sol.message.empty())
+    sol.message = "low-rank preconditioner was indefinite; refined with the diagonal preconditioner";
+}
+
+}  // namespace radnet::solver

@@ -1,0 +1,109 @@
+#pragma once
+// The radiative transfer (RT) network of Ashdown 2001, §3–4: n surface nodes with areas
+// A_i and form factors F_ij, and its symmetric conductance matrix G = A F (eq. 10, 13).
+// Space is the black, cold enclosure of eq. 6 and is not a node: its share of each row
+// is F_space,i = 1 − Σ_j F_ij − F_blocked,i.
+#include <Eigen/Dense>
+#include <Eigen/SparseCore>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace radnet::solver {
+
+/// Stefan–Boltzmann constant σ, W m⁻² K⁻⁴ (CODATA 2018, exact in SI since 2019).
+inline constexpr double kStefanBoltzmann = 5.670374419e-8;
+
+/// A caller mistake in network data; the message names the offending node(s) and value.
+class NetworkError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+/// Tolerances for accepting measured or rounded form factors.
+struct NetworkTolerances {
+  /// Allowed excess of a row sum Σ_j F_ij (+ F_blocked,i) over 1 (absolute, view-factor
+  /// units). 1e-3 admits tables printed to 4 decimals, as from other tools or papers.
+  double row_sum = 1e-3;
+  /// Allowed reciprocity defect, in view-factor units: the largest change that the
+  /// symmetrisation makes to any F_ij, |A_i F_ij − A_j F_ji| / (2 min(A_i, A_j)).
+  double reciprocity = 1e-2;
+};
+
+/// What the reciprocity correction did (reported, never silent).
+struct ReciprocityReport {
+  double max_view_factor_change = 0.0;  ///< largest |ΔF_ij| caused by symmetrising, –
+  int worst_from = -1;                  ///< node i of the worst pair (-1: already symmetric)
+  int worst_to = -1;                    ///< node j of the worst pair
+  double max_row_overshoot = 0.0;       ///< largest Σ_j F_ij − 1 after symmetrising (clipped to F_space = 0), –
+};
+
+/// An RT network with a symmetric conductance matrix, dense or sparse.
+///
+/// Reciprocity enforcement (documented in docs/solver.md): Monte Carlo or rounded form
+/// factors give A F that is not exactly symmetric. The conductance used everywhere is the
+/// symmetric part G = ½(A F + (A F)ᵀ), the closest symmetric matrix in the Frobenius
+/// norm. Each F_ij moves by (A_j F_ji − A_i F_ij)/(2 A_i); the largest move is reported
+/// and must stay below NetworkTolerances::reciprocity. F_space is then recomputed from
+/// the symmetric G; a row pushed a hair above 1 by the correction gets F_space = 0 and
+/// the overshoot is reported.
+class Network {
+ public:
+  /// @param names         node names, unique and non-empty
+  /// @param area_m2       node areas A_i, m², finite and > 0
+  /// @param view_factors  F (n×n), row i = fractions of power leaving i arriving at j, –
+  /// @param blocked       F_blocked,i: fraction of rays from i stopped by inactive sides (may be empty = 0), –
+  /// @throws NetworkError naming the bad value when the data are invalid
+  Network(std::vector<std::string> names, Eigen::VectorXd area_m2, const Eigen::MatrixXd& view_factors,
+          Eigen::VectorXd blocked = {}, NetworkTolerances tolerances = {});
+
+  /// Sparse form: the same contract, for networks where most pairs cannot see each other.
+  Network(std::vector<std::string> names, Eigen::VectorXd area_m2,
+          const Eigen::SparseMatrix<double>& view_factors, Eigen::VectorXd blocked = {},
+          NetworkTolerances tolerances = {});
+
+  int size() const { return static_cast<int>(names_.size()); }
+  const std::vector<std::string>& names() const { return names_; }
+  const Eigen::VectorXd& area() const { return area_; }
+  bool isSparse() const { return sparse_; }
+
+  /// Symmetric conductance G = ½(AF + (AF)ᵀ), m². Dense copy (built on demand for sparse networks).
+  Eigen::MatrixXd denseConductance() const;
+  /// Symmetric conductance in sparse storage (valid only when isSparse()).
+  const Eigen::SparseMatrix<double>& sparseConductance() const { return g_sparse_; }
+  /// Y = G X for a block of vectors, without forming a dense copy of a sparse G.
+  Eigen::MatrixXd applyConductance(const Eigen::Ref<const Eigen::MatrixXd>& x) const;
+
+  /// Reciprocal form factors F = A⁻¹ G, –.
+  Eigen::MatrixXd viewFactors() const;
+  /// F_space,i = 1 − Σ_j F_ij − F_blocked,i (after the reciprocity correction), –.
+  const Eigen::VectorXd& spaceViewFactor() const { return f_space_; }
+  const Eigen::VectorXd& blockedFraction() const { return blocked_; }
+  const ReciprocityReport& reciprocity() const { return reciprocity_; }
+
+  /// Gershgorin bound on |λ| of G (Ashdown 2001 §12, eq. 38): max_i Σ_j |G_ij|, m².
+  double spectralBound() const;
+
+  /// Index of a node by name, or -1.
+  int indexOf(const std::string& name) const;
+
+ private:
+  void validateCommon(const NetworkTolerances& tol);
+  void finish(const Eigen::VectorXd& row_sums_after, const NetworkTolerances& tol);
+
+  std::vector<std::string> names_;
+  Eigen::VectorXd area_;
+  Eigen::VectorXd blocked_;
+  Eigen::VectorXd f_space_;
+  bool sparse_ = false;
+  Eigen::MatrixXd g_dense_;
+  Eigen::SparseMatrix<double> g_sparse_;
+  ReciprocityReport reciprocity_;
+};
+
+/// Checks that every entry of a per-node property lies in [lo, hi] and is finite.
+/// @throws NetworkError naming the node, the property and the value.
+void checkRange(const Network& net, const Eigen::VectorXd& values, const char* what, double lo, double hi);
+
+}  // namespace radnet::solver
