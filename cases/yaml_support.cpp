@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 namespace radnet::cases {
@@ -109,7 +110,13 @@ double YamlDocument::number(const YAML::Node& node, const std::string& what, dou
   if (!std::isfinite(value)) throw error(node, what + ": expected a finite number, found '" + node.Scalar() + "'");
   if (value < lo || value > hi) {
     std::ostringstream s;
-    s << what << ": " << value << " is out of range; expected a value in [" << lo << ", " << hi << "]";
+    s << what << ": " << value << " is out of range; expected ";
+    // Bounds at the ends of double's range read as open-ended ranges, not as 1.8e308.
+    const double big = std::numeric_limits<double>::max();
+    if (lo == std::numeric_limits<double>::min() && hi == big) s << "a value > 0";
+    else if (hi == big) s << "a value >= " << lo;
+    else if (lo == -big) s << "a value <= " << hi;
+    else s << "a value in [" << lo << ", " << hi << "]";
     throw error(node, s.str());
   }
   return value;

@@ -1,0 +1,201 @@
+// The command-line contract (DESIGN.md §3) through the real executable: exit codes,
+// located error messages, atomic output, and the HDF5 layout read back with the HDF5 API.
+#include <catch2/catch.hpp>
+#include <hdf5.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// A fresh directory per test, removed at the end.
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    std::string tmpl = (fs::temp_directory_path() / "radnet-test-XXXXXX").string();
+    path = ::mkdtemp(tmpl.data());
+  }
+  ~TempDir() { fs::remove_all(path); }
+};
+
+struct Run {
+  int exit_code;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+Run radnet(const std::string& args, const TempDir& dir) {
+  const fs::path out = dir.path / "stdout.txt", err = dir.path / "stderr.txt";
+  const std::string cmd = "cd '" + dir.path.string() + "' && '" + RADNET_EXE + "' " + args + " > '" + out.string() +
+                          "' 2> '" + err.string() + "'";
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+}
+
+std::string source(const std::string& rel) { return std::string(RADNET_SOURCE_DIR) + "/" + rel; }
+
+struct H5Data {
+  std::vector<hsize_t> dims;
+  std::vector<double> values;
+  std::string units;
+};
+
+H5Data readDataset(hid_t file, const std::string& name) {
+  H5Data d;
+  hid_t ds = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  REQUIRE(ds >= 0);
+  hid_t space = H5Dget_space(ds);
+  const int rank = H5Sget_simple_extent_ndims(space);
+  d.dims.resize(static_cast<size_t>(rank));
+  H5Sget_simple_extent_dims(space, d.dims.data(), nullptr);
+  hid_t type = H5Dget_type(ds);
+  if (H5Tget_class(type) == H5T_FLOAT) {
+    hsize_t count = 1;
+    for (auto x : d.dims) count *= x;
+    d.values.resize(count);
+    H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, d.values.data());
+  }
+  if (H5Aexists(ds, "units") > 0) {
+    hid_t attr = H5Aopen(ds, "units", H5P_DEFAULT);
+    hid_t atype = H5Aget_type(attr);
+    std::string buf(H5Tget_size(atype), '\0');
+    H5Aread(attr, atype, buf.data());
+    d.units = buf.c_str();
+    H5Tclose(atype);
+    H5Aclose(attr);
+  } else {
+    d.units = "<missing>";
+  }
+  H5Tclose(type);
+  H5Sclose(space);
+  H5Dclose(ds);
+  return d;
+}
+
+}  // namespace
+
+TEST_CASE("cli: run the seed room writes the HDF5 layout with units, and the paper's M'_2") {
+  TempDir dir;
+  const Run r = radnet("run '" + source("cases/examples/seed-room.yaml") + "' -o out.h5", dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.find("ceiling") != std::string::npos);
+  const fs::path h5 = dir.path / "out.h5";
+  REQUIRE(fs::exists(h5));
+  for (const auto& e : fs::directory_iterator(dir.path)) CHECK(e.path().string().find(".tmp-") == std::string::npos);
+
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  hid_t file = H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  REQUIRE(file >= 0);
+  struct Expect {
+    const char* name;
+    std::vector<hsize_t> dims;
+    const char* units;
+  };
+  const std::vector<Expect> layout = {
+      {"/nodes/name", {6}, ""},
+      {"/nodes/area", {6}, "m^2"},
+      {"/network/view_factors", {6, 6}, "1"},
+      {"/network/space_view_factor", {6}, "1"},
+      {"/network/conductance", {6, 6}, "m^2"},
+      {"/eigen/values", {2}, "m^2"},
+      {"/eigen/vectors", {6, 2}, "1"},
+      {"/solution/exitance", {6}, "W/m^2"},
+      {"/meta/case_yaml", {}, ""},
+  };
+  for (const auto& e : layout) {
+    INFO(e.name);
+    const H5Data d = readDataset(file, e.name);
+    CHECK(d.dims == e.dims);
+    CHECK(d.units == e.units);
+  }
+  const H5Data m = readDataset(file, "/solution/exitance");
+  const double paper[6] = {1.2431, 0.3695, 0.3695, 0.3484, 0.3484, 0.1322};
+  for (int i = 0; i < 6; ++i) CHECK(std::abs(m.values[static_cast<size_t>(i)] - paper[i]) <= 5e-5);
+  // G symmetric as stored (row-major on disk).
+  const H5Data g = readDataset(file, "/network/conductance");
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) CHECK(g.values[static_cast<size_t>(i * 6 + j)] == g.values[static_cast<size_t>(j * 6 + i)]);
+  CHECK(H5Aexists_by_name(file, "/report", "truncation_residual", H5P_DEFAULT) > 0);
+  CHECK(H5Aexists_by_name(file, "/eigen", "rank", H5P_DEFAULT) > 0);
+  CHECK(H5Aexists_by_name(file, "/meta", "created_utc", H5P_DEFAULT) > 0);
+  H5Fclose(file);
+}
+
+TEST_CASE("cli: check passes the shipped examples and fails a wrong expectation with exit 1") {
+  TempDir dir;
+  const Run ok = radnet("check '" + source("cases/examples/seed-room.yaml") + "' '" +
+                            source("cases/examples/random-network.yaml") + "' '" +
+                            source("cases/examples/parallel-plates.yaml") + "'",
+                        dir);
+  INFO(ok.out << ok.err);
+  CHECK(ok.exit_code == 0);
+  CHECK(ok.out.find("FAIL") == std::string::npos);
+
+  std::string text = slurp(source("cases/examples/seed-room.yaml"));
+  text.replace(text.find("value: 1.2431"), 13, "value: 1.3431");
+  std::ofstream(dir.path / "wrong.yaml") << text;
+  const Run bad = radnet("check wrong.yaml", dir);
+  INFO(bad.out << bad.err);
+  CHECK(bad.exit_code == 1);
+  CHECK(bad.out.find("FAIL exitance ceiling") != std::string::npos);
+}
+
+TEST_CASE("cli: every malformed case exits 2 with file:line:column and writes nothing") {
+  const std::regex located(R"(\.yaml:[0-9]+:[0-9]+: )");
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(source("tests/data/bad"))) {
+    TempDir dir;
+    const std::string text = slurp(entry.path());
+    const std::string expected = text.substr(10, text.find('\n') - 10);  // after "# expect: " on the first line
+    const Run r = radnet("run '" + entry.path().string() + "' -o out.h5", dir);
+    INFO(entry.path().filename().string() << "\nstderr: " << r.err);
+    CHECK(r.exit_code == 2);
+    CHECK(std::regex_search(r.err, located));
+    CHECK(r.err.find(expected) != std::string::npos);
+    CHECK(r.err.find(entry.path().filename().string()) != std::string::npos);
+    CHECK_FALSE(fs::exists(dir.path / "out.h5"));
+    CHECK(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator{}) == 2);  // stdout.txt, stderr.txt
+    const Run v = radnet("validate '" + entry.path().string() + "'", dir);
+    CHECK(v.exit_code == 2);
+    ++count;
+  }
+  CHECK(count >= 20);
+}
+
+TEST_CASE("cli: a missing file and bad arguments exit 2, a numerical failure exits 3 with no output") {
+  TempDir dir;
+  const Run missing = radnet("run no-such-case.yaml -o out.h5", dir);
+  CHECK(missing.exit_code == 2);
+  CHECK(missing.err.find("no-such-case.yaml:0:0: cannot open") != std::string::npos);
+  CHECK(radnet("frobnicate", dir).exit_code == 2);
+  CHECK(radnet("run", dir).exit_code == 2);
+
+  const Run num = radnet("run '" + source("tests/data/numerical/lossless-cavity.yaml") + "' -o out.h5", dir);
+  INFO(num.err);
+  CHECK(num.exit_code == 3);
+  CHECK(num.err.find("numerical failure") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir.path / "out.h5"));
+}
+
+TEST_CASE("cli: validate accepts the shipped examples") {
+  TempDir dir;
+  for (const char* ex : {"seed-room", "random-network", "parallel-plates"}) {
+    const Run r = radnet(std::string("validate '") + source("cases/examples/") + ex + ".yaml'", dir);
+    INFO(ex << ": " << r.err);
+    CHECK(r.exit_code == 0);
+  }
+}
