@@ -33,14 +33,16 @@ hid_t createLinkProps() {
 }
 
 void writeStringAttribute(hid_t obj, const std::string& name, const std::string& value) {
+  // Variable-length UTF-8, so that h5py returns str rather than bytes.
   Handle type{checkId(H5Tcopy(H5T_C_S1), "string type"), H5Tclose};
-  check(H5Tset_size(type.id, value.size() + 1), "string size");
+  check(H5Tset_size(type.id, H5T_VARIABLE), "variable string");
   check(H5Tset_cset(type.id, H5T_CSET_UTF8), "string charset");
   Handle space{checkId(H5Screate(H5S_SCALAR), "scalar space"), H5Sclose};
   if (H5Aexists(obj, name.c_str()) > 0) H5Adelete(obj, name.c_str());
   Handle attr{checkId(H5Acreate2(obj, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), "attribute " + name),
               H5Aclose};
-  check(H5Awrite(attr.id, type.id, value.c_str()), "write attribute " + name);
+  const char* ptr = value.c_str();
+  check(H5Awrite(attr.id, type.id, &ptr), "write attribute " + name);
 }
 
 }  // namespace

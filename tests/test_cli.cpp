@@ -71,9 +71,11 @@ H5Data readDataset(hid_t file, const std::string& name) {
   if (H5Aexists(ds, "units") > 0) {
     hid_t attr = H5Aopen(ds, "units", H5P_DEFAULT);
     hid_t atype = H5Aget_type(attr);
-    std::string buf(H5Tget_size(atype), '\0');
-    H5Aread(attr, atype, buf.data());
-    d.units = buf.c_str();
+    REQUIRE(H5Tis_variable_str(atype) > 0);
+    char* text = nullptr;
+    H5Aread(attr, atype, &text);
+    d.units = text ? text : "";
+    H5free_memory(text);
     H5Tclose(atype);
     H5Aclose(attr);
   } else {

@@ -1,0 +1,168 @@
+#include "geometry/scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace radnet::geometry {
+
+int Scene::nodeIndex(const std::string& name) const {
+  for (size_t i = 0; i < nodes_.size(); ++i)
+    if (nodes_[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+int Scene::nodeFor(const std::string& name, int side, const std::string& label) {
+  if (name.empty()) return -1;
+  const int existing = nodeIndex(name);
+  if (existing >= 0) {
+    if (nodes_[static_cast<size_t>(existing)].side != side)
+      throw GeometryError(label + ": node '" + name + "' is used for a front side and for a back side; a node " +
+                          "collects sides of one kind");
+    return existing;
+  }
+  nodes_.push_back(Node{name, 0.0, {}, side});
+  return static_cast<int>(nodes_.size() - 1);
+}
+
+void Scene::addSurface(const std::string& surface, const std::string& label, const TriangleSoup& soup,
+                       const std::string& front_node, const std::string& back_node) {
+  if (soup.triangles.empty()) throw GeometryError(label + ": no triangles");
+  if (front_node.empty() && back_node.empty())
+    throw GeometryError(label + ": neither side names a material; the surface would belong to no node");
+  if (!front_node.empty() && front_node == back_node)
+    throw GeometryError(label + ": front and back sides cannot be the same node '" + front_node + "'");
+  for (size_t i = 0; i < soup.vertices.size(); ++i)
+    if (!soup.vertices[i].allFinite()) {
+      std::ostringstream s;
+      s << label << ": vertex " << i << " has a non-finite coordinate";
+      throw GeometryError(s.str());
+    }
+  // Reference length for the degeneracy test: the surface's own bounding box.
+  Vec3 lo = soup.vertices.front(), hi = lo;
+  for (const auto& v : soup.vertices) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  const double size = (hi - lo).norm();
+  std::vector<Face> added;
+  int slivers = 0, first_sliver = -1;
+  for (size_t t = 0; t < soup.triangles.size(); ++t) {
+    const auto& tri = soup.triangles[t];
+    Face f;
+    for (int k = 0; k < 3; ++k) {
+      const int idx = tri[static_cast<size_t>(k)];
+      if (idx < 0 || idx >= static_cast<int>(soup.vertices.size())) {
+        std::ostringstream s;
+        s << label << ": triangle " << t << " refers to vertex " << idx << " of " << soup.vertices.size();
+        throw GeometryError(s.str());
+      }
+      f.v[static_cast<size_t>(k)] = soup.vertices[static_cast<size_t>(idx)];
+    }
+    const Vec3 cross = (f.v[1] - f.v[0]).cross(f.v[2] - f.v[0]);
+    const double twice_area = cross.norm();
+    // Degenerate: area below what double rounding of the coordinates can resolve.
+    if (!(twice_area > 1e-12 * size * size)) {
+      std::ostringstream s;
+      s << label << ": triangle " << t << " (vertices " << tri[0] << ", " << tri[1] << ", " << tri[2]
+        << ") is degenerate (area " << 0.5 * twice_area << " m²)";
+      throw GeometryError(s.str());
+    }
+    const double longest2 = std::max({(f.v[1] - f.v[0]).squaredNorm(), (f.v[2] - f.v[1]).squaredNorm(),
+                                      (f.v[0] - f.v[2]).squaredNorm()});
+    if (longest2 / twice_area > 1e4 && slivers++ == 0) first_sliver = static_cast<int>(t);
+    f.normal = cross / twice_area;
+    f.area_m2 = 0.5 * twice_area;
+    added.push_back(f);
+  }
+  if (slivers > 0) {
+    std::ostringstream s;
+    s << label << ": " << slivers << " sliver triangle(s) (aspect ratio > 1e4), first: triangle " << first_sliver;
+    warnings_.push_back(s.str());
+  }
+  const int surface_id = static_cast<int>(surfaces_.size());
+  surfaces_.push_back(surface);
+  const int front = nodeFor(front_node, +1, label);
+  const int back = nodeFor(back_node, -1, label);
+  // Surfaces keep their own vertices in the mesh: panels of different surfaces may touch
+  // without forming a manifold, and each surface stays one connected piece.
+  std::vector<Mesh::Vertex_index> vids;
+  for (const auto& v : soup.vertices) vids.push_back(mesh_.add_vertex(Point3(v.x(), v.y(), v.z())));
+  if (!face_id_) face_id_ = mesh_.add_property_map<Mesh::Face_index, int>("f:radnet_face", -1).first;
+  for (size_t t = 0; t < added.size(); ++t) {
+    Face& f = added[t];
+    f.front_node = front;
+    f.back_node = back;
+    f.surface = surface_id;
+    const int id = static_cast<int>(faces_.size());
+    const auto& tri = soup.triangles[t];
+    const Mesh::Face_index fi = mesh_.add_face(vids[static_cast<size_t>(tri[0])], vids[static_cast<size_t>(tri[1])],
+                                               vids[static_cast<size_t>(tri[2])]);
+    if (fi == Mesh::null_face()) {
+      std::ostringstream s;
+      s << label << ": triangle " << t
+        << " does not fit its neighbours (orientation inconsistent with an adjacent triangle, or a non-manifold edge)";
+      throw GeometryError(s.str());
+    }
+    face_id_[fi] = id;
+    if (front >= 0) {
+      nodes_[static_cast<size_t>(front)].faces.push_back(id);
+      nodes_[static_cast<size_t>(front)].area_m2 += f.area_m2;
+    }
+    if (back >= 0) {
+      nodes_[static_cast<size_t>(back)].faces.push_back(id);
+      nodes_[static_cast<size_t>(back)].area_m2 += f.area_m2;
+    }
+    faces_.push_back(f);
+  }
+}
+
+void Scene::validate() const {
+  if (nodes_.empty()) throw GeometryError("the scene has no thermal nodes");
+  for (const auto& n : nodes_)
+    if (!(n.area_m2 > 0)) throw GeometryError("node '" + n.name + "' has zero area");
+}
+
+Eigen::MatrixXd Scene::vertexMatrix() const {
+  Eigen::MatrixXd v(static_cast<Eigen::Index>(mesh_.number_of_vertices()), 3);
+  for (auto vi : mesh_.vertices()) {
+    const Point3& p = mesh_.point(vi);
+    v.row(static_cast<Eigen::Index>(vi.idx())) << p.x(), p.y(), p.z();
+  }
+  return v;
+}
+
+Eigen::MatrixXi Scene::triangleMatrix() const {
+  Eigen::MatrixXi t(static_cast<Eigen::Index>(faces_.size()), 3);
+  for (auto fi : mesh_.faces()) {
+    int k = 0;
+    const int id = face_id_[fi];
+    for (auto vi : CGAL::vertices_around_face(mesh_.halfedge(fi), mesh_)) t(id, k++) = static_cast<int>(vi.idx());
+  }
+  return t;
+}
+
+Eigen::VectorXi Scene::frontNodes() const {
+  Eigen::VectorXi out(static_cast<Eigen::Index>(faces_.size()));
+  for (size_t i = 0; i < faces_.size(); ++i) out[static_cast<Eigen::Index>(i)] = faces_[i].front_node;
+  return out;
+}
+
+Eigen::VectorXi Scene::backNodes() const {
+  Eigen::VectorXi out(static_cast<Eigen::Index>(faces_.size()));
+  for (size_t i = 0; i < faces_.size(); ++i) out[static_cast<Eigen::Index>(i)] = faces_[i].back_node;
+  return out;
+}
+
+double Scene::extent() const {
+  if (faces_.empty()) return 0.0;
+  Vec3 lo = faces_.front().v[0], hi = lo;
+  for (const auto& f : faces_)
+    for (const auto& v : f.v) {
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
+    }
+  return (hi - lo).maxCoeff();
+}
+
+}  // namespace radnet::geometry

@@ -1,0 +1,196 @@
+// Primitives, scene validation and mesh files.
+#include "geometry/mesh_io.hpp"
+#include "geometry/primitives.hpp"
+#include "geometry/ray_caster.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+using namespace radnet::geometry;
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    std::string tmpl = (fs::temp_directory_path() / "radnet-geom-XXXXXX").string();
+    path = ::mkdtemp(tmpl.data());
+  }
+  ~TempDir() { fs::remove_all(path); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path / name) << text;
+    return (path / name).string();
+  }
+};
+
+Vec3 meanNormal(const TriangleSoup& soup) {
+  Vec3 n = Vec3::Zero();
+  for (const auto& t : soup.triangles)
+    n += (soup.vertices[t[1]] - soup.vertices[t[0]]).cross(soup.vertices[t[2]] - soup.vertices[t[0]]);
+  return n;
+}
+
+// Σ over triangles of (centroid − c) · normal × area: > 0 when the fronts face away from c.
+double outwardness(const TriangleSoup& soup, const Vec3& c) {
+  double s = 0.0;
+  for (const auto& t : soup.triangles) {
+    const Vec3 a = soup.vertices[t[0]], b = soup.vertices[t[1]], d = soup.vertices[t[2]];
+    s += ((a + b + d) / 3 - c).dot((b - a).cross(d - a));
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("primitives: exact areas and front sides as documented") {
+  const TriangleSoup r = rectangle(Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(0, 3, 0), 4, 5);
+  CHECK(r.triangles.size() == 40);
+  CHECK(soupArea(r) == Approx(6.0).epsilon(1e-14));
+  CHECK(meanNormal(r).normalized().z() == Approx(1.0));
+
+  const TriangleSoup t = triangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 5);
+  CHECK(t.triangles.size() == 25);
+  CHECK(soupArea(t) == Approx(0.5).epsilon(1e-14));
+  CHECK(meanNormal(t).z() > 0);
+
+  const TriangleSoup q = quadrilateral({Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(0, 2, 0)}, 3, 3);
+  CHECK(soupArea(q) == Approx(3.0).epsilon(1e-14));
+  CHECK_THROWS_WITH(quadrilateral({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0.5), Vec3(0, 1, 0)}, 1, 1),
+                    Contains("coplanar"));
+
+  const TriangleSoup d = disc(Vec3(0, 0, 1), Vec3(0, 0, -1), 0.5, 0.0, {}, 3, 24);
+  CHECK(soupArea(d) == Approx(M_PI * 0.25).epsilon(1e-12));
+  CHECK(meanNormal(d).normalized().z() == Approx(-1.0));
+  const TriangleSoup annulus = disc(Vec3(0, 0, 0), Vec3(0, 0, 1), 1.0, 0.5, Sweep{0, 90, {}}, 2, 8);
+  CHECK(soupArea(annulus) == Approx(0.25 * M_PI * (1 - 0.25)).epsilon(1e-12));
+  CHECK(meanNormal(annulus).z() > 0);
+
+  const TriangleSoup cyl = cylinder(Vec3(0, 0, 0), Vec3(0, 0, 2), 0.5, {}, 3, 32);
+  CHECK(soupArea(cyl) == Approx(2 * M_PI * 0.5 * 2).epsilon(1e-12));
+  CHECK(outwardness(cyl, Vec3(0, 0, 1)) > 0);
+  const TriangleSoup cn = cone(Vec3(0, 0, 0), Vec3(0, 0, 1), 1.0, 0.0, {}, 4, 32);
+  CHECK(soupArea(cn) == Approx(M_PI * 1.0 * std::sqrt(2.0)).epsilon(1e-9));
+  CHECK(outwardness(cn, Vec3(0, 0, 0.25)) > 0);
+
+  const TriangleSoup sph = sphere(Vec3(1, 2, 3), 2.0, Vec3(0, 0, 1), 0, 180, {}, 12, 24);
+  CHECK(soupArea(sph) == Approx(16 * M_PI).epsilon(1e-12));
+  CHECK(outwardness(sph, Vec3(1, 2, 3)) > 0);
+  const TriangleSoup cap = sphere(Vec3(0, 0, 0), 1.0, Vec3(0, 0, 1), 0, 90, Sweep{0, 180, {}}, 6, 12);
+  CHECK(soupArea(cap) == Approx(M_PI).epsilon(1e-12));  // quarter sphere: 4π/4
+
+  const auto box = boxFaces(Vec3(0, 0, 0), Vec3(1, 2, 3), 2);
+  const Vec3 centre(0.5, 1, 1.5);
+  for (int k = 0; k < 6; ++k) CHECK(outwardness(box[k], centre) > 0);
+  CHECK(soupArea(box[0]) == Approx(6.0));
+  CHECK(soupArea(box[4]) == Approx(2.0));
+}
+
+TEST_CASE("primitives reject bad parameters") {
+  CHECK_THROWS_AS(rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), 1, 1), GeometryError);
+  CHECK_THROWS_AS(rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 0, 1), GeometryError);
+  CHECK_THROWS_AS(disc(Vec3(0, 0, 0), Vec3(0, 0, 0), 1.0, 0.0, {}, 1, 8), GeometryError);
+  CHECK_THROWS_AS(disc(Vec3(0, 0, 0), Vec3(0, 0, 1), 1.0, 1.0, {}, 1, 8), GeometryError);
+  CHECK_THROWS_AS(sphere(Vec3(0, 0, 0), -1.0, Vec3(0, 0, 1), 0, 180, {}, 4, 8), GeometryError);
+  CHECK_THROWS_AS(cylinder(Vec3(0, 0, 0), Vec3(0, 0, 1), std::nan(""), {}, 1, 8), GeometryError);
+  CHECK_THROWS_AS(cone(Vec3(0, 0, 0), Vec3(0, 0, 1), 1.0, 1.0, Sweep{10, 5, {}}, 1, 8), GeometryError);
+}
+
+TEST_CASE("scene: nodes per side, areas, and clear errors naming the surface and triangle") {
+  Scene s;
+  s.addSurface("panel", "rectangle 'panel'", rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 2, 0), 2, 2), "panel",
+               "panel.back");
+  s.addSurface("panel2", "rectangle 'panel2'", rectangle(Vec3(0, 0, 1), Vec3(1, 0, 0), Vec3(0, 1, 0), 1, 1), "panel",
+               "");
+  REQUIRE(s.nodes().size() == 2);
+  CHECK(s.nodes()[0].area_m2 == Approx(3.0));
+  CHECK(s.nodes()[1].area_m2 == Approx(2.0));
+  CHECK(s.nodes()[1].side == -1);
+  CHECK(s.vertexMatrix().rows() == 9 + 4);
+  CHECK(s.triangleMatrix().rows() == 10);
+  CHECK(s.frontNodes()[9] == 0);
+  CHECK(s.backNodes()[9] == -1);
+
+  TriangleSoup bad;
+  bad.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(0, 1, 0)};
+  bad.triangles = {{0, 1, 3}, {0, 1, 2}};
+  CHECK_THROWS_WITH(s.addSurface("x", "mesh 'x' (x.off)", bad, "x", ""),
+                    Contains("mesh 'x' (x.off)") && Contains("triangle 1") && Contains("degenerate"));
+  bad.vertices[3] = Vec3(0, std::nan(""), 0);
+  CHECK_THROWS_WITH(s.addSurface("x", "x", bad, "x", ""), Contains("vertex 3") && Contains("non-finite"));
+  TriangleSoup sliver;
+  sliver.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, 1e-6, 0)};
+  sliver.triangles = {{0, 1, 2}};
+  s.addSurface("s", "sliver", sliver, "sliver", "");
+  REQUIRE(s.warnings().size() == 1);
+  CHECK_THAT(s.warnings()[0], Contains("sliver") && Contains("triangle 0"));
+  CHECK_THROWS_WITH(s.addSurface("y", "y", rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 1, 1), "panel.back", ""),
+                    Contains("front side and for a back side"));
+  TriangleSoup flipped;  // two triangles sharing an edge with clashing orientation
+  flipped.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
+  flipped.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 2, 1}};
+  CHECK_THROWS_WITH(s.addSurface("z", "z", flipped, "z", ""), Contains("triangle 2") && Contains("orientation"));
+}
+
+TEST_CASE("sliver triangles still cast and receive rays correctly") {
+  // A unit square made of one normal triangle and a fan of slivers: F to a parallel square
+  // must not depend on the triangulation.
+  TriangleSoup square;
+  square.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
+  for (int k = 1; k < 200; ++k) square.vertices.push_back(Vec3(1.0 - k / 200.0, 1.0, 0));
+  square.triangles.push_back({0, 1, 2});
+  int prev = 2;
+  for (int k = 0; k < 199; ++k) {
+    square.triangles.push_back({0, prev, 4 + k});
+    prev = 4 + k;
+  }
+  square.triangles.push_back({0, prev, 3});
+  Scene s;
+  s.addSurface("slivers", "slivers", square, "a", "");
+  s.addSurface("b", "b", rectangle(Vec3(0, 0, 1), Vec3(0, 1, 0), Vec3(1, 0, 0), 1, 1), "b", "");
+  CHECK(s.nodes()[0].area_m2 == Approx(1.0).epsilon(1e-12));
+  RayCaster caster(s);
+  const Hit hit = caster.firstHit(Vec3(0.3, 0.99, 0.5), Vec3(0, 0, -1));
+  CHECK(hit.face > 0);  // one of the slivers, from the front
+  CHECK(hit.front);
+  CHECK(hit.distance == Approx(0.5));
+}
+
+TEST_CASE("mesh files: OFF, OBJ (with groups), STL, PLY read and scaled, bad files are named") {
+  TempDir dir;
+  const std::string off = dir.write("quad.off", "OFF\n4 1 0\n0 0 0\n1000 0 0\n1000 1000 0\n0 1000 0\n4 0 1 2 3\n");
+  const TriangleSoup q = readMesh(off, 0.001);  // mm → m
+  CHECK(q.triangles.size() == 2);
+  CHECK(soupArea(q) == Approx(1.0));
+  const std::string obj = dir.write("two.obj",
+                                    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\n"
+                                    "g top\nf 1 2 3 4\ng side\nf 1/1/1 2/2/2 6/3/3 5/4/4\n");
+  CHECK(soupArea(readMesh(obj, 1.0)) == Approx(2.0));
+  const auto groups = readObjGroups(obj, 2.0);
+  REQUIRE(groups.size() == 2);
+  CHECK(groups[0].name == "top");
+  CHECK(groups[1].name == "side");
+  CHECK(soupArea(groups[1].soup) == Approx(4.0));
+  const std::string stl = dir.write("t.stl",
+                                    "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 2 0 0\nvertex 0 2 0\n"
+                                    "endloop\nendfacet\nendsolid t\n");
+  CHECK(soupArea(readMesh(stl, 1.0)) == Approx(2.0));
+  const std::string ply = dir.write("t.ply",
+                                    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                    "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                    "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  CHECK(soupArea(readMesh(ply, 1.0)) == Approx(0.5));
+
+  const std::string truncated = dir.write("cut.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n");
+  CHECK_THROWS_WITH(readMesh(truncated, 1.0), Contains("cut.off") && Contains("truncated"));
+  CHECK_THROWS_WITH(readMesh((dir.path / "missing.stl").string(), 1.0), Contains("missing.stl") && Contains("not found"));
+  CHECK_THROWS_WITH(readMesh(dir.write("x.dae", "nothing"), 1.0), Contains("unknown mesh format"));
+  CHECK_THROWS_WITH(readMesh(off, -1.0), Contains("scale"));
+  const std::string bad_index = dir.write("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
+  CHECK_THROWS_AS(readObjGroups(bad_index, 1.0), GeometryError);
+}

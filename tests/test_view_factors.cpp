@@ -1,0 +1,265 @@
+// View factors by ray casting against Howell's catalogue and conservation laws.
+// Tolerance: "3σ" plus the stated bias of the facetted geometry where a curved surface is
+// involved. σ is estimated from 32 randomised-QMC replicas, so (F̂ − F)/σ follows Student's
+// t with 31 degrees of freedom; its 99.73 % quantile (the normal 3σ coverage) is 3.29.
+#include "geometry/contour_view_factors.hpp"
+#include "geometry/primitives.hpp"
+#include "geometry/reciprocity.hpp"
+#include "geometry/view_factors.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+using namespace radnet::geometry;
+
+namespace {
+
+constexpr double kThreeSigma = 3.29;  // t(31) quantile of the normal 3σ coverage
+
+// Howell C-11: directly opposed parallel rectangles a × b at distance c.
+double parallelRectangles(double a, double b, double c) {
+  const double x = a / c, y = b / c;
+  const double x1 = 1 + x * x, y1 = 1 + y * y;
+  return 2.0 / (M_PI * x * y) *
+         (std::log(std::sqrt(x1 * y1 / (1 + x * x + y * y))) + x * std::sqrt(y1) * std::atan(x / std::sqrt(y1)) +
+          y * std::sqrt(x1) * std::atan(y / std::sqrt(x1)) - x * std::atan(x) - y * std::atan(y));
+}
+
+// Howell C-14: perpendicular rectangles with a common edge of length l, widths w (from) and h (to).
+double perpendicularRectangles(double l, double w, double h) {
+  const double H = h / l, W = w / l;
+  const double a = (1 + W * W) * (1 + H * H) / (1 + W * W + H * H);
+  const double b = W * W * (1 + W * W + H * H) / ((1 + W * W) * (W * W + H * H));
+  const double c = H * H * (1 + H * H + W * W) / ((1 + H * H) * (H * H + W * W));
+  return 1.0 / (M_PI * W) *
+         (W * std::atan(1 / W) + H * std::atan(1 / H) - std::sqrt(H * H + W * W) * std::atan(1 / std::sqrt(H * H + W * W)) +
+          0.25 * std::log(a * std::pow(b, W * W) * std::pow(c, H * H)));
+}
+
+ViewFactorResult cast(const Scene& scene, std::int64_t rays, std::uint64_t seed = 1,
+                      Sampling sampling = Sampling::Sobol) {
+  RayCaster caster(scene);
+  ViewFactorOptions opt;
+  opt.rays_per_node = rays;
+  opt.seed = seed;
+  opt.sampling = sampling;
+  return computeViewFactors(caster, opt);
+}
+
+void checkWithin3Sigma(const ViewFactorResult& r, int i, int j, double exact, double bias = 0.0) {
+  const double f = r.view_factors.coeff(i, j), s = r.standard_error.coeff(i, j);
+  INFO("F[" << i << "][" << j << "] = " << f << " ± " << s << ", exact " << exact << ", allowed bias " << bias);
+  CHECK(s > 0);
+  CHECK(std::abs(f - exact) <= kThreeSigma * s + bias);
+}
+
+Scene parallelSquares(double gap = 1.0) {
+  Scene s;
+  s.addSurface("a", "a", rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 2, 2), "a", "");
+  s.addSurface("b", "b", rectangle(Vec3(0, 0, gap), Vec3(0, 1, 0), Vec3(1, 0, 0), 2, 2), "b", "");
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("analytic references reproduce Howell's tabulated values") {
+  CHECK(parallelRectangles(1, 1, 1) == Approx(0.19982).margin(5e-6));
+  CHECK(perpendicularRectangles(1, 1, 1) == Approx(0.20004).margin(5e-6));
+}
+
+TEST_CASE("parallel directly opposed unit squares at distance 1: F = 0.19982") {
+  const ViewFactorResult r = cast(parallelSquares(), 200000);
+  checkWithin3Sigma(r, 0, 1, parallelRectangles(1, 1, 1));
+  checkWithin3Sigma(r, 1, 0, parallelRectangles(1, 1, 1));
+  // Each ray lands somewhere: F + F_space = 1 per row, exactly (counts).
+  CHECK(r.view_factors.coeff(0, 1) + r.space[0] == Approx(1.0).margin(1e-14));
+}
+
+TEST_CASE("perpendicular unit squares sharing an edge: F = 0.20004") {
+  Scene s;
+  s.addSurface("a", "a", rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 3, 3), "a", "");
+  s.addSurface("b", "b", rectangle(Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, 0), 3, 3), "b", "");
+  const ViewFactorResult r = cast(s, 200000);
+  checkWithin3Sigma(r, 0, 1, perpendicularRectangles(1, 1, 1));
+  checkWithin3Sigma(r, 1, 0, perpendicularRectangles(1, 1, 1));
+}
+
+TEST_CASE("coaxial parallel discs, radius 1, distance 1: F = (3 − √5)/2 = 0.38197") {
+  Scene s;
+  s.addSurface("a", "a", disc(Vec3(0, 0, 0), Vec3(0, 0, 1), 1.0, 0.0, {}, 4, 64), "a", "");
+  s.addSurface("b", "b", disc(Vec3(0, 0, 1), Vec3(0, 0, -1), 1.0, 0.0, {}, 4, 64), "b", "");
+  const double exact = (3.0 - std::sqrt(5.0)) / 2.0;
+  // Bias of the 64-gon against the circle, measured by the deterministic method on the
+  // same facets: |F_facetted − F_circle| < 2e-4 (the polygon's area equals the circle's).
+  RayCaster caster(s);
+  const ContourResult det = contourViewFactors(caster, ContourOptions{1e-8, 10, 0});
+  INFO("deterministic on the facetted discs: " << det.view_factors(0, 1));
+  CHECK(std::abs(det.view_factors(0, 1) - exact) < 2e-4);
+  const ViewFactorResult r = cast(s, 200000);
+  checkWithin3Sigma(r, 0, 1, exact, 2e-4);
+}
+
+TEST_CASE("interior of a closed cube: opposite 0.19982, adjacent 0.20004, closed rows after correction") {
+  Scene s;
+  const auto faces = boxFaces(Vec3(0, 0, 0), Vec3(1, 1, 1), 2);
+  for (int k = 0; k < 6; ++k) s.addSurface(kBoxFaceNames[k], kBoxFaceNames[k], faces[k], "", kBoxFaceNames[k]);
+  const ViewFactorResult r = cast(s, 100000);
+  CHECK(r.space.cwiseAbs().maxCoeff() == 0.0);  // nothing escapes a closed box
+  checkWithin3Sigma(r, 0, 1, parallelRectangles(1, 1, 1));      // +x → −x
+  checkWithin3Sigma(r, 0, 2, perpendicularRectangles(1, 1, 1));  // +x → +y
+  checkWithin3Sigma(r, 4, 5, parallelRectangles(1, 1, 1));      // +z → −z
+  Eigen::VectorXd area = Eigen::VectorXd::Ones(6), rays(6);
+  for (int i = 0; i < 6; ++i) rays[i] = double(r.rays[static_cast<size_t>(i)]);
+  const ReciprocityCorrection c = enforceReciprocity(area, r.view_factors, r.standard_error, r.space, r.space_error,
+                                                     r.blocked, r.blocked_error, rays);
+  const Eigen::MatrixXd f = Eigen::MatrixXd(c.view_factors);
+  CHECK((f.rowwise().sum().array() - 1.0).abs().maxCoeff() < 1e-12);
+  CHECK((f - f.transpose()).cwiseAbs().maxCoeff() < 1e-15);  // equal areas: F symmetric
+  CHECK(c.max_change_sigma < 4.0);  // the correction stays within the noise
+  // The correction does not make the answers worse.
+  CHECK(std::abs(f(0, 1) - parallelRectangles(1, 1, 1)) <= kThreeSigma * r.standard_error.coeff(0, 1));
+}
+
+TEST_CASE("concentric spheres r = 1 and 2: F_outer→inner = 0.25, F_outer→outer = 0.75") {
+  Scene s;
+  const Sweep full;
+  s.addSurface("inner", "inner", sphere(Vec3(0, 0, 0), 1.0, Vec3(0, 0, 1), 0, 180, full, 24, 48), "inner", "");
+  s.addSurface("outer", "outer", sphere(Vec3(0, 0, 0), 2.0, Vec3(0, 0, 1), 0, 180, full, 24, 48), "", "outer");
+  CHECK(s.nodes()[0].area_m2 == Approx(4 * M_PI).epsilon(1e-12));  // area-preserving facets
+  CHECK(s.nodes()[1].area_m2 == Approx(16 * M_PI).epsilon(1e-12));
+  const ViewFactorResult r = cast(s, 200000);
+  // The facetted inner sphere's silhouette differs from the sphere's by < 0.2 % (measured
+  // against 96 × 192 facets): allow 5e-4 of bias.
+  checkWithin3Sigma(r, 1, 0, 0.25, 5e-4);
+  checkWithin3Sigma(r, 1, 1, 0.75, 5e-4);
+  CHECK(r.view_factors.coeff(0, 1) == Approx(1.0).margin(1e-12));  // the inner sphere sees only the outer
+}
+
+TEST_CASE("occlusion: a plate halfway between two squares changes F as the deterministic method predicts") {
+  Scene s = parallelSquares();
+  s.addSurface("blocker", "blocker", rectangle(Vec3(0.25, 0.0, 0.5), Vec3(0, 0.5, 0), Vec3(0.5, 0, 0), 4, 4),
+               "blocker", "blocker.back");
+  RayCaster caster(s);
+  ViewFactorOptions opt;
+  opt.rays_per_node = 400000;
+  const ViewFactorResult mc = computeViewFactors(caster, opt);
+  const ContourResult det = contourViewFactors(caster, ContourOptions{1e-5, 4, 4});
+  const double unblocked = parallelRectangles(1, 1, 1);
+  INFO("MC " << mc.view_factors.coeff(0, 1) << " ± " << mc.standard_error.coeff(0, 1) << ", deterministic "
+             << det.view_factors(0, 1) << " (error estimate " << det.error_estimate(0, 1) << ")");
+  CHECK(mc.view_factors.coeff(0, 1) < unblocked - 0.02);  // the blocker takes a visible share
+  // Sampled visibility (4 shadow rays per receiving triangle, 2 × 2 receiver cells split in
+  // two) has an error of order 1e-3 here; compare within that plus 3σ.
+  checkWithin3Sigma(mc, 0, 1, det.view_factors(0, 1), 3e-3);
+  // Rays stopped by the blocker's sides count as the blocker's, not as space.
+  CHECK(mc.view_factors.coeff(0, 2) > 0.05);
+}
+
+TEST_CASE("two-sided panel: the back face sees nothing the front face sees") {
+  Scene s;
+  s.addSurface("panel", "panel", rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 2, 2), "panel", "panel.back");
+  s.addSurface("above", "above", rectangle(Vec3(0, 0, 1), Vec3(0, 1, 0), Vec3(1, 0, 0), 2, 2), "above", "");
+  s.addSurface("below", "below", rectangle(Vec3(0, 0, -1), Vec3(1, 0, 0), Vec3(0, 1, 0), 2, 2), "below", "");
+  const ViewFactorResult r = cast(s, 100000);
+  const int front = s.nodeIndex("panel"), back = s.nodeIndex("panel.back");
+  const int above = s.nodeIndex("above"), below = s.nodeIndex("below");
+  CHECK(r.view_factors.coeff(front, below) == 0.0);
+  CHECK(r.view_factors.coeff(back, above) == 0.0);
+  checkWithin3Sigma(r, front, above, parallelRectangles(1, 1, 1));
+  checkWithin3Sigma(r, back, below, parallelRectangles(1, 1, 1));
+  // One-sided surfaces stop rays from behind: "above" faces down, so rays from below that
+  // reach its back (inactive) side are blocked, not passed to space.
+  CHECK(r.view_factors.coeff(above, front) > 0.19);
+}
+
+TEST_CASE("the paper's 5 × 3 × 2.5 m room reproduces its form factors within 3σ") {
+  Scene s;
+  // Inward-facing walls: ceiling (z = 2.5), end walls (x = 0, 5), side walls (y = 0, 3), floor.
+  const double lx = 5.0, ly = 3.0, lz = 2.5;
+  s.addSurface("ceiling", "ceiling", rectangle(Vec3(0, 0, lz), Vec3(0, ly, 0), Vec3(lx, 0, 0), 4, 4), "ceiling", "");
+  s.addSurface("end1", "end1", rectangle(Vec3(0, 0, 0), Vec3(0, ly, 0), Vec3(0, 0, lz), 4, 4), "end1", "");
+  s.addSurface("end2", "end2", rectangle(Vec3(lx, 0, 0), Vec3(0, 0, lz), Vec3(0, ly, 0), 4, 4), "end2", "");
+  s.addSurface("side1", "side1", rectangle(Vec3(0, 0, 0), Vec3(0, 0, lz), Vec3(lx, 0, 0), 4, 4), "side1", "");
+  s.addSurface("side2", "side2", rectangle(Vec3(0, ly, 0), Vec3(lx, 0, 0), Vec3(0, 0, lz), 4, 4), "side2", "");
+  s.addSurface("floor", "floor", rectangle(Vec3(0, 0, 0), Vec3(lx, 0, 0), Vec3(0, ly, 0), 4, 4), "floor", "");
+  const ViewFactorResult r = cast(s, 400000);
+  // The paper prints 4 decimals: allow its rounding (5e-5) on top of 3σ.
+  checkWithin3Sigma(r, 0, 5, 0.3213, 5e-5);
+  checkWithin3Sigma(r, 0, 1, 0.1249, 5e-5);
+  checkWithin3Sigma(r, 0, 3, 0.2145, 5e-5);
+  CHECK(r.space.cwiseAbs().maxCoeff() == 0.0);
+}
+
+TEST_CASE("standard errors are honest: coverage of ±2σ over 200 seeds") {
+  // Student t with 31 degrees of freedom: P(|t| ≤ 2) = 0.946. With 200 trials the count's
+  // standard deviation is 1.6 % (3.2 trials), so accept [0.88, 0.99].
+  const Scene s = parallelSquares();
+  RayCaster caster(s);
+  const double exact = parallelRectangles(1, 1, 1);
+  for (Sampling sampling : {Sampling::Sobol, Sampling::Random}) {
+    int covered = 0;
+    double mean_sigma = 0.0;
+    for (int seed = 1; seed <= 200; ++seed) {
+      ViewFactorOptions opt;
+      opt.rays_per_node = 4096;
+      opt.seed = static_cast<std::uint64_t>(seed);
+      opt.sampling = sampling;
+      const ViewFactorResult r = computeViewFactors(caster, opt);
+      const double err = std::abs(r.view_factors.coeff(0, 1) - exact), sigma = r.standard_error.coeff(0, 1);
+      covered += err <= 2 * sigma;
+      mean_sigma += sigma / 200;
+    }
+    INFO((sampling == Sampling::Sobol ? "Sobol" : "random") << ": coverage " << covered / 200.0 << ", mean σ "
+                                                            << mean_sigma);
+    CHECK(covered >= 176);
+    CHECK(covered <= 198);
+    if (sampling == Sampling::Random) {
+      // Plain Monte Carlo: σ ≈ √(F(1 − F)/N).
+      CHECK(mean_sigma == Approx(std::sqrt(exact * (1 - exact) / 4096)).epsilon(0.1));
+    }
+  }
+}
+
+TEST_CASE("reproducible: same seed and any thread count give the same bits, and a target error stops early") {
+  const Scene s = parallelSquares();
+  RayCaster caster(s);
+  ViewFactorOptions opt;
+  opt.rays_per_node = 20000;
+  opt.threads = 1;
+  const ViewFactorResult one = computeViewFactors(caster, opt);
+  opt.threads = 2;
+  const ViewFactorResult two = computeViewFactors(caster, opt);
+  CHECK((one.denseViewFactors() - two.denseViewFactors()).cwiseAbs().maxCoeff() == 0.0);
+  opt.seed = 2;
+  CHECK((computeViewFactors(caster, opt).denseViewFactors() - one.denseViewFactors()).cwiseAbs().maxCoeff() > 0.0);
+  // Target error: stop once every entry of a row has σ ≤ 1e-3.
+  opt.rays_per_node = 1 << 22;
+  opt.target_error = 1e-3;
+  const ViewFactorResult adaptive = computeViewFactors(caster, opt);
+  CHECK(adaptive.rays[0] < (1 << 22));
+  CHECK(adaptive.standard_error.coeff(0, 1) <= 1e-3);
+  CHECK(std::abs(adaptive.view_factors.coeff(0, 1) - parallelRectangles(1, 1, 1)) <= 3e-3);
+}
+
+TEST_CASE("deterministic contour method: exact for unoccluded analytic pairs") {
+  const Scene squares = parallelSquares();
+  RayCaster caster(squares);  // the caster keeps a reference: the scene must outlive it
+  const ContourResult det = contourViewFactors(caster, ContourOptions{1e-9, 10, 0});
+  CHECK(det.view_factors(0, 1) == Approx(parallelRectangles(1, 1, 1)).margin(2e-6));
+  Scene p;
+  p.addSurface("a", "a", rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 1, 1), "a", "");
+  p.addSurface("b", "b", rectangle(Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, 0), 1, 1), "b", "");
+  RayCaster pc(p);
+  const ContourResult perp = contourViewFactors(pc, ContourOptions{1e-9, 12, 0});
+  CHECK(perp.view_factors(0, 1) == Approx(perpendicularRectangles(1, 1, 1)).margin(2e-6));
+  // Point under the centre of a unit square at height 1: four corner cases of Howell B-3,
+  // F = (1/2π)[A/√(1+A²) tan⁻¹(B/√(1+A²)) + B/√(1+B²) tan⁻¹(A/√(1+B²))] with A = B = 0.5.
+  const double quadrant = (1.0 / (2 * M_PI)) * 2.0 * (0.5 / std::sqrt(1.25)) * std::atan(0.5 / std::sqrt(1.25));
+  const double exact = 4.0 * quadrant;
+  const double f = pointToTriangle(Vec3(0.5, 0.5, 0), Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(1, 1, 1),
+                                   Vec3(0, 0, -1)) +
+                   pointToTriangle(Vec3(0.5, 0.5, 0), Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(1, 1, 1), Vec3(0, 1, 1),
+                                   Vec3(0, 0, -1));
+  CHECK(f == Approx(exact).epsilon(1e-12));
+}
