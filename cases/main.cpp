@@ -3,12 +3,15 @@
 #include "cases/errors.hpp"
 #include "cases/expectations.hpp"
 #include "cases/network_case.hpp"
+#include "cases/geometry_case.hpp"
+#include "cases/run_geometry.hpp"
 #include "cases/run_network.hpp"
 #include "cases/yaml_support.hpp"
 
 #include <CLI/CLI.hpp>
 
 #include <filesystem>
+#include <optional>
 #include <iostream>
 #include <sstream>
 
@@ -20,15 +23,27 @@ constexpr int kExitCheckFailed = 1;
 constexpr int kExitBadInput = 2;
 constexpr int kExitNumerical = 3;
 
-NetworkCase loadCase(const std::string& path) {
+// A case of either form: network given directly, or geometry with ray-cast view factors.
+struct LoadedCase {
+  std::optional<NetworkCase> network;
+  std::optional<GeometryCase> geometry;
+  size_t nodeCount() const { return network ? network->names.size() : geometry->scene.nodes().size(); }
+  const std::vector<Expectation>& expectations() const {
+    return network ? network->expectations : geometry->expectations;
+  }
+};
+
+LoadedCase loadCase(const std::string& path) {
   const YamlDocument doc = YamlDocument::load(path);
-  if (!doc.root().IsMap()) throw doc.error(doc.root(), "expected a case: a mapping with 'name' and 'network' keys");
-  if (isNetworkCase(doc)) return loadNetworkCase(doc);
-  if (doc.root()["geometry"].IsDefined())
-    throw doc.error(doc.root()["geometry"],
-                    "geometry cases are not supported by this build yet (the geometry stage is issue 3); "
-                    "give the network directly under 'network:'");
-  throw doc.error(doc.root(), "case: missing required key 'network' (the network form: nodes and view_factors)");
+  if (!doc.root().IsMap())
+    throw doc.error(doc.root(), "expected a case: a mapping with 'name' and either 'network' or 'geometry'");
+  LoadedCase c;
+  if (isNetworkCase(doc) && isGeometryCase(doc))
+    throw doc.error(doc.root()["geometry"], "case: give either 'network' or 'geometry', not both");
+  if (isNetworkCase(doc)) c.network = loadNetworkCase(doc);
+  else if (isGeometryCase(doc)) c.geometry = loadGeometryCase(doc);
+  else throw doc.error(doc.root(), "case: missing 'geometry' (surfaces and materials) or 'network' (view factors given)");
+  return c;
 }
 
 std::string defaultOutput(const std::string& case_path) {
@@ -97,20 +112,29 @@ int main(int argc, char** argv) {
   std::ostringstream sink;
   if (*run) {
     return guarded([&] {
-      const NetworkCase c = loadCase(run_case);
+      const LoadedCase c = loadCase(run_case);
       std::ostream& progress = quiet ? static_cast<std::ostream&>(sink) : std::cerr;
-      const NetworkRunResult r = runNetworkCase(c, progress);
       const std::string out = run_output.empty() ? defaultOutput(run_case) : run_output;
-      writeNetworkResult(c, r, out);
-      printNetworkSummary(c, r, std::cout);
+      if (c.network) {
+        const NetworkRunResult r = runNetworkCase(*c.network, progress);
+        writeNetworkResult(*c.network, r, out);
+        printNetworkSummary(*c.network, r, std::cout);
+      } else {
+        GeometryCase g = *std::move(c.geometry);
+        if (threads > 0) g.view_factors.threads = threads;
+        if (seed >= 0) g.view_factors.seed = static_cast<std::uint64_t>(seed);
+        const GeometryRunResult r = runGeometryCase(g, !quiet, progress);
+        writeGeometryResult(g, r, out);
+        printGeometrySummary(g, r, std::cout);
+      }
       if (!quiet) std::cerr << "radnet: wrote " << out << "\n";
       return 0;
     });
   }
   if (*validate) {
     return guarded([&] {
-      const NetworkCase c = loadCase(validate_case);
-      std::cout << validate_case << ": valid (" << c.names.size() << " nodes)\n";
+      const LoadedCase c = loadCase(validate_case);
+      std::cout << validate_case << ": valid (" << c.nodeCount() << " nodes)\n";
       return 0;
     });
   }
@@ -118,12 +142,19 @@ int main(int argc, char** argv) {
   int worst = 0, failed_total = 0;
   for (const auto& path : check_cases) {
     const int code = guarded([&] {
-      const NetworkCase c = loadCase(path);
-      if (c.expectations.empty()) throw InputError(path, 0, 0, "no 'expect:' block: nothing to check");
-      const NetworkRunResult r = runNetworkCase(c, sink);
-      std::cout << "== " << path << " (" << c.name << ")\n";
-      const int failed = evaluateExpectations(
-          c.expectations, [&](const Expectation& x) { return lookupNetworkResult(c, r, x); }, std::cout);
+      const LoadedCase c = loadCase(path);
+      if (c.expectations().empty()) throw InputError(path, 0, 0, "no 'expect:' block: nothing to check");
+      std::cout << "== " << path << "\n";
+      int failed = 0;
+      if (c.network) {
+        const NetworkRunResult r = runNetworkCase(*c.network, sink);
+        failed = evaluateExpectations(
+            c.expectations(), [&](const Expectation& x) { return lookupNetworkResult(*c.network, r, x); }, std::cout);
+      } else {
+        const GeometryRunResult r = runGeometryCase(*c.geometry, false, sink);
+        failed = evaluateExpectations(
+            c.expectations(), [&](const Expectation& x) { return lookupGeometryResult(r, x); }, std::cout);
+      }
       failed_total += failed;
       return failed ? kExitCheckFailed : 0;
     });

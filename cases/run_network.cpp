@@ -2,6 +2,7 @@
 
 #include "cases/errors.hpp"
 #include "cases/hdf5_writer.hpp"
+#include "cases/output.hpp"
 
 #include <chrono>
 #include <ctime>
@@ -15,13 +16,6 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-std::string utcNow() {
-  const std::time_t t = std::time(nullptr);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-  return buf;
 }
 
 // The dense exact GR costs O(n³); above this the low-rank form E V C Vᵀ E is used.
@@ -39,17 +33,11 @@ NetworkRunResult runNetworkCase(const NetworkCase& c, std::ostream& progress) {
            << "), reciprocity correction moved a view factor by at most " << net.reciprocity().max_view_factor_change
            << "\n";
 
-  // One eigendecomposition serves both bands: bound ‖S‖ by the larger reflectance of the two.
-  Eigen::VectorXd s = c.reflectance.cwiseQuotient(c.area);
-  if (c.emissivity) s = s.cwiseMax((Eigen::VectorXd::Ones(net.size()) - *c.emissivity).cwiseQuotient(c.area));
-  solver::EigenRequest req;
-  req.rank = c.solver.rank;
-  req.tolerance = c.solver.tolerance;
-  req.max_s = std::max(s.maxCoeff(), 1e-300);
-  req.max_rank = c.solver.max_rank;
-  req.method = c.solver.method;
+  // One eigendecomposition serves both bands.
+  Eigen::VectorXd rho_max = c.reflectance;
+  if (c.emissivity) rho_max = rho_max.cwiseMax(Eigen::VectorXd::Ones(net.size()) - *c.emissivity);
   t0 = Clock::now();
-  r.pairs = solver::decomposeConductance(net, req);
+  r.pairs = decomposeForBands(net, rho_max, c.solver.rank, c.solver.tolerance, c.solver.max_rank, c.solver.method);
   r.timings_s.emplace_back("eigendecomposition", secondsSince(t0));
   if (r.pairs.status != solver::Status::Converged)
     throw NumericalError(std::string("eigendecomposition of G ") + solver::toString(r.pairs.status) + ": " +
@@ -88,40 +76,16 @@ NetworkRunResult runNetworkCase(const NetworkCase& c, std::ostream& progress) {
 void writeNetworkResult(const NetworkCase& c, const NetworkRunResult& r, const std::string& path) {
   const solver::Network& net = *r.network;
   Hdf5Writer h5(path);
-  h5.attribute("/meta", "program", std::string("radnet"));
-  h5.attribute("/meta", "version", std::string(RADNET_VERSION));
-  h5.attribute("/meta", "case_name", c.name);
-  h5.attribute("/meta", "created_utc", utcNow());
-  h5.writeText("/meta/case_yaml", c.yaml_text);
-
-  h5.writeStrings("/nodes/name", net.names());
-  h5.writeVector("/nodes/area", net.area(), "m^2");
+  writeMeta(h5, c.name, c.yaml_text);
+  writeNetwork(h5, net);
   h5.writeVector("/nodes/reflectance", c.reflectance, "1");
   h5.writeVector("/nodes/initial_exitance", c.initial_exitance, "W/m^2");
   if (c.emissivity) h5.writeVector("/nodes/emissivity", *c.emissivity, "1");
-
-  h5.writeMatrix("/network/view_factors", net.viewFactors(), "1");
-  h5.writeVector("/network/space_view_factor", net.spaceViewFactor(), "1");
-  h5.writeMatrix("/network/conductance", net.denseConductance(), "m^2");
-  h5.attribute("/network", "reciprocity_max_view_factor_change", net.reciprocity().max_view_factor_change);
-  h5.attribute("/network", "closure_max_row_overshoot", net.reciprocity().max_row_overshoot);
-  if (r.exchange) {
-    h5.writeMatrix("/network/radiative_exchange", r.exchange->gr, "m^2");
-    h5.writeVector("/network/gr_space", r.exchange->gr_space, "m^2");
-    h5.attribute("/network/radiative_exchange", "method", r.exchange_method);
-  }
-
-  h5.writeVector("/eigen/values", r.pairs.values, "m^2");
-  h5.writeMatrix("/eigen/vectors", r.pairs.vectors, "1");
-  h5.attribute("/eigen", "rank", static_cast<long long>(r.pairs.rank()));
-  h5.attribute("/eigen", "tolerance", r.pairs.tolerance);
-  h5.attribute("/eigen", "method", std::string(solver::toString(r.pairs.method)));
-  h5.attribute("/eigen", "largest_dropped_eigenvalue_bound", r.pairs.dropped_bound);
-
+  if (r.exchange) writeExchange(h5, *r.exchange, r.exchange_method);
+  writeEigen(h5, r.pairs);
   h5.writeVector("/solution/exitance", r.solution.exitance.col(0), "W/m^2");
   h5.writeVector("/solution/irradiance", r.solution.irradiance.col(0), "W/m^2");
-
-  for (const auto& [stage, seconds] : r.timings_s) h5.attribute("/report", "time_" + stage + "_s", seconds);
+  writeTimings(h5, r.timings_s);
   h5.attribute("/report", "truncation_residual", r.solution.max_residual);
   h5.attribute("/report", "refined", static_cast<long long>(r.solution.refined));
   h5.attribute("/report", "refine_iterations", static_cast<long long>(r.solution.refine_iterations));

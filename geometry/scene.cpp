@@ -88,7 +88,8 @@ void Scene::addSurface(const std::string& surface, const std::string& label, con
   // without forming a manifold, and each surface stays one connected piece.
   std::vector<Mesh::Vertex_index> vids;
   for (const auto& v : soup.vertices) vids.push_back(mesh_.add_vertex(Point3(v.x(), v.y(), v.z())));
-  if (!face_id_) face_id_ = mesh_.add_property_map<Mesh::Face_index, int>("f:radnet_face", -1).first;
+  // Looked up by name each time: a stored handle would dangle when the scene is copied.
+  auto face_id = mesh_.add_property_map<Mesh::Face_index, int>("f:radnet_face", -1).first;
   for (size_t t = 0; t < added.size(); ++t) {
     Face& f = added[t];
     f.front_node = front;
@@ -104,7 +105,7 @@ void Scene::addSurface(const std::string& surface, const std::string& label, con
         << " does not fit its neighbours (orientation inconsistent with an adjacent triangle, or a non-manifold edge)";
       throw GeometryError(s.str());
     }
-    face_id_[fi] = id;
+    face_id[fi] = id;
     if (front >= 0) {
       nodes_[static_cast<size_t>(front)].faces.push_back(id);
       nodes_[static_cast<size_t>(front)].area_m2 += f.area_m2;
@@ -134,9 +135,10 @@ Eigen::MatrixXd Scene::vertexMatrix() const {
 
 Eigen::MatrixXi Scene::triangleMatrix() const {
   Eigen::MatrixXi t(static_cast<Eigen::Index>(faces_.size()), 3);
+  const auto face_id = mesh_.property_map<Mesh::Face_index, int>("f:radnet_face").first;
   for (auto fi : mesh_.faces()) {
     int k = 0;
-    const int id = face_id_[fi];
+    const int id = face_id[fi];
     for (auto vi : CGAL::vertices_around_face(mesh_.halfedge(fi), mesh_)) t(id, k++) = static_cast<int>(vi.idx());
   }
   return t;

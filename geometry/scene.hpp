@@ -83,7 +83,6 @@ class Scene {
   int nodeFor(const std::string& name, int side, const std::string& label);
 
   Mesh mesh_;
-  Mesh::Property_map<Mesh::Face_index, int> face_id_;
   std::vector<Face> faces_;
   std::vector<Node> nodes_;
   std::vector<std::string> surfaces_;

@@ -193,6 +193,47 @@ TEST_CASE("cli: a missing file and bad arguments exit 2, a numerical failure exi
   CHECK_FALSE(fs::exists(dir.path / "out.h5"));
 }
 
+TEST_CASE("cli: a geometry case writes /geometry, view factors with errors, and closed exchange factors") {
+  TempDir dir;
+  const Run r = radnet("run '" + source("cases/analytic/cube-interior.yaml") + "' -o cube.h5 --threads 1", dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.err.find("view factors 100 %") != std::string::npos);  // progress on stderr
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  hid_t file = H5Fopen((dir.path / "cube.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  REQUIRE(file >= 0);
+  const H5Data v = readDataset(file, "/geometry/vertices");
+  const H5Data t = readDataset(file, "/geometry/triangles");
+  const H5Data tn = readDataset(file, "/geometry/triangle_node");
+  CHECK(v.dims[1] == 3);
+  CHECK(v.units == "m");
+  CHECK(t.dims == std::vector<hsize_t>{48, 3});  // 6 faces × 2 × 2 cells × 2 triangles
+  CHECK(tn.dims == std::vector<hsize_t>{48});
+  const H5Data f = readDataset(file, "/network/view_factors");
+  const H5Data e = readDataset(file, "/network/view_factor_stderr");
+  const H5Data gr = readDataset(file, "/network/radiative_exchange");
+  const H5Data grs = readDataset(file, "/network/gr_space");
+  REQUIRE(f.dims == std::vector<hsize_t>{6, 6});
+  CHECK(e.dims == f.dims);
+  for (int i = 0; i < 6; ++i) {
+    double row = 0.0;
+    for (int j = 0; j < 6; ++j) row += f.values[static_cast<size_t>(6 * i + j)];
+    CHECK(std::abs(row - 1.0) < 1e-12);                        // closed after the correction
+    CHECK(std::abs(grs.values[static_cast<size_t>(i)]) < 1e-9);  // nothing reaches space
+    CHECK(e.values[static_cast<size_t>(6 * i + (i ^ 1))] > 0);   // errors reported
+  }
+  CHECK(gr.units == "m^2");
+  const H5Data emis = readDataset(file, "/nodes/emissivity");
+  CHECK(emis.values[0] == 0.5);
+  H5Fclose(file);
+  // Same seed, one thread or two: the same bits.
+  const Run r2 = radnet("run '" + source("cases/analytic/cube-interior.yaml") + "' -o cube2.h5 --threads 2 -q", dir);
+  REQUIRE(r2.exit_code == 0);
+  hid_t f2 = H5Fopen((dir.path / "cube2.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  CHECK(readDataset(f2, "/network/view_factors").values == f.values);
+  H5Fclose(f2);
+}
+
 TEST_CASE("cli: validate accepts the shipped examples") {
   TempDir dir;
   for (const char* ex : {"seed-room", "random-network", "parallel-plates"}) {

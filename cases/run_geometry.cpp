@@ -1,0 +1,158 @@
+#include "cases/run_geometry.hpp"
+
+#include "cases/errors.hpp"
+
+#include <iomanip>
+#include <ostream>
+
+namespace radnet::cases {
+namespace {
+
+// Dense GR costs O(n³); beyond this the low-rank form E V C Vᵀ E is used and its residual reported.
+constexpr int kDenseExchangeLimit = 3000;
+
+}  // namespace
+
+GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std::ostream& progress) {
+  GeometryRunResult r;
+  const geometry::Scene& scene = c.scene;
+  const int n = static_cast<int>(scene.nodes().size());
+  for (const auto& w : scene.warnings()) progress << "radnet: warning: " << w << "\n";
+  progress << "radnet: scene of " << scene.faces().size() << " triangles, " << n << " nodes\n";
+  StageTimer t_tree;
+  const geometry::RayCaster caster(scene);
+  r.timings_s.emplace_back("aabb_tree", t_tree.seconds());
+
+  Eigen::VectorXd area(n), rays(n);
+  for (int i = 0; i < n; ++i) area[i] = scene.nodes()[static_cast<size_t>(i)].area_m2;
+  StageTimer t_vf;
+  if (c.method == ViewFactorMethod::MonteCarlo) {
+    geometry::ViewFactorOptions opt = c.view_factors;
+    if (show_progress)
+      opt.progress = [&](int done, int total) {
+        if (done == total || done % std::max(1, total / 50) == 0)
+          progress << "\rradnet: view factors " << std::setw(3) << (100 * done / total) << " % (" << done << "/"
+                   << total << " nodes)" << (done == total ? "\n" : "") << std::flush;
+      };
+    const geometry::ViewFactorResult vf = geometry::computeViewFactors(caster, opt);
+    r.raw_view_factors = vf.denseViewFactors();
+    r.view_factor_stderr = vf.denseStandardError();
+    for (int i = 0; i < n; ++i) rays[i] = double(vf.rays[static_cast<size_t>(i)]);
+    r.total_rays = vf.total_rays;
+    r.rays_per_second = vf.seconds > 0 ? double(vf.total_rays) / vf.seconds : 0.0;
+    r.correction = geometry::enforceReciprocity(area, vf.view_factors, vf.standard_error, vf.space, vf.space_error,
+                                                vf.blocked, vf.blocked_error, rays);
+  } else {
+    const geometry::ContourResult det = geometry::contourViewFactors(caster, c.contour);
+    r.raw_view_factors = det.view_factors;
+    r.view_factor_stderr = det.error_estimate;
+    // Quadrature: a resolution of 1e6 "rays" makes the variance floor negligible.
+    rays.setConstant(1e6);
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> f = det.view_factors.sparseView(), e = det.error_estimate.sparseView();
+    const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
+    r.correction = geometry::enforceReciprocity(area, f, e, det.space, zero, zero, zero, rays);
+  }
+  r.timings_s.emplace_back("view_factors", t_vf.seconds());
+  progress << "radnet: view factors: " << r.total_rays << " rays"
+           << (r.rays_per_second > 0 ? " (" + std::to_string(static_cast<long long>(r.rays_per_second)) + " rays/s)" : "")
+           << ", reciprocity/closure correction moved F by at most " << r.correction.max_change << " ("
+           << r.correction.max_change_sigma << " σ)\n";
+
+  StageTimer t_net;
+  // The correction makes A F symmetric and the rows closed; the network re-checks both.
+  const solver::NetworkTolerances tol{1e-9, 1e-9};
+  std::vector<std::string> names;
+  for (const auto& node : scene.nodes()) names.push_back(node.name);
+  const double density = double(r.correction.view_factors.nonZeros()) / (double(n) * n);
+  const Eigen::SparseMatrix<double> fcol = r.correction.view_factors;
+  r.network = density < 0.25 ? std::make_unique<solver::Network>(names, area, fcol, r.correction.blocked, tol)
+                             : std::make_unique<solver::Network>(names, area, Eigen::MatrixXd(fcol),
+                                                                 r.correction.blocked, tol);
+  r.timings_s.emplace_back("network", t_net.seconds());
+
+  StageTimer t_eig;
+  const Eigen::VectorXd rho_max =
+      (Eigen::VectorXd::Ones(n) - c.emissivity).cwiseMax(Eigen::VectorXd::Ones(n) - c.absorptivity);
+  r.pairs = decomposeForBands(*r.network, rho_max, c.solver.rank, c.solver.tolerance, c.solver.max_rank,
+                              c.solver.method);
+  r.timings_s.emplace_back("eigendecomposition", t_eig.seconds());
+  if (r.pairs.status != solver::Status::Converged)
+    throw NumericalError(std::string("eigendecomposition of G ") + solver::toString(r.pairs.status) + ": " +
+                         r.pairs.message);
+
+  StageTimer t_gr;
+  if (n <= kDenseExchangeLimit && c.solver.refineEnabled()) {
+    r.exchange = solver::exchangeFactorsDense(*r.network, c.emissivity);
+    r.exchange_method = "dense LU";
+  } else {
+    const solver::LowRankBandSolver ir(*r.network, r.pairs, Eigen::VectorXd::Ones(n) - c.emissivity);
+    r.exchange = solver::exchangeFactorsLowRank(*r.network, ir, c.emissivity);
+    r.exchange_method = "low rank (k = " + std::to_string(r.pairs.rank()) + ")";
+  }
+  r.timings_s.emplace_back("exchange_factors", t_gr.seconds());
+  if (r.exchange.status != solver::Status::Converged)
+    throw NumericalError(std::string("exchange factors ") + solver::toString(r.exchange.status) + ": " +
+                         r.exchange.message);
+  return r;
+}
+
+void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, const std::string& path) {
+  Hdf5Writer h5(path);
+  writeMeta(h5, c.name, c.yaml_text);
+  writeNetwork(h5, *r.network);
+  h5.writeVector("/nodes/emissivity", c.emissivity, "1");
+  h5.writeVector("/nodes/absorptivity", c.absorptivity, "1");
+  h5.writeStrings("/nodes/material", c.node_material);
+  h5.writeMatrix("/geometry/vertices", c.scene.vertexMatrix(), "m");
+  h5.writeMatrix("/geometry/triangles", c.scene.triangleMatrix().cast<double>(), "1");
+  h5.writeVector("/geometry/triangle_node", c.scene.frontNodes().cast<double>(), "1");
+  h5.writeVector("/geometry/triangle_back_node", c.scene.backNodes().cast<double>(), "1");
+  h5.writeMatrix("/network/view_factor_stderr", r.view_factor_stderr, "1");
+  h5.writeMatrix("/network/view_factors_raw", r.raw_view_factors, "1");
+  h5.writeVector("/network/blocked_view_factor", r.network->blockedFraction(), "1");
+  h5.attribute("/network", "correction_max_change", r.correction.max_change);
+  h5.attribute("/network", "correction_max_change_sigma", r.correction.max_change_sigma);
+  h5.attribute("/network", "method", std::string(c.method == ViewFactorMethod::MonteCarlo ? "monte_carlo" : "contour"));
+  h5.attribute("/network", "rays_total", static_cast<long long>(r.total_rays));
+  writeExchange(h5, r.exchange, r.exchange_method);
+  writeEigen(h5, r.pairs);
+  writeTimings(h5, r.timings_s);
+  h5.attribute("/report", "view_factor_error", r.view_factor_stderr.size() ? r.view_factor_stderr.maxCoeff() : 0.0);
+  h5.attribute("/report", "rays_per_second", r.rays_per_second);
+  h5.commit();
+}
+
+void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std::ostream& out) {
+  const solver::Network& net = *r.network;
+  out << "case " << c.name << ": " << c.scene.faces().size() << " triangles, " << net.size() << " nodes\n";
+  out << std::left << std::setw(20) << "node" << std::right << std::setw(12) << "area m²" << std::setw(8) << "ε"
+      << std::setw(8) << "α" << std::setw(12) << "F_space" << std::setw(12) << "GR_space" << std::setw(12)
+      << "max σ(F)" << "\n";
+  for (int i = 0; i < net.size(); ++i) {
+    out << std::left << std::setw(20) << net.names()[static_cast<size_t>(i)] << std::right << std::setprecision(5)
+        << std::setw(12) << net.area()[i] << std::setw(8) << c.emissivity[i] << std::setw(8) << c.absorptivity[i]
+        << std::setw(12) << net.spaceViewFactor()[i] << std::setw(12) << r.exchange.gr_space[i] << std::setw(12)
+        << (r.view_factor_stderr.cols() ? r.view_factor_stderr.row(i).maxCoeff() : 0.0) << "\n";
+  }
+  out << "view factors: " << r.total_rays << " rays, correction ≤ " << r.correction.max_change << " ("
+      << r.correction.max_change_sigma << " σ); closure error " << r.correction.max_closure_error << "\n";
+  out << "eigenpairs: rank " << r.pairs.rank() << " (" << solver::toString(r.pairs.method) << "); exchange factors: "
+      << r.exchange_method << "\n";
+  out << "timings:";
+  for (const auto& [stage, seconds] : r.timings_s) out << " " << stage << " " << std::setprecision(3) << seconds << " s;";
+  out << "\n";
+}
+
+std::optional<double> lookupGeometryResult(const GeometryRunResult& r, const Expectation& x) {
+  const solver::Network& net = *r.network;
+  const int i = x.node.empty() ? -1 : net.indexOf(x.node);
+  const int j = x.to.empty() ? -1 : net.indexOf(x.to);
+  if (x.quantity == "view_factor") return net.denseConductance()(i, j) / net.area()[i];
+  if (x.quantity == "space_view_factor") return net.spaceViewFactor()[i];
+  if (x.quantity == "radiative_exchange") return r.exchange.gr(i, j);
+  if (x.quantity == "gr_space") return r.exchange.gr_space[i];
+  if (x.quantity == "eigenvalue" && x.index < r.pairs.rank()) return r.pairs.values[x.index];
+  return std::nullopt;
+}
+
+}  // namespace radnet::cases

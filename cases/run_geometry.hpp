@@ -1,0 +1,35 @@
+#pragma once
+// The pipeline of a geometry case: scene → view factors (ray casting or contour
+// integration) → reciprocity/closure correction → network → eigenpairs → exchange factors.
+#include "cases/geometry_case.hpp"
+#include "cases/output.hpp"
+#include "geometry/reciprocity.hpp"
+#include "solver/exchange.hpp"
+
+#include <iosfwd>
+#include <memory>
+#include <optional>
+
+namespace radnet::cases {
+
+struct GeometryRunResult {
+  Eigen::MatrixXd raw_view_factors;  ///< before the correction, –
+  Eigen::MatrixXd view_factor_stderr;  ///< σ of the raw estimate (MC) or quadrature error estimate (contour), –
+  geometry::ReciprocityCorrection correction;
+  std::unique_ptr<solver::Network> network;
+  solver::EigenPairs pairs;
+  solver::ExchangeFactors exchange;
+  std::string exchange_method;
+  std::int64_t total_rays = 0;
+  double rays_per_second = 0.0;
+  Timings timings_s;
+};
+
+/// Runs the case. @throws NumericalError (exit 3)
+GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std::ostream& progress);
+
+void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, const std::string& path);
+void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std::ostream& out);
+std::optional<double> lookupGeometryResult(const GeometryRunResult& r, const Expectation& x);
+
+}  // namespace radnet::cases
