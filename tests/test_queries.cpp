@@ -1,0 +1,73 @@
+// Ray-casting queries for the orbit stage: lit areas and planet rays.
+#include "geometry/primitives.hpp"
+#include "geometry/queries.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+using namespace radnet::geometry;
+
+TEST_CASE("lit area: a plate facing the source, tilted, behind another plate, half shadowed") {
+  Scene s;
+  s.addSurface("plate", "plate", rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 2, 0), 2, 2), "plate", "plate.back");
+  RayCaster caster(s);
+  const LitArea up = litArea(caster, Vec3(0, 0, 1), 256);
+  CHECK(up.projected_m2[0] == Approx(2.0).epsilon(1e-12));  // fully lit, normal incidence
+  CHECK(up.projected_m2[1] == 0.0);                        // the back faces away: no rays
+  const LitArea tilted = litArea(caster, Vec3(0, std::sin(0.5), std::cos(0.5)), 256);
+  CHECK(tilted.projected_m2[0] == Approx(2.0 * std::cos(0.5)).epsilon(1e-12));
+  CHECK(tilted.lit_fraction[0] == Approx(1.0));
+
+  Scene shaded;
+  shaded.addSurface("plate", "plate", rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 1, 1), "plate", "");
+  shaded.addSurface("roof", "roof", rectangle(Vec3(-1, -1, 1), Vec3(3, 0, 0), Vec3(0, 3, 0), 1, 1), "roof", "");
+  RayCaster c2(shaded);
+  CHECK(litArea(c2, Vec3(0, 0, 1), 256).projected_m2[0] == 0.0);  // behind another plate: no direct Sun
+
+  Scene half;
+  half.addSurface("plate", "plate", rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 1, 1), "plate", "");
+  half.addSurface("shade", "shade", rectangle(Vec3(0, 0, 1), Vec3(0.5, 0, 0), Vec3(0, 1, 0), 1, 1), "shade", "");
+  RayCaster c3(half);
+  // Sobol points stratify x exactly in halves: the error is a few ulps at 1024 points.
+  CHECK(litArea(c3, Vec3(0, 0, 1), 1024).lit_fraction[0] == Approx(0.5).margin(2e-3));
+}
+
+TEST_CASE("planet rays: Earth view factor of a nadir-facing plate is (R/(R+h))²") {
+  const double R = 6378137.0, h = 500e3;
+  Scene s;
+  // Plate at the origin facing −z (towards the planet centre at −(R+h) z).
+  s.addSurface("plate", "plate", rectangle(Vec3(0, 0, 0), Vec3(0, 0.1, 0), Vec3(0.1, 0, 0), 1, 1), "plate", "");
+  RayCaster caster(s);
+  const auto rays = planetRays(caster, Vec3(0, 0, -(R + h)), R, 64000);
+  const double exact = std::pow(R / (R + h), 2);
+  INFO("F = " << rays[0].view_factor << " ± " << rays[0].standard_error << ", exact " << exact);
+  CHECK(std::abs(rays[0].view_factor - exact) <= 3.29 * rays[0].standard_error + 1e-12);
+  REQUIRE(!rays[0].hit_points.empty());
+  for (size_t k = 0; k < rays[0].hit_points.size(); k += 97)
+    CHECK((rays[0].hit_points[k] - Vec3(0, 0, -(R + h))).norm() == Approx(R).epsilon(1e-9));
+  // A plate whose normal is horizontal (Howell: F = (1/π)(atan(1/√(H²−1)) − √(H²−1)/H²), H = (R+h)/R).
+  Scene v;
+  v.addSurface("wall", "wall", rectangle(Vec3(0, 0, 0), Vec3(0, 0, 0.1), Vec3(0, 0.1, 0), 1, 1), "wall", "");
+  RayCaster cv(v);
+  const auto side = planetRays(cv, Vec3(0, 0, -(R + h)), R, 64000);
+  const double H = (R + h) / R, x = std::sqrt(H * H - 1);
+  const double vertical = (std::atan(1 / x) - x / (H * H)) / M_PI;
+  INFO("vertical plate F = " << side[0].view_factor << " ± " << side[0].standard_error << ", exact " << vertical);
+  CHECK(std::abs(side[0].view_factor - vertical) <= 3.29 * side[0].standard_error + 1e-12);
+}
+
+TEST_CASE("planet rays: self-shadowing by the spacecraft; ray-sphere geometry") {
+  const double R = 6378137.0, h = 500e3;
+  Scene s;
+  s.addSurface("plate", "plate", rectangle(Vec3(0, 0, 0), Vec3(0, 0.1, 0), Vec3(0.1, 0, 0), 1, 1), "plate", "");
+  s.addSurface("shield", "shield", rectangle(Vec3(-5, -5, -0.5), Vec3(10, 0, 0), Vec3(0, 10, 0), 1, 1), "shield", "");
+  RayCaster caster(s);
+  const auto rays = planetRays(caster, Vec3(0, 0, -(R + h)), R, 32000);
+  CHECK(rays[0].view_factor == 0.0);  // the shield hides the planet from the plate
+  Vec3 hit;
+  CHECK(raySphere(Vec3(0, 0, 10), Vec3(0, 0, -1), Vec3(0, 0, 0), 1.0, hit));
+  CHECK(hit.z() == Approx(1.0));
+  CHECK_FALSE(raySphere(Vec3(0, 0, 10), Vec3(0, 0, 1), Vec3(0, 0, 0), 1.0, hit));
+  CHECK_FALSE(raySphere(Vec3(0, 2, 10), Vec3(0, 0, -1), Vec3(0, 0, 0), 1.0, hit));
+}
