@@ -147,9 +147,9 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
     if (front.empty() && back.empty())
       throw doc.error(p, what + ": neither 'front' nor 'back' names a material; the surface would belong to no node");
     try {
-      auto add = [&](const std::string& surface, const std::string& node, const geometry::TriangleSoup& soup) {
-        const std::string label = kind + " '" + surface + "' (" + doc.file() + ":" +
-                                  std::to_string(entry.Mark().line + 1) + ")";
+      auto add = [&](const std::string& surface, const std::string& node, const geometry::TriangleSoup& soup,
+                     const std::string& mesh_file = "") {
+        const std::string label = kind + " '" + surface + "'" + (mesh_file.empty() ? "" : " from " + mesh_file);
         const std::string fn = front.empty() ? "" : node, bn = back.empty() ? "" : node + ".back";
         for (const auto& [nn, mat] : {std::pair{fn, front}, std::pair{bn, back}}) {
           if (nn.empty()) continue;
@@ -223,9 +223,10 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
         const double scale = optionalNumber(doc, p, "scale", what, 1.0, std::numeric_limits<double>::min(), kBig);
         try {
           if (p["groups"] && doc.boolean(p["groups"], what + ".groups")) {
-            for (const auto& g : geometry::readObjGroups(path.string(), scale)) add(name + "." + g.name, name + "." + g.name, g.soup);
+            for (const auto& g : geometry::readObjGroups(path.string(), scale))
+              add(name + "." + g.name, name + "." + g.name, g.soup, path.string());
           } else {
-            add(name, name, geometry::readMesh(path.string(), scale));
+            add(name, name, geometry::readMesh(path.string(), scale), path.string());
           }
         } catch (const geometry::GeometryError& e) {
           throw doc.error(fnode, what + ".file: " + e.what());

@@ -34,10 +34,10 @@ void checkScale(double scale, const std::string& path) {
 
 TriangleSoup readMesh(const std::string& path, double scale) {
   checkScale(scale, path);
-  if (!std::filesystem::exists(path)) throw GeometryError(path + ": mesh file not found");
   const std::string ext = lowerExtension(path);
   if (ext != ".off" && ext != ".obj" && ext != ".stl" && ext != ".ply")
     throw GeometryError(path + ": unknown mesh format '" + ext + "'; expected .off, .obj, .stl or .ply");
+  if (!std::filesystem::exists(path)) throw GeometryError(path + ": mesh file not found");
   std::vector<Point3> points;
   std::vector<std::vector<std::size_t>> polygons;
   bool ok = false;
