@@ -1,0 +1,30 @@
+#pragma once
+// Earth constants and time. The constants come from GeographicLib's WGS84 model, not
+// typed in: GM and the equatorial radius from Constants, J2 from the normal gravity
+// field of the WGS84 ellipsoid (its dynamical form factor).
+#include <string>
+
+namespace radnet::orbits {
+
+struct EarthModel {
+  double gm_m3_s2;           ///< geocentric gravitational constant, m³/s²
+  double equatorial_radius_m;
+  double flattening;         ///< –
+  double j2;                 ///< dynamical form factor, –
+  double rotation_rad_s;     ///< Earth rotation rate, rad/s
+  static const EarthModel& wgs84();
+};
+
+inline constexpr double kAstronomicalUnit = 149597870700.0;  ///< m (IAU 2012, exact)
+inline constexpr double kSunRadius = 6.957e8;                 ///< nominal solar radius, m (IAU 2015)
+inline constexpr double kSecondsPerDay = 86400.0;
+inline constexpr double kJ2000 = 2451545.0;  ///< Julian date of J2000.0
+
+/// Julian date (UTC) of an ISO 8601 time "YYYY-MM-DDThh:mm:ss[.fff][Z]" (UTC only; a date
+/// alone means midnight). @throws std::invalid_argument naming what is malformed
+double julianDateFromIso(const std::string& iso);
+
+/// ISO 8601 UTC text of a Julian date (to the second).
+std::string isoFromJulianDate(double jd);
+
+}  // namespace radnet::orbits

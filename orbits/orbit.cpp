@@ -1,0 +1,166 @@
+#include "orbits/orbit.hpp"
+
+#include "orbits/sun.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace radnet::orbits {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+constexpr double kTropicalYearDays = 365.2421897;
+
+void requireFinite(double x, const char* what) {
+  if (!std::isfinite(x)) throw OrbitError(std::string(what) + " is not finite");
+}
+
+}  // namespace
+
+double solveKepler(double m, double e) {
+  if (!(e >= 0 && e < 1)) throw OrbitError("Kepler's equation needs 0 <= e < 1");
+  m = std::remainder(m, 2 * M_PI);  // [−π, π]
+  double ecc = m + 0.85 * e * (std::sin(m) >= 0 ? 1.0 : -1.0);
+  for (int k = 0; k < 50; ++k) {
+    const double f = ecc - e * std::sin(ecc) - m;
+    const double fp = 1 - e * std::cos(ecc);
+    const double step = f / fp;
+    ecc -= step;
+    if (std::abs(step) < 1e-15) break;
+  }
+  return ecc;
+}
+
+Orbit::Orbit(const KeplerElements& el, double epoch_jd, const EarthModel& earth)
+    : el_(el), epoch_jd_(epoch_jd), earth_(earth) {
+  requireFinite(el.semi_major_axis_m, "semi-major axis");
+  requireFinite(el.eccentricity, "eccentricity");
+  requireFinite(el.inclination_rad, "inclination");
+  requireFinite(el.raan_rad, "RAAN");
+  requireFinite(el.arg_perigee_rad, "argument of perigee");
+  requireFinite(el.true_anomaly_rad, "true anomaly");
+  requireFinite(epoch_jd, "epoch");
+  if (el.eccentricity < 0 || el.eccentricity >= 1) {
+    std::ostringstream s;
+    s << "eccentricity " << el.eccentricity << " is not an ellipse; expected 0 <= e < 1 (hyperbolic and parabolic "
+      << "trajectories are not orbits to sweep)";
+    throw OrbitError(s.str());
+  }
+  if (el.inclination_rad < 0 || el.inclination_rad > M_PI) throw OrbitError("inclination must be in [0, 180] deg");
+  const double perigee = el.semi_major_axis_m * (1 - el.eccentricity);
+  if (!(perigee > earth.equatorial_radius_m)) {
+    std::ostringstream s;
+    s << "perigee radius " << perigee << " m is inside the Earth (equatorial radius " << earth.equatorial_radius_m
+      << " m); altitudes must be > 0";
+    throw OrbitError(s.str());
+  }
+  const double a = el.semi_major_axis_m, e = el.eccentricity;
+  const double n0 = std::sqrt(earth.gm_m3_s2 / (a * a * a));
+  const double p = a * (1 - e * e);
+  const double k = 1.5 * earth.j2 * std::pow(earth.equatorial_radius_m / p, 2);
+  const double ci = std::cos(el.inclination_rad);
+  // Secular J2 rates (Vallado, eqs. 9-41 to 9-43).
+  raan_rate_ = -k * n0 * ci;
+  argp_rate_ = 0.5 * k * n0 * (5 * ci * ci - 1);
+  mean_motion_ = n0 * (1 + 0.5 * k * std::sqrt(1 - e * e) * (3 * ci * ci - 1));
+  // Mean anomaly at the epoch from the true anomaly.
+  const double ecc0 = 2 * std::atan2(std::sqrt(1 - e) * std::sin(el.true_anomaly_rad / 2),
+                                      std::sqrt(1 + e) * std::cos(el.true_anomaly_rad / 2));
+  m0_ = ecc0 - e * std::sin(ecc0);
+}
+
+double Orbit::period() const {
+  const double a = el_.semi_major_axis_m;
+  return 2 * M_PI * std::sqrt(a * a * a / earth_.gm_m3_s2);
+}
+
+OrbitState Orbit::state(double t) const {
+  const double a = el_.semi_major_axis_m, e = el_.eccentricity;
+  const double raan = el_.raan_rad + raan_rate_ * t, argp = el_.arg_perigee_rad + argp_rate_ * t;
+  const double ecc = solveKepler(m0_ + mean_motion_ * t, e);
+  const double cosE = std::cos(ecc), sinE = std::sin(ecc);
+  const double r = a * (1 - e * cosE);
+  const double sq = std::sqrt(1 - e * e);
+  // Perifocal position and velocity (the velocity of the osculating ellipse).
+  const Eigen::Vector3d pos_pf(a * (cosE - e), a * sq * sinE, 0.0);
+  const double edot = mean_motion_ / (1 - e * cosE);
+  const Eigen::Vector3d vel_pf(-a * sinE * edot, a * sq * cosE * edot, 0.0);
+  (void)r;
+  const Eigen::Matrix3d eciFromPerifocal = (Eigen::AngleAxisd(raan, Eigen::Vector3d::UnitZ()) *
+                                            Eigen::AngleAxisd(el_.inclination_rad, Eigen::Vector3d::UnitX()) *
+                                            Eigen::AngleAxisd(argp, Eigen::Vector3d::UnitZ()))
+                                               .toRotationMatrix();
+  return {eciFromPerifocal * pos_pf, eciFromPerifocal * vel_pf};
+}
+
+Eigen::Vector3d Orbit::normal(double t) const {
+  const double raan = el_.raan_rad + raan_rate_ * t, i = el_.inclination_rad;
+  return Eigen::Vector3d(std::sin(i) * std::sin(raan), -std::sin(i) * std::cos(raan), std::cos(i));
+}
+
+KeplerElements circularElements(double altitude_m, double inclination_deg, double raan_deg, double arg_latitude_deg,
+                                const EarthModel& earth) {
+  if (!(std::isfinite(altitude_m) && altitude_m > 0))
+    throw OrbitError("altitude " + std::to_string(altitude_m) + " m: expected a finite value > 0");
+  KeplerElements el;
+  el.semi_major_axis_m = earth.equatorial_radius_m + altitude_m;
+  el.inclination_rad = inclination_deg * kDeg;
+  el.raan_rad = raan_deg * kDeg;
+  el.true_anomaly_rad = arg_latitude_deg * kDeg;
+  return el;
+}
+
+KeplerElements perigeeApogeeElements(double hp, double ha, double inclination_deg, double raan_deg,
+                                     double arg_perigee_deg, double true_anomaly_deg, const EarthModel& earth) {
+  if (!(std::isfinite(hp) && hp > 0 && std::isfinite(ha) && ha >= hp))
+    throw OrbitError("perigee and apogee altitudes must be finite with 0 < perigee <= apogee");
+  const double rp = earth.equatorial_radius_m + hp, ra = earth.equatorial_radius_m + ha;
+  KeplerElements el;
+  el.semi_major_axis_m = 0.5 * (rp + ra);
+  el.eccentricity = (ra - rp) / (ra + rp);
+  el.inclination_rad = inclination_deg * kDeg;
+  el.raan_rad = raan_deg * kDeg;
+  el.arg_perigee_rad = arg_perigee_deg * kDeg;
+  el.true_anomaly_rad = true_anomaly_deg * kDeg;
+  return el;
+}
+
+double sunSynchronousInclinationDeg(double altitude_m, const EarthModel& earth) {
+  const double a = earth.equatorial_radius_m + altitude_m;
+  const double rate = 2 * M_PI / (kTropicalYearDays * kSecondsPerDay);
+  const double c = -2.0 * rate * std::pow(a, 3.5) /
+                   (3.0 * earth.j2 * earth.equatorial_radius_m * earth.equatorial_radius_m * std::sqrt(earth.gm_m3_s2));
+  if (c < -1) throw OrbitError("no sun-synchronous orbit exists at this altitude (above ~5970 km)");
+  return std::acos(c) / kDeg;
+}
+
+double raanForLocalTimeDeg(double ltan_hours, double epoch_jd) {
+  if (!(std::isfinite(ltan_hours) && ltan_hours >= 0 && ltan_hours < 24))
+    throw OrbitError("local time of the ascending node must be in [0, 24) hours");
+  // The Sun's right ascension is local noon: RAAN = α_sun + (LTAN − 12 h) × 15°/h.
+  const SunPosition s = sunPosition(epoch_jd);
+  const double ra_sun = std::atan2(s.direction_eci.y(), s.direction_eci.x()) / kDeg;
+  return std::fmod(ra_sun + (ltan_hours - 12.0) * 15.0 + 720.0, 360.0);
+}
+
+KeplerElements betaElements(double altitude_m, double beta_deg, double epoch_jd, const EarthModel& earth) {
+  if (!(std::isfinite(beta_deg) && beta_deg >= -90 && beta_deg <= 90)) throw OrbitError("beta must be in [-90, 90] deg");
+  const Eigen::Vector3d s = sunPosition(epoch_jd).direction_eci;
+  // Orbit normal h = sin β s + cos β p, p ⟂ s in the plane of s and the pole, so that
+  // asin(h·s) = β; with β = 0 the Sun lies in the orbit plane.
+  Eigen::Vector3d p = Eigen::Vector3d::UnitZ() - s.z() * s;
+  p.normalize();
+  const double b = beta_deg * kDeg;
+  Eigen::Vector3d h = std::sin(b) * s + std::cos(b) * p;
+  const double inc = std::acos(std::clamp(h.z(), -1.0, 1.0));
+  const double raan = std::atan2(h.x(), -h.y());
+  KeplerElements el = circularElements(altitude_m, inc / kDeg, raan / kDeg, 0.0, earth);
+  return el;
+}
+
+double betaAngle(const Orbit& orbit, double t) {
+  const Eigen::Vector3d s = sunPosition(orbit.epochJd() + t / kSecondsPerDay).direction_eci;
+  return std::asin(std::clamp(orbit.normal(t).dot(s), -1.0, 1.0));
+}
+
+}  // namespace radnet::orbits

@@ -1,0 +1,46 @@
+#include "orbits/sweep.hpp"
+
+#include "orbits/earth.hpp"
+#include "orbits/sun.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace radnet::orbits {
+
+std::vector<SweepPosition> sweepOrbit(const Orbit& orbit, const AttitudeSpec& attitude, const SweepOptions& opt) {
+  if (opt.positions_per_orbit < 1 || opt.positions_per_orbit > 100000)
+    throw OrbitError("positions per orbit must be in [1, 100000]");
+  if (!(std::isfinite(opt.orbits) && opt.orbits > 0 && opt.orbits <= 10000))
+    throw OrbitError("number of orbits must be in (0, 10000]");
+  const double period = orbit.period(), span = opt.orbits * period;
+  const int regular = static_cast<int>(std::ceil(opt.positions_per_orbit * opt.orbits - 1e-9));
+  std::vector<std::pair<double, bool>> times;
+  for (int k = 0; k < regular; ++k) times.emplace_back(k * period / opt.positions_per_orbit, false);
+  if (opt.insert_eclipse_events)
+    for (const EclipseEvent& e : eclipseEvents(orbit, 0.0, span)) times.emplace_back(e.t_s, true);
+  std::sort(times.begin(), times.end());
+  std::vector<SweepPosition> out;
+  const double re = orbit.earth().equatorial_radius_m;
+  for (const auto& [t, event] : times) {
+    SweepPosition p;
+    p.t_s = t;
+    p.event = event;
+    const OrbitState st = orbit.state(t);
+    const SunPosition sun = sunPosition(orbit.epochJd() + t / kSecondsPerDay);
+    const Eigen::Vector3d sun_pos = sun.direction_eci * sun.distance_m;
+    const Eigen::Vector3d to_sun = (sun_pos - st.position_eci_m).normalized();
+    p.body_from_eci = bodyFromEci(attitude, orbit, st, to_sun, t);
+    p.position_eci_m = st.position_eci_m;
+    p.sun_body = p.body_from_eci * to_sun;
+    p.earth_body = p.body_from_eci * (-st.position_eci_m.normalized());
+    p.earth_distance_m = st.position_eci_m.norm();
+    p.sunlit_fraction = sunlitFraction(st.position_eci_m, sun_pos, re);
+    p.beta_rad = betaAngle(orbit, t);
+    p.solar_flux_w_m2 = solarFlux(opt.solar_constant_w_m2, (sun_pos - st.position_eci_m).norm());
+    out.push_back(p);
+  }
+  return out;
+}
+
+}  // namespace radnet::orbits
