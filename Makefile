@@ -5,7 +5,7 @@ JOBS ?= $(shell nproc)
 PACKAGES = cmake g++ make libeigen3-dev libspectra-dev libcgal-dev libgeographiclib-dev \
            libyaml-cpp-dev libhdf5-dev catch2 libcli11-dev
 SUDO = $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
-EXAMPLE ?= cases/examples/seed-room.yaml
+EXAMPLE ?= cases/examples/cubesat-3u.yaml
 
 .PHONY: deps build run test sanitize bench clean
 

@@ -63,11 +63,9 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
   doc.expectMap(root, "case",
                 {"name", "description", "materials", "geometry", "solver", "expect", "orbit", "attitude",
                  "environment", "thermal"});
-  for (const char* later : {"orbit", "attitude", "environment", "thermal"})
-    if (root[later])
-      throw doc.error(root[later], std::string("'") + later +
-                                       "' is not supported by this build yet (orbits, loads and temperatures are "
-                                       "issues 4 and 5); remove it to compute the network and exchange factors");
+  if (root["thermal"])
+    throw doc.error(root["thermal"], "'thermal' is not supported by this build yet (temperatures are issue 5); "
+                                     "remove it to compute the network, exchange factors and orbit loads");
   GeometryCase c;
   c.file = doc.file();
   c.yaml_text = doc.text();
@@ -277,6 +275,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
     }
     if (vf["tolerance"]) c.contour.tolerance = doc.number(vf["tolerance"], what + ".tolerance", 1e-12, 0.1);
   }
+  c.orbit = parseOrbitSettings(doc);
   std::vector<std::string> names;
   for (const auto& node : c.scene.nodes()) names.push_back(node.name);
   if (root["expect"]) c.expectations = parseExpectations(doc, root["expect"], names);

@@ -2,6 +2,7 @@
 // The geometry form of a case (DESIGN.md §3): materials, surfaces (primitives and mesh
 // files, each side naming a material), and how to compute view factors.
 #include "cases/network_case.hpp"
+#include "cases/orbit_settings.hpp"
 #include "cases/yaml_support.hpp"
 #include "geometry/contour_view_factors.hpp"
 #include "geometry/scene.hpp"
@@ -32,6 +33,7 @@ struct GeometryCase {
   ViewFactorMethod method = ViewFactorMethod::MonteCarlo;
   geometry::ContourOptions contour;
   SolverSettings solver;
+  std::optional<OrbitSettings> orbit;  ///< absent: network and exchange factors only
   std::vector<Expectation> expectations;
 };
 

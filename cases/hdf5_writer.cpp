@@ -95,6 +95,22 @@ void Hdf5Writer::writeMatrix(const std::string& path, const Eigen::Ref<const Eig
   addUnits(ds.id, units);
 }
 
+void Hdf5Writer::writeIntegers(const std::string& path, const Eigen::Ref<const Eigen::MatrixXi>& m,
+                               const std::string& units) {
+  using RowMajor = Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const RowMajor data = m;
+  const bool vector = m.cols() == 1;
+  const hsize_t dims[2] = {static_cast<hsize_t>(m.rows()), static_cast<hsize_t>(m.cols())};
+  Handle space{checkId(H5Screate_simple(vector ? 1 : 2, dims, nullptr), "dataspace"), H5Sclose};
+  Handle lcpl{createLinkProps(), H5Pclose};
+  Handle ds{checkId(H5Dcreate2(static_cast<hid_t>(file_), path.c_str(), H5T_STD_I32LE, space.id, lcpl.id, H5P_DEFAULT,
+                               H5P_DEFAULT),
+                    "create dataset " + path),
+            H5Dclose};
+  if (m.size() > 0) check(H5Dwrite(ds.id, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), "write " + path);
+  addUnits(ds.id, units);
+}
+
 void Hdf5Writer::writeVector(const std::string& path, const Eigen::Ref<const Eigen::VectorXd>& v,
                              const std::string& units) {
   const Eigen::VectorXd data = v;

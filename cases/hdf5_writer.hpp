@@ -21,6 +21,8 @@ class Hdf5Writer {
   /// Matrices of more than 4096 entries are chunked and deflate-compressed.
   void writeMatrix(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m, const std::string& units);
   void writeVector(const std::string& path, const Eigen::Ref<const Eigen::VectorXd>& v, const std::string& units);
+  /// Integer (row-major) dataset, e.g. triangle corner indices.
+  void writeIntegers(const std::string& path, const Eigen::Ref<const Eigen::MatrixXi>& m, const std::string& units);
   void writeStrings(const std::string& path, const std::vector<std::string>& values, const std::string& units = "");
   void writeText(const std::string& path, const std::string& text);
 

@@ -112,7 +112,7 @@ int main(int argc, char** argv) {
   std::ostringstream sink;
   if (*run) {
     return guarded([&] {
-      const LoadedCase c = loadCase(run_case);
+      LoadedCase c = loadCase(run_case);
       std::ostream& progress = quiet ? static_cast<std::ostream&>(sink) : std::cerr;
       const std::string out = run_output.empty() ? defaultOutput(run_case) : run_output;
       if (c.network) {
@@ -120,7 +120,7 @@ int main(int argc, char** argv) {
         writeNetworkResult(*c.network, r, out);
         printNetworkSummary(*c.network, r, std::cout);
       } else {
-        GeometryCase g = *std::move(c.geometry);
+        GeometryCase& g = *c.geometry;
         if (threads > 0) g.view_factors.threads = threads;
         if (seed >= 0) g.view_factors.seed = static_cast<std::uint64_t>(seed);
         const GeometryRunResult r = runGeometryCase(g, !quiet, progress);

@@ -11,6 +11,71 @@ namespace {
 // Dense GR costs O(n³); beyond this the low-rank form E V C Vᵀ E is used and its residual reported.
 constexpr int kDenseExchangeLimit = 3000;
 
+// One band for all positions at once: M_o = ρ ∘ E (n×cols); returns the solution and
+// the absorbed power (1 − ρ) A (E + H), W.
+solver::BandSolution solveBand(const solver::Network& net, const solver::EigenPairs& pairs, const Eigen::VectorXd& rho,
+                               const Eigen::MatrixXd& irradiance, double refine_tol, const char* band,
+                               Eigen::MatrixXd& absorbed) {
+  const solver::LowRankBandSolver solver(net, pairs, rho);
+  solver::BandSolution sol = solver.solve(rho.asDiagonal() * irradiance, refine_tol);
+  if (sol.status != solver::Status::Converged)
+    throw NumericalError(std::string(band) + " band solve " + solver::toString(sol.status) + ": " + sol.message);
+  const Eigen::VectorXd absorptance = Eigen::VectorXd::Ones(net.size()) - rho;
+  absorbed = absorptance.cwiseProduct(net.area()).asDiagonal() * (irradiance + sol.irradiance);
+  return sol;
+}
+
+void runSweep(const GeometryCase& c, const geometry::RayCaster& caster, const Eigen::VectorXd& area,
+              GeometryRunResult& r, std::ostream& progress) {
+  const OrbitSettings& o = *c.orbit;
+  GeometryRunResult::Sweep sw;
+  StageTimer t_orbit;
+  sw.positions = orbits::sweepOrbit(*o.orbit, o.attitude, o.sweep);
+  r.timings_s.emplace_back("orbit", t_orbit.seconds());
+  const int P = static_cast<int>(sw.positions.size()), n = static_cast<int>(area.size());
+  int events = 0;
+  for (const auto& p : sw.positions) events += p.event;
+  progress << "radnet: orbit (" << o.description << "), period " << o.orbit->period() << " s, " << P
+           << " positions (" << events << " eclipse entries/exits inserted)\n";
+  StageTimer t_loads;
+  sw.irradiance = orbits::environmentLoads(caster, area, sw.positions, orbits::earthFixedInBody(o.attitude),
+                                           o.orbit->earth().equatorial_radius_m, o.environment);
+  r.timings_s.emplace_back("environment_loads", t_loads.seconds());
+  progress << "radnet: loads: planet rays cast " << sw.irradiance.planet_casts << " time(s) for " << P << " positions\n";
+
+  // Solar band (ρ = 1 − α): direct and albedo as 2P right-hand sides of one solve.
+  StageTimer t_bands;
+  const double tol = c.solver.refineEnabled() ? c.solver.tolerance : 0.0;
+  const solver::Network& net = *r.network;
+  Eigen::MatrixXd ext(n, 2 * P);
+  ext << sw.irradiance.direct, sw.irradiance.albedo;
+  Eigen::MatrixXd absorbed;
+  const Eigen::VectorXd rho_solar = Eigen::VectorXd::Ones(n) - c.absorptivity;
+  const solver::BandSolution solar = solveBand(net, r.pairs, rho_solar, ext, tol, "solar", absorbed);
+  sw.absorbed_solar = absorbed.leftCols(P);
+  sw.absorbed_albedo = absorbed.rightCols(P);
+  sw.exitance_solar = solar.exitance.leftCols(P) + solar.exitance.rightCols(P);
+  sw.solar_residual = solar.max_residual;
+  sw.solar_refine_iterations = solar.refine_iterations;
+  // Energy balance: what arrives = what is absorbed + what leaves to space or inactive sides.
+  const Eigen::VectorXd lost = area.cwiseProduct(net.spaceViewFactor() + net.blockedFraction());
+  for (int p = 0; p < P; ++p) {
+    const double in = area.dot(sw.irradiance.direct.col(p) + sw.irradiance.albedo.col(p));
+    if (in <= 0) continue;
+    const double out = sw.absorbed_solar.col(p).sum() + sw.absorbed_albedo.col(p).sum() +
+                       lost.dot(sw.exitance_solar.col(p));
+    sw.energy_balance_error = std::max(sw.energy_balance_error, std::abs(in - out) / in);
+  }
+  // IR band (ρ = 1 − ε): the planet's IR, interreflected.
+  const solver::BandSolution ir =
+      solveBand(net, r.pairs, Eigen::VectorXd::Ones(n) - c.emissivity, sw.irradiance.earth_ir, tol, "IR", absorbed);
+  sw.absorbed_earth_ir = absorbed;
+  sw.ir_residual = ir.max_residual;
+  sw.ir_refine_iterations = ir.refine_iterations;
+  r.timings_s.emplace_back("band_solves", t_bands.seconds());
+  r.sweep = std::move(sw);
+}
+
 }  // namespace
 
 GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std::ostream& progress) {
@@ -93,8 +158,49 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
   if (r.exchange.status != solver::Status::Converged)
     throw NumericalError(std::string("exchange factors ") + solver::toString(r.exchange.status) + ": " +
                          r.exchange.message);
+  if (c.orbit) runSweep(c, caster, area, r, progress);
   return r;
 }
+
+namespace {
+
+void writeSweep(Hdf5Writer& h5, const GeometryRunResult::Sweep& sw) {
+  const int P = static_cast<int>(sw.positions.size());
+  Eigen::VectorXd time(P), sunlit(P), beta(P), flux(P), event(P);
+  Eigen::MatrixXd sun(P, 3), earth(P, 3);
+  for (int p = 0; p < P; ++p) {
+    const auto& q = sw.positions[static_cast<size_t>(p)];
+    time[p] = q.t_s;
+    sunlit[p] = q.sunlit_fraction;
+    beta[p] = q.beta_rad * 180.0 / M_PI;
+    flux[p] = q.solar_flux_w_m2;
+    event[p] = q.event ? 1.0 : 0.0;
+    sun.row(p) = q.sun_body.transpose();
+    earth.row(p) = q.earth_body.transpose();
+  }
+  h5.writeVector("/orbit/time", time, "s");
+  h5.writeMatrix("/orbit/sun_body", sun, "1");
+  h5.writeMatrix("/orbit/earth_body", earth, "1");
+  h5.writeVector("/orbit/sunlit_fraction", sunlit, "1");
+  h5.writeVector("/orbit/beta", beta, "deg");
+  h5.writeVector("/orbit/solar_flux", flux, "W/m^2");
+  h5.writeVector("/orbit/eclipse_event", event, "1");
+  // Positions × nodes, as DESIGN.md §3 lays out (P, n).
+  h5.writeMatrix("/loads/solar", sw.absorbed_solar.transpose(), "W");
+  h5.writeMatrix("/loads/albedo", sw.absorbed_albedo.transpose(), "W");
+  h5.writeMatrix("/loads/earth_ir", sw.absorbed_earth_ir.transpose(), "W");
+  h5.writeMatrix("/loads/earth_view_factor", sw.irradiance.earth_view_factor.transpose(), "1");
+  h5.writeMatrix("/loads/incident_solar", sw.irradiance.direct.transpose(), "W/m^2");
+  h5.writeMatrix("/loads/incident_albedo", sw.irradiance.albedo.transpose(), "W/m^2");
+  h5.writeMatrix("/loads/incident_earth_ir", sw.irradiance.earth_ir.transpose(), "W/m^2");
+  h5.writeMatrix("/solution/exitance_solar", sw.exitance_solar.transpose(), "W/m^2");
+  h5.attribute("/report", "solar_band_residual", sw.solar_residual);
+  h5.attribute("/report", "ir_band_residual", sw.ir_residual);
+  h5.attribute("/report", "solar_energy_balance_error", sw.energy_balance_error);
+  h5.attribute("/report", "planet_ray_casts", static_cast<long long>(sw.irradiance.planet_casts));
+}
+
+}  // namespace
 
 void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, const std::string& path) {
   Hdf5Writer h5(path);
@@ -104,9 +210,9 @@ void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, cons
   h5.writeVector("/nodes/absorptivity", c.absorptivity, "1");
   h5.writeStrings("/nodes/material", c.node_material);
   h5.writeMatrix("/geometry/vertices", c.scene.vertexMatrix(), "m");
-  h5.writeMatrix("/geometry/triangles", c.scene.triangleMatrix().cast<double>(), "1");
-  h5.writeVector("/geometry/triangle_node", c.scene.frontNodes().cast<double>(), "1");
-  h5.writeVector("/geometry/triangle_back_node", c.scene.backNodes().cast<double>(), "1");
+  h5.writeIntegers("/geometry/triangles", c.scene.triangleMatrix(), "1");
+  h5.writeIntegers("/geometry/triangle_node", c.scene.frontNodes(), "1");  // −1: inactive side
+  h5.writeIntegers("/geometry/triangle_back_node", c.scene.backNodes(), "1");
   h5.writeMatrix("/network/view_factor_stderr", r.view_factor_stderr, "1");
   h5.writeMatrix("/network/view_factors_raw", r.raw_view_factors, "1");
   h5.writeVector("/network/blocked_view_factor", r.network->blockedFraction(), "1");
@@ -116,6 +222,7 @@ void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, cons
   h5.attribute("/network", "rays_total", static_cast<long long>(r.total_rays));
   writeExchange(h5, r.exchange, r.exchange_method);
   writeEigen(h5, r.pairs);
+  if (r.sweep) writeSweep(h5, *r.sweep);
   writeTimings(h5, r.timings_s);
   h5.attribute("/report", "view_factor_error", r.view_factor_stderr.size() ? r.view_factor_stderr.maxCoeff() : 0.0);
   h5.attribute("/report", "rays_per_second", r.rays_per_second);
@@ -133,6 +240,22 @@ void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std
         << std::setw(12) << net.area()[i] << std::setw(8) << c.emissivity[i] << std::setw(8) << c.absorptivity[i]
         << std::setw(12) << net.spaceViewFactor()[i] << std::setw(12) << r.exchange.gr_space[i] << std::setw(12)
         << (r.view_factor_stderr.cols() ? r.view_factor_stderr.row(i).maxCoeff() : 0.0) << "\n";
+  }
+  if (r.sweep) {
+    const auto& sw = *r.sweep;
+    const Eigen::MatrixXd total = sw.absorbed_solar + sw.absorbed_albedo + sw.absorbed_earth_ir;
+    out << "orbit: " << sw.positions.size() << " positions; absorbed environmental power per node, W "
+        << "(solar + albedo + Earth IR):\n";
+    out << std::left << std::setw(20) << "node" << std::right << std::setw(12) << "min" << std::setw(12) << "mean"
+        << std::setw(12) << "max" << std::setw(12) << "solar max" << std::setw(12) << "albedo max" << std::setw(12)
+        << "IR mean" << "\n";
+    for (int i = 0; i < net.size(); ++i)
+      out << std::left << std::setw(20) << net.names()[static_cast<size_t>(i)] << std::right << std::setprecision(5)
+          << std::setw(12) << total.row(i).minCoeff() << std::setw(12) << total.row(i).mean() << std::setw(12)
+          << total.row(i).maxCoeff() << std::setw(12) << sw.absorbed_solar.row(i).maxCoeff() << std::setw(12)
+          << sw.absorbed_albedo.row(i).maxCoeff() << std::setw(12) << sw.absorbed_earth_ir.row(i).mean() << "\n";
+    out << "band residuals: solar " << sw.solar_residual << ", IR " << sw.ir_residual
+        << "; solar energy balance error " << sw.energy_balance_error << "\n";
   }
   out << "view factors: " << r.total_rays << " rays, correction ≤ " << r.correction.max_change << " ("
       << r.correction.max_change_sigma << " σ); closure error " << r.correction.max_closure_error << "\n";

@@ -4,6 +4,7 @@
 #include "cases/geometry_case.hpp"
 #include "cases/output.hpp"
 #include "geometry/reciprocity.hpp"
+#include "orbits/loads.hpp"
 #include "solver/exchange.hpp"
 
 #include <iosfwd>
@@ -20,6 +21,17 @@ struct GeometryRunResult {
   solver::EigenPairs pairs;
   solver::ExchangeFactors exchange;
   std::string exchange_method;
+  /// Orbit sweep (present when the case has an orbit).
+  struct Sweep {
+    std::vector<orbits::SweepPosition> positions;
+    orbits::EnvironmentLoads irradiance;  ///< external irradiances, W/m² (n×P)
+    Eigen::MatrixXd absorbed_solar, absorbed_albedo, absorbed_earth_ir;  ///< absorbed after interreflection, W (n×P)
+    Eigen::MatrixXd exitance_solar;  ///< solar-band exitance (direct + albedo), W/m² (n×P)
+    double solar_residual = 0.0, ir_residual = 0.0;  ///< band-solve residuals with the full G
+    int solar_refine_iterations = 0, ir_refine_iterations = 0;
+    double energy_balance_error = 0.0;  ///< max over positions of |in − absorbed − lost| / in, solar band
+  };
+  std::optional<Sweep> sweep;
   std::int64_t total_rays = 0;
   double rays_per_second = 0.0;
   Timings timings_s;
