@@ -35,6 +35,7 @@ sanitize: deps
 bench: build
 	./$(BUILD_DIR)/bench/bench_solver docs/solver-benchmark.md
 	./$(BUILD_DIR)/bench/bench_view_factors docs/view-factor-benchmark.md
+	./$(BUILD_DIR)/bench/bench_loads docs/loads-benchmark.md
 
 clean:
 	rm -rf $(BUILD_DIR) build-sanitize

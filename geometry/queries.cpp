@@ -28,8 +28,9 @@ LitArea litArea(const RayCaster& caster, const Vec3& toward_source, int samples,
   out.projected_m2 = Eigen::VectorXd::Zero(n);
   out.lit_fraction = Eigen::VectorXd::Zero(n);
   const Vec3 d = toward_source.normalized();
+  std::int64_t rays_cast = 0;
 #ifdef _OPENMP
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : rays_cast)
 #endif
   for (int i = 0; i < n; ++i) {
     const Node& node = scene.nodes()[static_cast<size_t>(i)];
@@ -45,12 +46,14 @@ LitArea litArea(const RayCaster& caster, const Vec3& toward_source, int samples,
       const NodeSampler::Ray p = sampler.mapPoint(u[0], u[1]);
       const double cosine = p.normal.dot(d);
       if (cosine <= 0) continue;
+      ++rays_cast;
       const Hit hit = caster.firstHit(caster.offsetOrigin(p.point, p.normal), d, p.face);
       if (hit.face < 0) lit += cosine;
     }
     out.projected_m2[i] = node.area_m2 * lit / samples;
     out.lit_fraction[i] = out.projected_m2[i] / facing;
   }
+  out.rays_cast = rays_cast;
   return out;
 }
 

@@ -14,6 +14,7 @@ namespace radnet::geometry {
 struct LitArea {
   Eigen::VectorXd projected_m2;  ///< ∫ max(0, n·d) · visible dA per node, m² (times the flux gives W)
   Eigen::VectorXd lit_fraction;  ///< of the node's sunward-facing area not shadowed, – (0 when none faces)
+  std::int64_t rays_cast = 0;    ///< shadow rays actually cast (nodes facing away cast none)
 };
 
 /// Projected lit area of every node for a collimated source in direction `toward_source`

@@ -34,7 +34,7 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
     if (pos.sunlit_fraction > 0) {
       const geometry::LitArea lit = geometry::litArea(caster, pos.sun_body, opt.shadow_samples, opt.seed);
       out.direct.col(p) = (pos.solar_flux_w_m2 * pos.sunlit_fraction) * lit.projected_m2.cwiseQuotient(area);
-      for (int i = 0; i < n; ++i) out.shadow_rays += lit.projected_m2[i] > 0 || lit.lit_fraction[i] > 0 ? opt.shadow_samples : 0;
+      out.shadow_rays += lit.rays_cast;
     }
     // Planet rays: cast again unless the Earth sits where it did (reuse).
     const Eigen::Vector3d center = pos.earth_body * pos.earth_distance_m;
