@@ -98,7 +98,7 @@ std::optional<OrbitSettings> parseOrbitSettings(const YamlDocument& doc) {
   doc.expectMap(o, "orbit",
                 {"altitude", "beta", "inclination", "raan", "ltan", "sun_synchronous", "semi_major_axis", "eccentricity",
                  "perigee_altitude", "apogee_altitude", "arg_perigee", "true_anomaly", "epoch", "positions", "orbits",
-                 "eclipse_events"});
+                 "eclipse_events", "spacing"});
   OrbitSettings s;
   auto num = [&](const char* key, const std::string& what, double lo, double hi, double fallback) {
     return o[key] ? doc.number(o[key], "orbit." + std::string(key) + " " + what, lo, hi) : fallback;
@@ -159,6 +159,12 @@ std::optional<OrbitSettings> parseOrbitSettings(const YamlDocument& doc) {
   }
   if (o["positions"]) s.sweep.positions_per_orbit = static_cast<int>(doc.integer(o["positions"], "orbit.positions", 1, 100000));
   if (o["orbits"]) s.sweep.orbits = doc.number(o["orbits"], "orbit.orbits", 1e-3, 10000);
+  if (o["spacing"]) {
+    const std::string sp = doc.string(o["spacing"], "orbit.spacing");
+    if (sp == "time") s.sweep.spacing = orbits::SweepOptions::Spacing::Time;
+    else if (sp == "true_anomaly") s.sweep.spacing = orbits::SweepOptions::Spacing::TrueAnomaly;
+    else throw doc.error(o["spacing"], "orbit.spacing: '" + sp + "'; expected time or true_anomaly");
+  }
   if (o["eclipse_events"]) s.sweep.insert_eclipse_events = doc.boolean(o["eclipse_events"], "orbit.eclipse_events");
 
   s.attitude = parseAttitude(doc, root["attitude"]);

@@ -93,6 +93,15 @@ OrbitState Orbit::state(double t) const {
   return {eciFromPerifocal * pos_pf, eciFromPerifocal * vel_pf};
 }
 
+double Orbit::timeOfTrueAnomaly(double nu, int turns) const {
+  const double e = el_.eccentricity;
+  const double ecc = 2 * std::atan2(std::sqrt(1 - e) * std::sin(nu / 2), std::sqrt(1 + e) * std::cos(nu / 2));
+  double dm = (ecc - e * std::sin(ecc)) - m0_;
+  dm = std::fmod(dm, 2 * M_PI);
+  if (dm < 0) dm += 2 * M_PI;
+  return (dm + 2 * M_PI * turns) / mean_motion_;
+}
+
 Eigen::Vector3d Orbit::normal(double t) const {
   const double raan = el_.raan_rad + raan_rate_ * t, i = el_.inclination_rad;
   return Eigen::Vector3d(std::sin(i) * std::sin(raan), -std::sin(i) * std::cos(raan), std::cos(i));

@@ -48,6 +48,9 @@ class Orbit {
   /// Secular rates from J2, rad/s.
   double raanRate() const { return raan_rate_; }
   double argPerigeeRate() const { return argp_rate_; }
+  /// Seconds after the epoch at which the true anomaly first reaches ν (rad) after the
+  /// epoch's true anomaly has advanced by `turns` full revolutions (0: the first orbit).
+  double timeOfTrueAnomaly(double nu_rad, int turns) const;
   /// Orbit normal (unit angular momentum) in ECI at time t.
   Eigen::Vector3d normal(double t_s) const;
   const EarthModel& earth() const { return earth_; }

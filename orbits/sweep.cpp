@@ -16,7 +16,14 @@ std::vector<SweepPosition> sweepOrbit(const Orbit& orbit, const AttitudeSpec& at
   const double period = orbit.period(), span = opt.orbits * period;
   const int regular = static_cast<int>(std::ceil(opt.positions_per_orbit * opt.orbits - 1e-9));
   std::vector<std::pair<double, bool>> times;
-  for (int k = 0; k < regular; ++k) times.emplace_back(k * period / opt.positions_per_orbit, false);
+  for (int k = 0; k < regular; ++k) {
+    if (opt.spacing == SweepOptions::Spacing::Time) {
+      times.emplace_back(k * period / opt.positions_per_orbit, false);
+    } else {  // equal steps of true anomaly from the epoch's
+      const double nu = orbit.elements().true_anomaly_rad + 2 * M_PI * (k % opt.positions_per_orbit) / opt.positions_per_orbit;
+      times.emplace_back(orbit.timeOfTrueAnomaly(nu, k / opt.positions_per_orbit), false);
+    }
+  }
   if (opt.insert_eclipse_events)
     for (const EclipseEvent& e : eclipseEvents(orbit, 0.0, span)) times.emplace_back(e.t_s, true);
   std::sort(times.begin(), times.end());

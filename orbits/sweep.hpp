@@ -12,6 +12,7 @@
 namespace radnet::orbits {
 
 struct SweepOptions {
+  enum class Spacing { Time, TrueAnomaly } spacing = Spacing::Time;
   int positions_per_orbit = 72;
   double orbits = 1.0;
   bool insert_eclipse_events = true;

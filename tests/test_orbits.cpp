@@ -221,6 +221,28 @@ TEST_CASE("sweep: evenly spaced positions plus exact eclipse events; sunlit frac
   CHECK(sweep.size() == 36 + 4);
 }
 
+TEST_CASE("sweep by true anomaly: equal steps of ν on an eccentric orbit, time increasing") {
+  const Orbit orbit(perigeeApogeeElements(500e3, 8000e3, 63.4, 0, 270, 0), kEpoch);
+  SweepOptions opt;
+  opt.positions_per_orbit = 12;
+  opt.orbits = 2;
+  opt.insert_eclipse_events = false;
+  opt.spacing = SweepOptions::Spacing::TrueAnomaly;
+  AttitudeSpec inertial;
+  inertial.mode = AttitudeSpec::Mode::Inertial;
+  const auto sweep = sweepOrbit(orbit, inertial, opt);
+  REQUIRE(sweep.size() == 24);
+  const double e = orbit.elements().eccentricity;
+  for (size_t k = 0; k < sweep.size(); ++k) {
+    if (k) CHECK(sweep[k].t_s > sweep[k - 1].t_s);
+    // True anomaly from the position: the angle from perigee in the orbit plane.
+    const OrbitState st = orbit.state(sweep[k].t_s);
+    const double r = st.position_eci_m.norm(), p = orbit.elements().semi_major_axis_m * (1 - e * e);
+    const double cos_nu = (p / r - 1) / e;
+    CHECK(cos_nu == Approx(std::cos(2 * M_PI * (k % 12) / 12.0)).margin(1e-6));
+  }
+}
+
 TEST_CASE("bad orbits are rejected with clear errors") {
   CHECK_THROWS_WITH(circularElements(-10e3, 51.6, 0), Contains("altitude"));
   CHECK_THROWS_WITH(circularElements(std::nan(""), 51.6, 0), Contains("altitude"));
