@@ -54,61 +54,76 @@ struct SurfaceEntry {
   YAML::Node node;
 };
 
-}  // namespace
+struct GeometryContext {
+  GeometryCase& c;
+  std::vector<std::string> material_names;
+  std::map<std::string, std::string> node_material;  // node name → material
+};
 
-bool isGeometryCase(const YamlDocument& doc) { return doc.root().IsMap() && doc.root()["geometry"].IsDefined(); }
+// Reads an included YAML file named by `node` (relative to the including file).
+std::pair<YamlDocument, std::string> includeDocument(const YamlDocument& doc, const YAML::Node& node,
+                                                     const std::string& what, int depth, GeometryCase& c) {
+  if (depth >= 8) throw doc.error(node, what + ": includes nested more than 8 deep (a cycle?)");
+  std::filesystem::path path = doc.string(node, what);
+  if (path.is_relative()) path = std::filesystem::path(doc.file()).parent_path() / path;
+  if (!std::filesystem::exists(path)) throw doc.error(node, what + ": file '" + path.string() + "' not found");
+  YamlDocument inc = YamlDocument::load(path.string());
+  c.included.emplace_back(path.string(), inc.text());
+  return {std::move(inc), path.string()};
+}
 
-GeometryCase loadGeometryCase(const YamlDocument& doc) {
-  const YAML::Node& root = doc.root();
-  doc.expectMap(root, "case",
-                {"name", "description", "materials", "geometry", "solver", "expect", "orbit", "attitude",
-                 "environment", "thermal"});
-  if (root["thermal"])
-    throw doc.error(root["thermal"], "'thermal' is not supported by this build yet (temperatures are issue 5); "
-                                     "remove it to compute the network, exchange factors and orbit loads");
-  GeometryCase c;
-  c.file = doc.file();
-  c.yaml_text = doc.text();
-  c.name = doc.string(doc.required(root, "name", "case"), "name");
-
-  const YAML::Node mats = doc.required(root, "materials", "case");
-  if (!mats.IsMap() || mats.size() == 0) throw doc.error(mats, "materials: expected a mapping of material names");
+void parseMaterials(const YamlDocument& doc, const YAML::Node& mats, GeometryCase& c, int depth) {
+  if (!mats.IsMap()) throw doc.error(mats, "materials: expected a mapping of material names");
   for (const auto& kv : mats) {
     const std::string mname = doc.string(kv.first, "material name");
+    if (mname == "include") {  // a file (or list of files) of material definitions
+      const YAML::Node files = kv.second;
+      for (size_t k = 0; k < (files.IsSequence() ? files.size() : 1); ++k) {
+        const auto [inc, path] = includeDocument(doc, files.IsSequence() ? files[k] : files, "materials.include", depth, c);
+        parseMaterials(inc, inc.root(), c, depth + 1);
+      }
+      continue;
+    }
     const std::string what = "materials." + mname;
     doc.expectMap(kv.second, what, {"emissivity", "absorptivity"});
     Material m;
     m.emissivity = doc.number(doc.required(kv.second, "emissivity", what), what + ".emissivity", 0.0, 1.0);
     m.absorptivity = doc.number(doc.required(kv.second, "absorptivity", what), what + ".absorptivity", 0.0, 1.0);
+    if (c.materials.count(mname)) throw doc.error(kv.first, what + ": defined twice");
     c.materials[mname] = m;
   }
-  std::vector<std::string> material_names;
-  for (const auto& [k, v] : c.materials) material_names.push_back(k);
+}
+
+void parseGeometryList(const YamlDocument& doc, const YAML::Node& geom, const std::string& list_what,
+                       GeometryContext& ctx, int depth) {
+  GeometryCase& c = ctx.c;
+  doc.expectSequence(geom, list_what);
+  if (geom.size() == 0) throw doc.error(geom, list_what + ": the list is empty; expected at least one surface");
+  const std::filesystem::path base = std::filesystem::path(doc.file()).parent_path();
   auto material = [&](const YAML::Node& node, const std::string& what) -> std::string {
     if (!node) return "";
     const std::string m = doc.string(node, what);
     if (!c.materials.count(m)) {
       std::string msg = what + ": unknown material '" + m + "'";
-      if (auto near = nearestWord(m, material_names)) msg += " (did you mean '" + *near + "'?)";
+      if (auto near = nearestWord(m, ctx.material_names)) msg += " (did you mean '" + *near + "'?)";
       throw doc.error(node, msg);
     }
     return m;
   };
-
-  const YAML::Node geom = doc.required(root, "geometry", "case");
-  doc.expectSequence(geom, "geometry");
-  if (geom.size() == 0) throw doc.error(geom, "geometry: the list is empty; expected at least one surface");
-  std::map<std::string, std::string> node_material;  // node name → material
-  const std::filesystem::path base = std::filesystem::path(doc.file()).parent_path();
   for (size_t k = 0; k < geom.size(); ++k) {
     const YAML::Node entry = geom[k];
-    const std::string where = "geometry[" + std::to_string(k) + "]";
+    const std::string where = list_what + "[" + std::to_string(k) + "]";
     if (!entry.IsMap() || entry.size() != 1)
       throw doc.error(entry, where + ": expected one primitive, e.g. '- rectangle: {...}'");
     const std::string kind = entry.begin()->first.Scalar();
+    if (kind == "include") {  // a list of surfaces in another file, read with its own positions
+      const auto [inc, path] = includeDocument(doc, entry.begin()->second, where + ".include", depth, ctx.c);
+      parseGeometryList(inc, inc.root(), path, ctx, depth + 1);
+      continue;
+    }
     const YAML::Node p = entry.begin()->second;
     const std::string what = where + "." + kind;
-    static const std::initializer_list<const char*> kinds = {"rectangle", "quadrilateral", "triangle", "disc",
+    static const std::initializer_list<const char*> kinds = {"include", "rectangle", "quadrilateral", "triangle", "disc",
                                                              "cylinder",  "cone",          "sphere",   "box", "mesh"};
     if (std::none_of(kinds.begin(), kinds.end(), [&](const char* s) { return kind == s; })) {
       std::string msg = where + ": unknown primitive '" + kind + "'";
@@ -151,7 +166,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
         const std::string fn = front.empty() ? "" : node, bn = back.empty() ? "" : node + ".back";
         for (const auto& [nn, mat] : {std::pair{fn, front}, std::pair{bn, back}}) {
           if (nn.empty()) continue;
-          auto [it, fresh] = node_material.emplace(nn, mat);
+          auto [it, fresh] = ctx.node_material.emplace(nn, mat);
           if (!fresh && it->second != mat)
             throw geometry::GeometryError("node '" + nn + "' would have two materials ('" + it->second + "' and '" +
                                           mat + "')");
@@ -233,7 +248,33 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
     } catch (const geometry::GeometryError& e) {
       throw doc.error(entry, what + ": " + e.what());
     }
-  }
+    }
+}
+
+}  // namespace
+
+bool isGeometryCase(const YamlDocument& doc) { return doc.root().IsMap() && doc.root()["geometry"].IsDefined(); }
+
+GeometryCase loadGeometryCase(const YamlDocument& doc) {
+  const YAML::Node& root = doc.root();
+  doc.expectMap(root, "case",
+                {"name", "description", "materials", "geometry", "solver", "expect", "orbit", "attitude",
+                 "environment", "thermal"});
+  if (root["thermal"])
+    throw doc.error(root["thermal"], "'thermal' is not supported by this build yet (temperatures are issue 5); "
+                                     "remove it to compute the network, exchange factors and orbit loads");
+  GeometryCase c;
+  c.file = doc.file();
+  c.yaml_text = doc.text();
+  c.name = doc.string(doc.required(root, "name", "case"), "name");
+
+  parseMaterials(doc, doc.required(root, "materials", "case"), c, 0);
+  if (c.materials.empty()) throw doc.error(root["materials"], "materials: expected at least one material");
+  GeometryContext ctx{c, {}, {}};
+  for (const auto& [k, v] : c.materials) ctx.material_names.push_back(k);
+
+  const YAML::Node geom = doc.required(root, "geometry", "case");
+  parseGeometryList(doc, geom, "geometry", ctx, 0);
   try {
     c.scene.validate();
   } catch (const geometry::GeometryError& e) {
@@ -243,7 +284,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
   c.emissivity.resize(n);
   c.absorptivity.resize(n);
   for (int i = 0; i < n; ++i) {
-    const std::string& mat = node_material.at(c.scene.nodes()[static_cast<size_t>(i)].name);
+    const std::string& mat = ctx.node_material.at(c.scene.nodes()[static_cast<size_t>(i)].name);
     c.node_material.push_back(mat);
     c.emissivity[i] = c.materials.at(mat).emissivity;
     c.absorptivity[i] = c.materials.at(mat).absorptivity;

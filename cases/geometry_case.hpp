@@ -25,6 +25,7 @@ struct GeometryCase {
   std::string name;
   std::string file;
   std::string yaml_text;
+  std::vector<std::pair<std::string, std::string>> included;  ///< (path, text) of included files
   std::map<std::string, Material> materials;
   geometry::Scene scene;                    ///< built while loading (meshes read, validated)
   std::vector<std::string> node_material;   ///< per scene node

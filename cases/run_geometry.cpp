@@ -205,6 +205,11 @@ void writeSweep(Hdf5Writer& h5, const GeometryRunResult::Sweep& sw) {
 void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, const std::string& path) {
   Hdf5Writer h5(path);
   writeMeta(h5, c.name, c.yaml_text);
+  for (size_t k = 0; k < c.included.size(); ++k) {  // the included files, so a result carries all its input
+    const std::string path = "/meta/included/" + std::to_string(k);
+    h5.writeText(path, c.included[k].second);
+    h5.attribute(path, "file", c.included[k].first);
+  }
   writeNetwork(h5, *r.network);
   h5.writeVector("/nodes/emissivity", c.emissivity, "1");
   h5.writeVector("/nodes/absorptivity", c.absorptivity, "1");

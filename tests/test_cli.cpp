@@ -305,6 +305,36 @@ TEST_CASE("cli: the 3U CubeSat example runs end to end with every orbit dataset"
   H5Fclose(file);
 }
 
+TEST_CASE("cli: includes of materials and surfaces, errors located in the included file") {
+  TempDir dir;
+  fs::create_directories(dir.path / "lib" / "parts");
+  std::ofstream(dir.path / "lib" / "materials.yaml") << "white: {emissivity: 0.88, absorptivity: 0.2}\n"
+                                                          "black: {emissivity: 1.0, absorptivity: 1.0}\n";
+  std::ofstream(dir.path / "lib" / "panels.yaml")
+      << "- rectangle: {name: a, origin: [0, 0, 0], u: [1, 0, 0], v: [0, 1, 0], front: white}\n"
+         "- mesh: {name: m, file: parts/tri.off, front: black}\n";
+  std::ofstream(dir.path / "lib" / "parts" / "tri.off") << "OFF\n3 1 0\n0 0 1\n0 1 1\n1 0 1\n3 0 1 2\n";
+  std::ofstream(dir.path / "case.yaml") << "name: inc\nmaterials: {include: lib/materials.yaml}\n"
+                                           "geometry:\n  - include: lib/panels.yaml\n"
+                                           "solver: {view_factors: {rays: 1000}}\n";
+  const Run ok = radnet("run case.yaml -o inc.h5 -q", dir);
+  INFO(ok.err);
+  REQUIRE(ok.exit_code == 0);
+  hid_t file = H5Fopen((dir.path / "inc.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  CHECK(H5Lexists(file, "/meta/included/0", H5P_DEFAULT) > 0);  // the included files travel with the result
+  CHECK(H5Lexists(file, "/meta/included/1", H5P_DEFAULT) > 0);
+  H5Fclose(file);
+  // An error inside an included file names that file, its line and column.
+  std::ofstream(dir.path / "lib" / "panels.yaml")
+      << "- rectangle: {name: a, origin: [0, 0, 0], u: [1, 0, 0], v: [0, 1, 0], front: white}\n"
+         "- rectangle: {name: b, origin: [0, 0, 1], u: [1, 0, 0], v: [0, 1, 0], front: grey}\n";
+  const Run bad = radnet("run case.yaml -o bad.h5", dir);
+  CHECK(bad.exit_code == 2);
+  CHECK(bad.err.find("panels.yaml:2:") != std::string::npos);
+  CHECK(bad.err.find("unknown material 'grey'") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir.path / "bad.h5"));
+}
+
 TEST_CASE("cli: validate accepts the shipped examples") {
   TempDir dir;
   for (const char* ex : {"seed-room", "random-network", "parallel-plates", "cubesat-3u"}) {
