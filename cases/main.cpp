@@ -14,6 +14,7 @@
 #include <optional>
 #include <iostream>
 #include <sstream>
+#include <unistd.h>
 
 namespace {
 
@@ -48,6 +49,14 @@ LoadedCase loadCase(const std::string& path) {
 
 std::string defaultOutput(const std::string& case_path) {
   return std::filesystem::path(case_path).stem().string() + ".h5";
+}
+
+// Fails early, before any computing, when the output cannot be written.
+void checkOutputPath(const std::string& out) {
+  const std::filesystem::path dir = std::filesystem::absolute(out).parent_path();
+  if (!std::filesystem::is_directory(dir))
+    throw InputError(out, 0, 0, "output directory '" + dir.string() + "' does not exist");
+  if (::access(dir.c_str(), W_OK) != 0) throw InputError(out, 0, 0, "output directory '" + dir.string() + "' is not writable");
 }
 
 // Runs `body`, mapping each error channel to its exit code with a message on stderr.
@@ -115,6 +124,7 @@ int main(int argc, char** argv) {
       LoadedCase c = loadCase(run_case);
       std::ostream& progress = quiet ? static_cast<std::ostream&>(sink) : std::cerr;
       const std::string out = run_output.empty() ? defaultOutput(run_case) : run_output;
+      checkOutputPath(out);
       if (c.network) {
         const NetworkRunResult r = runNetworkCase(*c.network, progress);
         writeNetworkResult(*c.network, r, out);

@@ -1,6 +1,9 @@
 #include "cases/run_geometry.hpp"
 
 #include "cases/errors.hpp"
+#include "cases/xdmf.hpp"
+
+#include <filesystem>
 
 #include <iomanip>
 #include <ostream>
@@ -164,6 +167,34 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
 
 namespace {
 
+// Per-triangle copies of node values for the XDMF sidecar: a triangle shows its front
+// node (or its back node when only the back is active).
+std::vector<XdmfAttribute> writeCellValues(Hdf5Writer& h5, const GeometryCase& c, const GeometryRunResult& r) {
+  const Eigen::VectorXi front = c.scene.frontNodes(), back = c.scene.backNodes();
+  const Eigen::Index nt = front.size();
+  Eigen::VectorXi shown(nt);
+  for (Eigen::Index t = 0; t < nt; ++t) shown[t] = front[t] >= 0 ? front[t] : back[t];
+  std::vector<XdmfAttribute> attrs = {{"node", "/geometry/triangle_node", false, true}};
+  auto spread = [&](const Eigen::MatrixXd& node_by_position) {  // (n×P) → (P×nt)
+    Eigen::MatrixXd cells(node_by_position.cols(), nt);
+    for (Eigen::Index t = 0; t < nt; ++t) cells.col(t) = node_by_position.row(shown[t]).transpose();
+    return cells;
+  };
+  const Eigen::MatrixXd area_node = r.network->area();
+  h5.writeVector("/xdmf/node_area", spread(area_node).row(0).transpose(), "m^2");
+  attrs.push_back({"node area [m^2]", "/xdmf/node_area", false});
+  if (r.sweep) {
+    const auto& sw = *r.sweep;
+    const Eigen::MatrixXd flux = r.network->area().cwiseInverse().asDiagonal() *
+                                 (sw.absorbed_solar + sw.absorbed_albedo + sw.absorbed_earth_ir);
+    h5.writeMatrix("/xdmf/absorbed_flux", spread(flux), "W/m^2");
+    h5.writeMatrix("/xdmf/exitance_solar", spread(sw.exitance_solar), "W/m^2");
+    attrs.push_back({"absorbed environmental flux [W/m^2]", "/xdmf/absorbed_flux", true});
+    attrs.push_back({"solar exitance [W/m^2]", "/xdmf/exitance_solar", true});
+  }
+  return attrs;
+}
+
 void writeSweep(Hdf5Writer& h5, const GeometryRunResult::Sweep& sw) {
   const int P = static_cast<int>(sw.positions.size());
   Eigen::VectorXd time(P), sunlit(P), beta(P), flux(P), event(P);
@@ -228,10 +259,20 @@ void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, cons
   writeExchange(h5, r.exchange, r.exchange_method);
   writeEigen(h5, r.pairs);
   if (r.sweep) writeSweep(h5, *r.sweep);
+  const std::vector<XdmfAttribute> cell_values = writeCellValues(h5, c, r);
   writeTimings(h5, r.timings_s);
   h5.attribute("/report", "view_factor_error", r.view_factor_stderr.size() ? r.view_factor_stderr.maxCoeff() : 0.0);
   h5.attribute("/report", "rays_per_second", r.rays_per_second);
+  // The ParaView sidecar next to the HDF5 file (same stem, .xmf), renamed after the HDF5.
+  std::vector<double> times;
+  if (r.sweep)
+    for (const auto& p : r.sweep->positions) times.push_back(p.t_s);
+  const std::filesystem::path h5_path(path);
+  const std::string xmf = (h5_path.parent_path() / h5_path.stem()).string() + ".xmf";
+  const std::string text = xdmfText(h5_path.filename().string(), static_cast<long>(c.scene.vertexMatrix().rows()),
+                                    static_cast<long>(c.scene.faces().size()), times, cell_values);
   h5.commit();
+  writeTextAtomically(xmf, text);
 }
 
 void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std::ostream& out) {

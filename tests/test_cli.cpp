@@ -185,6 +185,9 @@ TEST_CASE("cli: a missing file and bad arguments exit 2, a numerical failure exi
   CHECK(missing.exit_code == 2);
   CHECK(missing.err.find("no-such-case.yaml:0:0: cannot open") != std::string::npos);
   CHECK(radnet("frobnicate", dir).exit_code == 2);
+  const Run no_dir = radnet("run '" + source("cases/examples/seed-room.yaml") + "' -o missing/out.h5", dir);
+  CHECK(no_dir.exit_code == 2);
+  CHECK(no_dir.err.find("does not exist") != std::string::npos);
   CHECK(radnet("run", dir).exit_code == 2);
 
   const Run num = radnet("run '" + source("tests/data/numerical/lossless-cavity.yaml") + "' -o out.h5", dir);
@@ -302,6 +305,22 @@ TEST_CASE("cli: the 3U CubeSat example runs end to end with every orbit dataset"
   }
   CHECK(readDataset(file, "/orbit/sun_body").dims == std::vector<hsize_t>{P, 3});
   CHECK(readDataset(file, "/orbit/beta").units == "deg");
+  // The XDMF sidecar refers only to datasets that exist, with the dimensions it states.
+  const std::string xmf = slurp(dir.path / "cubesat.xmf");
+  REQUIRE_FALSE(xmf.empty());
+  const std::regex item(R"re(<DataItem Dimensions="([0-9 ]+)"[^>]*Format="HDF">cubesat\.h5:([^<]+)</DataItem>)re");
+  int items = 0;
+  for (auto it = std::sregex_iterator(xmf.begin(), xmf.end(), item); it != std::sregex_iterator(); ++it, ++items) {
+    const std::string path = (*it)[2];
+    INFO(path);
+    REQUIRE(H5Lexists(file, path.c_str(), H5P_DEFAULT) > 0);
+    std::vector<hsize_t> stated;
+    std::istringstream dims((*it)[1]);
+    for (hsize_t d; dims >> d;) stated.push_back(d);
+    CHECK(readDataset(file, path).dims == stated);
+  }
+  CHECK(items >= 4 * static_cast<int>(P));
+  CHECK(xmf.find("<Time Value=") != std::string::npos);
   H5Fclose(file);
 }
 
