@@ -3,7 +3,8 @@
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 PACKAGES = cmake g++ make libeigen3-dev libspectra-dev libcgal-dev libgeographiclib-dev \
-           libyaml-cpp-dev libhdf5-dev catch2 libcli11-dev
+           libyaml-cpp-dev libhdf5-dev catch2 libcli11-dev \
+           python3-h5py python3-matplotlib python3-numpy
 SUDO = $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 EXAMPLE ?= cases/examples/cubesat-3u.yaml
 

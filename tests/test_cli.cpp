@@ -356,7 +356,7 @@ TEST_CASE("cli: includes of materials and surfaces, errors located in the includ
 
 TEST_CASE("cli: validate accepts the shipped examples") {
   TempDir dir;
-  for (const char* ex : {"seed-room", "random-network", "parallel-plates", "cubesat-3u"}) {
+  for (const char* ex : {"seed-room", "random-network", "parallel-plates", "cubesat-3u", "satellite"}) {
     const Run r = radnet(std::string("validate '") + source("cases/examples/") + ex + ".yaml'", dir);
     INFO(ex << ": " << r.err);
     CHECK(r.exit_code == 0);
