@@ -5,6 +5,8 @@
 #include "geometry/primitives.hpp"
 
 #include <filesystem>
+#include <sstream>
+#include <unistd.h>
 #include <limits>
 
 namespace radnet::cases {
@@ -47,6 +49,21 @@ geometry::Sweep sweep(const YamlDocument& doc, const YAML::Node& map, const std:
   }
   if (map["reference"]) s.reference = vec3(doc, map["reference"], what + ".reference");
   return s;
+}
+
+// Dense n × n matrices of a run (raw and corrected F, their errors, G, GR and its LU)
+// take about 6 × 8 n² bytes: refuse a network that cannot fit in this machine's memory
+// before building anything.
+void checkNodeMemory(const YamlDocument& doc, const YAML::Node& where, const std::string& what, double nodes) {
+  const double physical = double(::sysconf(_SC_PHYS_PAGES)) * double(::sysconf(_SC_PAGE_SIZE));
+  const double need = 48.0 * nodes * nodes;
+  if (need > 0.75 * physical) {
+    std::ostringstream s;
+    s << what << ": " << nodes << " thermal nodes need about " << need / 1073741824.0
+      << " GiB for the dense node × node matrices; this machine has " << physical / 1073741824.0
+      << " GiB. Use fewer nodes (subdivisions refine the mesh, not the node count)";
+    throw doc.error(where, s.str());
+  }
 }
 
 struct SurfaceEntry {
@@ -133,7 +150,7 @@ void parseGeometryList(const YamlDocument& doc, const YAML::Node& geom, const st
     const std::initializer_list<const char*> common = {"name", "front", "back", "subdivisions"};
     std::vector<const char*> allowed(common);
     auto allow = [&](std::initializer_list<const char*> more) { allowed.insert(allowed.end(), more); };
-    if (kind == "rectangle") allow({"origin", "u", "v"});
+    if (kind == "rectangle") allow({"origin", "u", "v", "nodes"});
     if (kind == "quadrilateral") allow({"corners"});
     if (kind == "triangle") allow({"corners"});
     if (kind == "disc") allow({"center", "normal", "radius", "inner_radius", "angles", "reference"});
@@ -176,7 +193,22 @@ void parseGeometryList(const YamlDocument& doc, const YAML::Node& geom, const st
       const auto [sa, sb] = subdivisions(doc, p["subdivisions"], what + ".subdivisions",
                                          kind == "disc" || kind == "cylinder" || kind == "cone" ? 1 : (kind == "sphere" ? 12 : 1),
                                          kind == "disc" || kind == "cylinder" || kind == "cone" ? 32 : (kind == "sphere" ? 24 : 1));
-      if (kind == "rectangle") {
+      if (kind == "rectangle" && p["nodes"]) {
+        // A grid of thermal nodes <name>.<i>.<j>, each with its share of the subdivisions.
+        const auto [na, nb] = subdivisions(doc, p["nodes"], what + ".nodes", 1, 1);
+        const double sides = (front.empty() ? 0 : 1) + (back.empty() ? 0 : 1);
+        checkNodeMemory(doc, p["nodes"], what + ".nodes",
+                        static_cast<double>(c.scene.nodes().size()) + sides * double(na) * double(nb));
+        const Vec3 o = vec3(doc, doc.required(p, "origin", what), what + ".origin");
+        const Vec3 u = vec3(doc, doc.required(p, "u", what), what + ".u");
+        const Vec3 v = vec3(doc, doc.required(p, "v", what), what + ".v");
+        const int ca = std::max(1, (sa + na - 1) / na), cb = std::max(1, (sb + nb - 1) / nb);
+        for (int i = 0; i < na; ++i)
+          for (int j = 0; j < nb; ++j) {
+            const std::string cell = name + "." + std::to_string(i) + "." + std::to_string(j);
+            add(cell, cell, geometry::rectangle(o + (double(i) / na) * u + (double(j) / nb) * v, u / na, v / nb, ca, cb));
+          }
+      } else if (kind == "rectangle") {
         add(name, name, geometry::rectangle(vec3(doc, doc.required(p, "origin", what), what + ".origin"),
                                             vec3(doc, doc.required(p, "u", what), what + ".u"),
                                             vec3(doc, doc.required(p, "v", what), what + ".v"), sa, sb));
@@ -275,6 +307,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
 
   const YAML::Node geom = doc.required(root, "geometry", "case");
   parseGeometryList(doc, geom, "geometry", ctx, 0);
+  checkNodeMemory(doc, geom, "geometry", static_cast<double>(c.scene.nodes().size()));
   try {
     c.scene.validate();
   } catch (const geometry::GeometryError& e) {

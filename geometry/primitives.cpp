@@ -12,6 +12,19 @@ void requireCount(int n, const char* what) {
   if (n < 1 || n > 100000) throw GeometryError(std::string(what) + ": subdivisions must be in [1, 100000]");
 }
 
+// A surface of more triangles than this is a typo or beyond what the ray caster and the
+// output are sized for (≈ 3 GB of mesh and AABB tree at 2e7 triangles).
+constexpr double kMaxTrianglesPerSurface = 2e7;
+
+void requireBudget(double a, double b, const char* what) {
+  if (2.0 * a * b > kMaxTrianglesPerSurface) {
+    std::ostringstream s;
+    s << what << ": subdivisions " << a << " × " << b << " make " << 2.0 * a * b << " triangles; at most "
+      << kMaxTrianglesPerSurface << " per surface";
+    throw GeometryError(s.str());
+  }
+}
+
 void requirePositive(double x, const char* what) {
   if (!(std::isfinite(x) && x > 0)) {
     std::ostringstream s;
@@ -101,6 +114,7 @@ double soupArea(const TriangleSoup& soup) {
 TriangleSoup rectangle(const Vec3& origin, const Vec3& u, const Vec3& v, int nu, int nv) {
   requireCount(nu, "rectangle");
   requireCount(nv, "rectangle");
+  requireBudget(nu, nv, "rectangle");
   if (!(u.cross(v).norm() > 0)) throw GeometryError("rectangle: u and v must be non-zero and not parallel");
   TriangleSoup soup;
   grid(soup, nv, nu, false, [&](int i, int j) { return Vec3(origin + (double(j) / nu) * u + (double(i) / nv) * v); });
@@ -110,6 +124,7 @@ TriangleSoup rectangle(const Vec3& origin, const Vec3& u, const Vec3& v, int nu,
 TriangleSoup quadrilateral(const std::array<Vec3, 4>& p, int nu, int nv) {
   requireCount(nu, "quadrilateral");
   requireCount(nv, "quadrilateral");
+  requireBudget(nu, nv, "quadrilateral");
   const Vec3 n = (p[2] - p[0]).cross(p[3] - p[1]);
   const double scale = std::max((p[2] - p[0]).norm(), (p[3] - p[1]).norm());
   if (!(n.norm() > 0)) throw GeometryError("quadrilateral: corners are degenerate");
@@ -130,6 +145,7 @@ TriangleSoup quadrilateral(const std::array<Vec3, 4>& p, int nu, int nv) {
 
 TriangleSoup triangle(const Vec3& a, const Vec3& b, const Vec3& c, int n) {
   requireCount(n, "triangle");
+  requireBudget(n, n, "triangle");
   if (!((b - a).cross(c - a).norm() > 0)) throw GeometryError("triangle: corners are collinear");
   TriangleSoup soup;
   // Row i has i + 1 vertices: a + (i/n)(b − a) + (j/n)(c − b).
@@ -151,6 +167,7 @@ TriangleSoup disc(const Vec3& center, const Vec3& normal, double radius, double 
                   int radial, int angular) {
   requireCount(radial, "disc");
   requireCount(angular, "disc");
+  requireBudget(radial, angular, "disc");
   requirePositive(radius, "disc radius");
   if (!(std::isfinite(inner_radius) && inner_radius >= 0 && inner_radius < radius))
     throw GeometryError("disc: inner_radius must be in [0, radius)");
@@ -184,6 +201,7 @@ TriangleSoup cone(const Vec3& base_center, const Vec3& axis_vec, double base_rad
                   const Sweep& sweep, int axial, int angular) {
   requireCount(axial, "cone");
   requireCount(angular, "cone");
+  requireBudget(axial, angular, "cone");
   if (!(std::isfinite(base_radius) && base_radius >= 0 && std::isfinite(top_radius) && top_radius >= 0 &&
         base_radius + top_radius > 0))
     throw GeometryError("cone: radii must be finite, >= 0 and not both zero");
@@ -222,6 +240,7 @@ TriangleSoup sphere(const Vec3& center, double radius, const Vec3& axis_in, doub
                     const Sweep& sweep, int polar, int azimuthal) {
   requireCount(polar, "sphere");
   requireCount(azimuthal, "sphere");
+  requireBudget(polar, azimuthal, "sphere");
   requirePositive(radius, "sphere radius");
   if (!(theta_min_deg >= 0 && theta_max_deg <= 180 && theta_min_deg < theta_max_deg))
     throw GeometryError("sphere: polar range must satisfy 0 <= theta_min < theta_max <= 180");
