@@ -1,0 +1,234 @@
+#include "solver/thermal.hpp"
+
+#include "solver/network.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace radnet::solver {
+namespace {
+
+// ∂G/∂T (n×n, W/K): conduction Laplacian plus 4σT³ times the radiative coupling.
+Eigen::MatrixXd jacobian(const ThermalNetwork& net, const Eigen::VectorXd& t) {
+  const Eigen::Index n = t.size();
+  Eigen::MatrixXd j = net.gr;
+  j.diagonal() -= net.gr.rowwise().sum() + net.gr_space;
+  j = kStefanBoltzmann * j * (4.0 * t.array().cube()).matrix().asDiagonal();
+  for (int k = 0; k < net.conductors.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it) {
+      j(it.row(), it.col()) += it.value();
+      j(it.row(), it.row()) -= it.value();
+    }
+  (void)n;
+  return j;
+}
+
+// The size of the terms of each node's balance, so that the tolerance is relative to what
+// flows through the node.
+Eigen::VectorXd balanceScale(const ThermalNetwork& net, const Eigen::VectorXd& t, const Eigen::VectorXd& q_env) {
+  const Eigen::VectorXd t4 = t.array().square().square();
+  Eigen::VectorXd s = q_env.cwiseAbs() + net.dissipation.cwiseAbs() +
+                      kStefanBoltzmann * (net.gr.rowwise().sum() + net.gr_space).cwiseProduct(t4);
+  for (int k = 0; k < net.conductors.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it)
+      s[it.row()] += std::abs(it.value()) * std::abs(t[it.row()]);
+  return s.array() + 1.0;
+}
+
+bool isFixed(const ThermalNetwork& net, Eigen::Index i) { return !std::isnan(net.fixed_temperature[i]); }
+
+// Newton on R(T) = c ∘ (T − T_prev_mix) − h β G(T) (transient) or −G(T) (steady, c = 0, hβ = 1).
+// Fixed nodes keep their temperature. Backtracking keeps T > 0 and reduces |R|.
+Status newton(const ThermalNetwork& net, Eigen::VectorXd& t, const Eigen::VectorXd& q_env,
+              const Eigen::VectorXd& c_over, const Eigen::VectorXd& history, double hb, const ThermalOptions& opt,
+              int& iterations, double& residual_w, std::string& message) {
+  const Eigen::Index n = t.size();
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (isFixed(net, i)) t[i] = net.fixed_temperature[i];
+  auto resid = [&](const Eigen::VectorXd& x) {
+    Eigen::VectorXd r = c_over.cwiseProduct(x - history) - hb * heatBalance(net, x, q_env);
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (isFixed(net, i)) r[i] = 0.0;
+    return r;
+  };
+  Eigen::VectorXd r = resid(t);
+  for (int it = 0; it < opt.max_newton_iterations; ++it) {
+    const Eigen::VectorXd scale = balanceScale(net, t, q_env);
+    residual_w = (r.cwiseQuotient(scale)).cwiseAbs().maxCoeff();
+    if (residual_w <= opt.tolerance_w) {
+      residual_w = (r / std::max(hb, 1e-300)).cwiseAbs().maxCoeff();
+      return Status::Converged;
+    }
+    Eigen::MatrixXd jm = -hb * jacobian(net, t);
+    jm.diagonal() += c_over;
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (isFixed(net, i)) {
+        jm.row(i).setZero();
+        jm(i, i) = 1.0;
+      }
+    Eigen::PartialPivLU<Eigen::MatrixXd> lu(jm);
+    const Eigen::VectorXd step = lu.solve(-r);
+    if (!step.allFinite()) {
+      message = "thermal Newton: singular Jacobian (a node with no capacitance, conductor or radiative link?)";
+      return Status::Singular;
+    }
+    double lambda = 1.0;
+    // Keep every temperature positive: at most a 90 % drop per step.
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (step[i] < 0) lambda = std::min(lambda, 0.9 * t[i] / -step[i]);
+    const double r0 = r.norm();
+    Eigen::VectorXd trial = t + lambda * step, rt = resid(trial);
+    for (int back = 0; back < 30 && !(rt.norm() < (1 - 1e-4 * lambda) * r0); ++back) {
+      lambda *= 0.5;
+      trial = t + lambda * step;
+      rt = resid(trial);
+    }
+    t = trial;
+    r = rt;
+    ++iterations;
+  }
+  message = "thermal Newton did not converge in " + std::to_string(opt.max_newton_iterations) + " iterations";
+  return Status::NotConverged;
+}
+
+Eigen::VectorXd startingGuess(const ThermalNetwork& net, const Eigen::VectorXd& q_env) {
+  // Each node alone in radiative equilibrium with what it receives (floored at space).
+  const Eigen::VectorXd emit = net.gr.rowwise().sum() + net.gr_space;
+  Eigen::VectorXd t(q_env.size());
+  for (Eigen::Index i = 0; i < t.size(); ++i) {
+    const double q = std::max(0.0, q_env[i] + net.dissipation[i]);
+    t[i] = emit[i] > 0 ? std::pow(q / (kStefanBoltzmann * emit[i]) + std::pow(net.space_temperature, 4), 0.25) : 293.15;
+    t[i] = std::max(t[i], std::max(net.space_temperature, 1.0));
+    if (isFixed(net, i)) t[i] = net.fixed_temperature[i];
+  }
+  return t;
+}
+
+}  // namespace
+
+void ThermalNetwork::validate() const {
+  const Eigen::Index n = gr.rows();
+  if (gr.cols() != n || gr_space.size() != n || capacitance.size() != n || dissipation.size() != n ||
+      fixed_temperature.size() != n || conductors.rows() != n || conductors.cols() != n)
+    throw std::invalid_argument("thermal network: every per-node array needs " + std::to_string(n) + " entries");
+  if (!(std::isfinite(space_temperature) && space_temperature >= 0))
+    throw std::invalid_argument("space temperature must be finite and >= 0 K");
+  if ((capacitance.array() < 0).any() || !capacitance.allFinite())
+    throw std::invalid_argument("capacitances must be finite and >= 0 J/K");
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (!std::isnan(fixed_temperature[i]) && !(fixed_temperature[i] > 0 && std::isfinite(fixed_temperature[i])))
+      throw std::invalid_argument("fixed temperatures must be finite and > 0 K");
+}
+
+Eigen::VectorXd heatBalance(const ThermalNetwork& net, const Eigen::VectorXd& t, const Eigen::VectorXd& q_env) {
+  const Eigen::VectorXd t4 = t.array().square().square();
+  Eigen::VectorXd g = q_env + net.dissipation +
+                      kStefanBoltzmann * (net.gr * t4 - net.gr.rowwise().sum().cwiseProduct(t4)) -
+                      kStefanBoltzmann * net.gr_space.cwiseProduct(
+                                             (t4.array() - std::pow(net.space_temperature, 4)).matrix());
+  const Eigen::VectorXd kt = net.conductors * t;
+  const Eigen::VectorXd krow = net.conductors * Eigen::VectorXd::Ones(t.size());
+  return g + kt - krow.cwiseProduct(t);
+}
+
+ThermalResult steadyStates(const ThermalNetwork& net, const Eigen::MatrixXd& q_env, const ThermalOptions& opt) {
+  net.validate();
+  ThermalResult res;
+  const Eigen::Index n = q_env.rows();
+  res.temperature.resize(n, q_env.cols());
+  Eigen::VectorXd t = startingGuess(net, q_env.col(0));
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index p = 0; p < q_env.cols(); ++p) {
+    double residual = 0.0;
+    Status s = newton(net, t, q_env.col(p), zero, zero, 1.0, opt, res.newton_iterations, residual, res.message);
+    if (s != Status::Converged) {  // restart from the node-by-node guess before giving up
+      t = startingGuess(net, q_env.col(p));
+      s = newton(net, t, q_env.col(p), zero, zero, 1.0, opt, res.newton_iterations, residual, res.message);
+    }
+    if (s != Status::Converged) {
+      res.status = s;
+      res.message += " (steady state at position " + std::to_string(p) + ")";
+      return res;
+    }
+    res.max_residual_w = std::max(res.max_residual_w, residual);
+    res.temperature.col(p) = t;
+  }
+  return res;
+}
+
+ThermalResult transient(const ThermalNetwork& net, const std::vector<double>& times, const Eigen::MatrixXd& q_env,
+                        double period, double orbits, const Eigen::VectorXd& initial, const ThermalOptions& opt) {
+  net.validate();
+  const Eigen::Index n = q_env.rows();
+  const size_t P = times.size();
+  if (P == 0 || static_cast<Eigen::Index>(P) != q_env.cols()) throw std::invalid_argument("transient: one load column per time");
+  if (!(period > 0 && orbits > 0 && opt.max_step_s > 0)) throw std::invalid_argument("transient: period, orbits and step must be > 0");
+  if (initial.size() != n || (initial.array() <= 0).any()) throw std::invalid_argument("transient: initial temperatures must be > 0 K");
+  // Loads at time t: linear between the given positions, periodic with the orbit.
+  auto load = [&](double t) -> Eigen::VectorXd {
+    double tau = std::fmod(t, period);
+    if (tau < times.front()) tau += period;
+    auto it = std::upper_bound(times.begin(), times.end(), tau);
+    const size_t hi = it == times.end() ? 0 : static_cast<size_t>(it - times.begin());
+    const size_t lo = hi == 0 ? P - 1 : hi - 1;
+    const double t_lo = times[lo], t_hi = hi == 0 ? times[0] + period : times[hi];
+    const double w = t_hi > t_lo ? (tau - t_lo) / (t_hi - t_lo) : 0.0;
+    return (1 - w) * q_env.col(static_cast<Eigen::Index>(lo)) + w * q_env.col(static_cast<Eigen::Index>(hi));
+  };
+  // Output times: the P positions of the last orbit.
+  const double last = (std::ceil(orbits) - 1) * period;
+  std::vector<double> marks;
+  for (double t : times) marks.push_back(last + t);
+  ThermalResult res;
+  res.temperature.resize(n, static_cast<Eigen::Index>(P));
+  Eigen::VectorXd t_prev = initial, t_now = initial;
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (!std::isnan(net.fixed_temperature[i])) t_now[i] = t_prev[i] = net.fixed_temperature[i];
+  double clock = 0.0, h_prev = 0.0;
+  size_t next_mark = 0;
+  while (next_mark < P) {
+    // March to the next output time. The start is one backward-Euler step of max_step/64
+    // (its local error is O(h²)), after which steps at most double (BDF2 stays zero-stable
+    // for ratios below 1 + √2) up to max_step_s.
+    const double target = marks[next_mark];
+    while (target - clock > 1e-9 * std::max(1.0, std::abs(target))) {
+      double h = h_prev > 0 ? std::min(opt.max_step_s, 2.0 * h_prev) : opt.max_step_s / 64.0;
+      const double remaining = target - clock;
+      if (h >= remaining) h = remaining;
+      else if (remaining - h < 0.25 * h) h = 0.5 * remaining;  // no sliver of a last step
+      // Variable-step BDF2: y⁺ − a y + b y⁻ = h β f(y⁺); the first step is backward Euler.
+      double a = 1.0, b = 0.0, beta = 1.0;
+      if (h_prev > 0) {
+        const double w = h / h_prev;
+        a = (1 + w) * (1 + w) / (1 + 2 * w);
+        b = w * w / (1 + 2 * w);
+        beta = (1 + w) / (1 + 2 * w);
+      }
+      const Eigen::VectorXd history = a * t_now - b * t_prev;
+      Eigen::VectorXd guess = t_now;
+      double residual = 0.0;
+      const Status s = newton(net, guess, load(clock + h), net.capacitance, history, h * beta, opt,
+                              res.newton_iterations, residual, res.message);
+      if (s != Status::Converged) {
+        res.status = s;
+        res.message += " (transient step at t = " + std::to_string(clock + h) + " s)";
+        return res;
+      }
+      res.max_residual_w = std::max(res.max_residual_w, residual);
+      t_prev = t_now;
+      t_now = guess;
+      clock += h;
+      h_prev = h;
+    }
+    res.temperature.col(static_cast<Eigen::Index>(next_mark)) = t_now;
+    ++next_mark;
+  }
+  if (!res.temperature.allFinite()) {
+    res.status = Status::NonFinite;
+    res.message = "transient temperatures are not finite";
+  }
+  return res;
+}
+
+}  // namespace radnet::solver

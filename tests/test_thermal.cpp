@@ -1,0 +1,114 @@
+// Temperatures: steady states and transients against closed forms and a bisection.
+#include "solver/network.hpp"
+#include "solver/thermal.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <limits>
+
+using namespace radnet::solver;
+
+namespace {
+
+ThermalNetwork emptyNetwork(int n) {
+  ThermalNetwork net;
+  net.gr = Eigen::MatrixXd::Zero(n, n);
+  net.gr_space = Eigen::VectorXd::Zero(n);
+  net.conductors.resize(n, n);
+  net.capacitance = Eigen::VectorXd::Zero(n);
+  net.dissipation = Eigen::VectorXd::Zero(n);
+  net.fixed_temperature = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::quiet_NaN());
+  net.space_temperature = 3.0;
+  return net;
+}
+
+void link(ThermalNetwork& net, int i, int j, double k) {
+  std::vector<Eigen::Triplet<double>> t;
+  for (int a = 0; a < net.conductors.outerSize(); ++a)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, a); it; ++it)
+      t.emplace_back(static_cast<int>(it.row()), static_cast<int>(it.col()), it.value());
+  t.emplace_back(i, j, k);
+  t.emplace_back(j, i, k);
+  net.conductors.setFromTriplets(t.begin(), t.end());
+}
+
+}  // namespace
+
+TEST_CASE("steady state: a plate facing the Sun, α S A = ε σ A (T⁴ − T_space⁴)") {
+  ThermalNetwork net = emptyNetwork(1);
+  const double alpha = 0.92, eps = 0.85, area = 2.0, S = 1361.0;
+  net.gr_space[0] = eps * area;
+  const ThermalResult r = steadyStates(net, Eigen::MatrixXd::Constant(1, 1, alpha * S * area));
+  REQUIRE(r.status == Status::Converged);
+  const double exact = std::pow(alpha * S / (eps * kStefanBoltzmann) + std::pow(3.0, 4), 0.25);
+  CHECK(r.temperature(0, 0) == Approx(exact).epsilon(1e-12));
+}
+
+TEST_CASE("steady state: radiation and conduction between boundary nodes, against bisection") {
+  // a fixed at 400 K, b free, c fixed at 300 K; infinite plates a–b (ε 0.8, 0.5), K(b, c) = 3 W/K.
+  ThermalNetwork net = emptyNetwork(3);
+  const double gr = 1.0 / (1 / 0.8 + 1 / 0.5 - 1);
+  net.gr(0, 1) = net.gr(1, 0) = gr;
+  link(net, 1, 2, 3.0);
+  net.fixed_temperature[0] = 400.0;
+  net.fixed_temperature[2] = 300.0;
+  const ThermalResult r = steadyStates(net, Eigen::MatrixXd::Zero(3, 1));
+  REQUIRE(r.status == Status::Converged);
+  auto f = [&](double t) { return kStefanBoltzmann * gr * (std::pow(400.0, 4) - std::pow(t, 4)) + 3.0 * (300.0 - t); };
+  double lo = 300, hi = 400;
+  for (int k = 0; k < 200; ++k) (f(0.5 * (lo + hi)) > 0 ? lo : hi) = 0.5 * (lo + hi);
+  CHECK(r.temperature(1, 0) == Approx(0.5 * (lo + hi)).epsilon(1e-12));
+  CHECK(r.temperature(0, 0) == 400.0);
+  CHECK(r.temperature(2, 0) == 300.0);
+}
+
+TEST_CASE("steady state from 3 K to 2000 K in one network") {
+  ThermalNetwork net = emptyNetwork(2);
+  net.gr_space << 1.0, 1.0;
+  net.dissipation << kStefanBoltzmann * std::pow(2000.0, 4), 0.0;  // 907 kW: node 0 at 2000 K
+  const ThermalResult r = steadyStates(net, Eigen::MatrixXd::Zero(2, 1));
+  REQUIRE(r.status == Status::Converged);
+  CHECK(r.temperature(0, 0) == Approx(std::pow(std::pow(2000.0, 4) + std::pow(3.0, 4), 0.25)).epsilon(1e-12));
+  CHECK(r.temperature(1, 0) == Approx(3.0).epsilon(1e-9));  // nothing but space: space temperature
+}
+
+TEST_CASE("transient: conduction to a boundary decays as exp(−K t / C) (BDF2, 10 s steps)") {
+  ThermalNetwork net = emptyNetwork(2);
+  net.capacitance << 1000.0, 0.0;
+  link(net, 0, 1, 2.0);
+  net.fixed_temperature[1] = 300.0;
+  std::vector<double> times;
+  for (int k = 0; k < 10; ++k) times.push_back(100.0 * k);
+  Eigen::VectorXd initial(2);
+  initial << 400.0, 300.0;
+  const ThermalResult r = transient(net, times, Eigen::MatrixXd::Zero(2, 10), 1000.0, 1.0, initial);
+  REQUIRE(r.status == Status::Converged);
+  // τ = C/K = 500 s; BDF2 at h/τ = 0.02 (after a short backward-Euler start) stays within
+  // 2e-3 K of the exponential.
+  for (int k = 0; k < 10; ++k) CHECK(r.temperature(0, k) == Approx(300.0 + 100.0 * std::exp(-times[k] / 500.0)).margin(2e-3));
+}
+
+TEST_CASE("transient: many orbits of a constant load settle at the steady state") {
+  ThermalNetwork net = emptyNetwork(2);
+  net.gr_space << 0.5, 0.2;
+  net.gr(0, 1) = net.gr(1, 0) = 0.1;
+  net.capacitance << 500.0, 0.0;  // node 1 arithmetic (no capacitance)
+  link(net, 0, 1, 0.5);
+  Eigen::MatrixXd q = Eigen::MatrixXd::Zero(2, 4);
+  q.row(0).setConstant(300.0);
+  const std::vector<double> times = {0, 1500, 3000, 4500};
+  const ThermalResult steady = steadyStates(net, q.col(0));
+  const ThermalResult tr = transient(net, times, q, 6000.0, 20.0, Eigen::VectorXd::Constant(2, 250.0));
+  REQUIRE(tr.status == Status::Converged);
+  CHECK(tr.temperature(0, 3) == Approx(steady.temperature(0, 0)).epsilon(1e-6));
+  CHECK(tr.temperature(1, 3) == Approx(steady.temperature(1, 0)).epsilon(1e-6));
+}
+
+TEST_CASE("thermal: a node with no link at all is reported, never NaN") {
+  ThermalNetwork net = emptyNetwork(1);  // no radiation, no conductor, no capacitance
+  net.dissipation[0] = 5.0;
+  const ThermalResult r = steadyStates(net, Eigen::MatrixXd::Zero(1, 1));
+  CHECK(r.status != Status::Converged);
+  CHECK_FALSE(r.message.empty());
+}
