@@ -8,9 +8,9 @@
 namespace radnet::cases {
 namespace {
 
-const std::initializer_list<const char*> kQuantities = {"exitance",        "irradiance", "view_factor",
-                                                        "space_view_factor", "radiative_exchange", "gr_space",
-                                                        "eigenvalue"};
+const std::initializer_list<const char*> kQuantities = {
+    "exitance",   "irradiance",  "view_factor",         "space_view_factor",       "radiative_exchange", "gr_space",
+    "eigenvalue", "temperature", "orbit_mean_absorbed", "orbit_max_absorbed_solar"};
 
 bool isPairQuantity(const std::string& q) { return q == "view_factor" || q == "radiative_exchange"; }
 
@@ -48,6 +48,7 @@ std::vector<Expectation> parseExpectations(const YamlDocument& doc, const YAML::
     if (x.quantity == "eigenvalue") {
       x.index = static_cast<int>(doc.integer(doc.required(e, "index", what), what + ".index", 0, 1 << 30));
     } else {
+      if (e["index"]) x.index = static_cast<int>(doc.integer(e["index"], what + ".index (position)", 0, 1 << 30));
       x.node = nodeName(doc, doc.required(e, "node", what), what + ".node", names);
       if (isPairQuantity(x.quantity)) x.to = nodeName(doc, doc.required(e, "to", what), what + ".to", names);
     }

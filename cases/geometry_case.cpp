@@ -292,9 +292,6 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
   doc.expectMap(root, "case",
                 {"name", "description", "materials", "geometry", "solver", "expect", "orbit", "attitude",
                  "environment", "thermal"});
-  if (root["thermal"])
-    throw doc.error(root["thermal"], "'thermal' is not supported by this build yet (temperatures are issue 5); "
-                                     "remove it to compute the network, exchange factors and orbit loads");
   GeometryCase c;
   c.file = doc.file();
   c.yaml_text = doc.text();
@@ -352,6 +349,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
   c.orbit = parseOrbitSettings(doc);
   std::vector<std::string> names;
   for (const auto& node : c.scene.nodes()) names.push_back(node.name);
+  c.thermal = parseThermalSettings(doc, names, c.orbit.has_value());
   if (root["expect"]) c.expectations = parseExpectations(doc, root["expect"], names);
   return c;
 }

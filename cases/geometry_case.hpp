@@ -3,6 +3,7 @@
 // files, each side naming a material), and how to compute view factors.
 #include "cases/network_case.hpp"
 #include "cases/orbit_settings.hpp"
+#include "cases/thermal_settings.hpp"
 #include "cases/yaml_support.hpp"
 #include "geometry/contour_view_factors.hpp"
 #include "geometry/scene.hpp"
@@ -35,6 +36,7 @@ struct GeometryCase {
   geometry::ContourOptions contour;
   SolverSettings solver;
   std::optional<OrbitSettings> orbit;  ///< absent: network and exchange factors only
+  std::optional<ThermalSettings> thermal;  ///< absent: no temperatures
   std::vector<Expectation> expectations;
 };
 

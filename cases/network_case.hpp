@@ -26,10 +26,12 @@ struct SolverSettings {
 
 /// One `expect:` entry, checked by `radnet check`.
 struct Expectation {
-  std::string quantity;  ///< exitance | irradiance | view_factor | space_view_factor | radiative_exchange | gr_space | eigenvalue
+  /// exitance | irradiance | view_factor | space_view_factor | radiative_exchange | gr_space | eigenvalue |
+  /// temperature (at position `index`, default 0) | orbit_mean_absorbed | orbit_max_absorbed_solar
+  std::string quantity;
   std::string node;      ///< node name (or empty for eigenvalue)
   std::string to;        ///< second node for pair quantities
-  int index = -1;        ///< eigenvalue index (0-based, by decreasing |λ|)
+  int index = -1;        ///< eigenvalue index (0-based, by decreasing |λ|) or sweep position
   double value = 0.0;
   double tolerance = 0.0;  ///< absolute
   std::string where;       ///< file:line:column of the entry, for messages

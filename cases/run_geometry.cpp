@@ -79,6 +79,38 @@ void runSweep(const GeometryCase& c, const geometry::RayCaster& caster, const Ei
   r.sweep = std::move(sw);
 }
 
+void runThermal(const GeometryCase& c, GeometryRunResult& r, std::ostream& progress) {
+  const ThermalSettings& ts = *c.thermal;
+  const int n = r.network->size();
+  solver::ThermalNetwork net;
+  net.gr = r.exchange.gr;
+  net.gr_space = r.exchange.gr_space;
+  net.conductors.resize(n, n);
+  net.conductors.setFromTriplets(ts.conductors.begin(), ts.conductors.end());
+  net.capacitance = ts.capacitance;
+  net.dissipation = ts.dissipation;
+  net.fixed_temperature = ts.fixed_temperature;
+  net.space_temperature = ts.space_temperature;
+  const Eigen::MatrixXd q_env = r.sweep ? Eigen::MatrixXd(r.sweep->absorbed_solar + r.sweep->absorbed_albedo +
+                                                          r.sweep->absorbed_earth_ir)
+                                        : Eigen::MatrixXd::Zero(n, 1);
+  StageTimer t_thermal;
+  if (ts.transient_orbits) {
+    std::vector<double> times;
+    for (const auto& p : r.sweep->positions) times.push_back(p.t_s);
+    r.thermal = solver::transient(net, times, q_env, c.orbit->orbit->period() * c.orbit->sweep.orbits,
+                                  *ts.transient_orbits, Eigen::VectorXd::Constant(n, ts.initial_temperature), ts.options);
+  } else {
+    r.thermal = solver::steadyStates(net, q_env, ts.options);
+  }
+  r.timings_s.emplace_back("thermal", t_thermal.seconds());
+  if (r.thermal->status != solver::Status::Converged)
+    throw NumericalError(std::string("temperatures ") + solver::toString(r.thermal->status) + ": " + r.thermal->message);
+  progress << "radnet: temperatures (" << (ts.transient_orbits ? "transient" : "steady state per position") << "), "
+           << r.thermal->newton_iterations << " Newton iterations, largest heat-balance residual "
+           << r.thermal->max_residual_w << " W\n";
+}
+
 }  // namespace
 
 GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std::ostream& progress) {
@@ -162,6 +194,7 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
     throw NumericalError(std::string("exchange factors ") + solver::toString(r.exchange.status) + ": " +
                          r.exchange.message);
   if (c.orbit) runSweep(c, caster, area, r, progress);
+  if (c.thermal) runThermal(c, r, progress);
   return r;
 }
 
@@ -191,6 +224,13 @@ std::vector<XdmfAttribute> writeCellValues(Hdf5Writer& h5, const GeometryCase& c
     h5.writeMatrix("/xdmf/exitance_solar", spread(sw.exitance_solar), "W/m^2");
     attrs.push_back({"absorbed environmental flux [W/m^2]", "/xdmf/absorbed_flux", true});
     attrs.push_back({"solar exitance [W/m^2]", "/xdmf/exitance_solar", true});
+  }
+  if (r.thermal && r.sweep) {
+    h5.writeMatrix("/xdmf/temperature", spread(r.thermal->temperature), "K");
+    attrs.push_back({"temperature [K]", "/xdmf/temperature", true});
+  } else if (r.thermal) {
+    h5.writeVector("/xdmf/temperature", spread(r.thermal->temperature).row(0).transpose(), "K");
+    attrs.push_back({"temperature [K]", "/xdmf/temperature", false});
   }
   return attrs;
 }
@@ -259,6 +299,13 @@ void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, cons
   writeExchange(h5, r.exchange, r.exchange_method);
   writeEigen(h5, r.pairs);
   if (r.sweep) writeSweep(h5, *r.sweep);
+  if (r.thermal) {
+    h5.writeMatrix("/solution/temperature", r.thermal->temperature.transpose(), "K");
+    h5.attribute("/solution/temperature", "mode", std::string(c.thermal->transient_orbits ? "transient" : "steady"));
+    h5.attribute("/report", "thermal_max_residual_w", r.thermal->max_residual_w);
+    h5.writeVector("/nodes/capacitance", c.thermal->capacitance, "J/K");
+    h5.writeVector("/nodes/dissipation", c.thermal->dissipation, "W");
+  }
   const std::vector<XdmfAttribute> cell_values = writeCellValues(h5, c, r);
   writeTimings(h5, r.timings_s);
   h5.attribute("/report", "view_factor_error", r.view_factor_stderr.size() ? r.view_factor_stderr.maxCoeff() : 0.0);
@@ -303,6 +350,16 @@ void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std
     out << "band residuals: solar " << sw.solar_residual << ", IR " << sw.ir_residual
         << "; solar energy balance error " << sw.energy_balance_error << "\n";
   }
+  if (r.thermal) {
+    const Eigen::MatrixXd& t = r.thermal->temperature;
+    out << "temperatures, K (" << (c.thermal->transient_orbits ? "transient, last orbit" : "steady state per position")
+        << "):\n" << std::left << std::setw(20) << "node" << std::right << std::setw(10) << "min" << std::setw(10)
+        << "mean" << std::setw(10) << "max" << "\n";
+    for (int i = 0; i < net.size(); ++i)
+      out << std::left << std::setw(20) << net.names()[static_cast<size_t>(i)] << std::right << std::fixed
+          << std::setprecision(2) << std::setw(10) << t.row(i).minCoeff() << std::setw(10) << t.row(i).mean()
+          << std::setw(10) << t.row(i).maxCoeff() << std::defaultfloat << "\n";
+  }
   out << "view factors: " << r.total_rays << " rays, correction ≤ " << r.correction.max_change << " ("
       << r.correction.max_change_sigma << " σ); closure error " << r.correction.max_closure_error << "\n";
   out << "eigenpairs: rank " << r.pairs.rank() << " (" << solver::toString(r.pairs.method) << "); exchange factors: "
@@ -321,6 +378,14 @@ std::optional<double> lookupGeometryResult(const GeometryRunResult& r, const Exp
   if (x.quantity == "radiative_exchange") return r.exchange.gr(i, j);
   if (x.quantity == "gr_space") return r.exchange.gr_space[i];
   if (x.quantity == "eigenvalue" && x.index < r.pairs.rank()) return r.pairs.values[x.index];
+  if (x.quantity == "temperature" && r.thermal) {
+    const int p = std::max(0, x.index);
+    if (p >= r.thermal->temperature.cols()) return std::nullopt;
+    return r.thermal->temperature(i, p);
+  }
+  if (r.sweep && x.quantity == "orbit_mean_absorbed")
+    return (r.sweep->absorbed_solar + r.sweep->absorbed_albedo + r.sweep->absorbed_earth_ir).row(i).mean();
+  if (r.sweep && x.quantity == "orbit_max_absorbed_solar") return r.sweep->absorbed_solar.row(i).maxCoeff();
   return std::nullopt;
 }
 

@@ -6,6 +6,7 @@
 #include "geometry/reciprocity.hpp"
 #include "orbits/loads.hpp"
 #include "solver/exchange.hpp"
+#include "solver/thermal.hpp"
 
 #include <iosfwd>
 #include <memory>
@@ -32,6 +33,8 @@ struct GeometryRunResult {
     double energy_balance_error = 0.0;  ///< max over positions of |in − absorbed − lost| / in, solar band
   };
   std::optional<Sweep> sweep;
+  /// Temperatures (n×P; P = 1 without an orbit), K, when the case has `thermal:`.
+  std::optional<solver::ThermalResult> thermal;
   std::int64_t total_rays = 0;
   double rays_per_second = 0.0;
   Timings timings_s;

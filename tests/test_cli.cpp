@@ -305,6 +305,13 @@ TEST_CASE("cli: the 3U CubeSat example runs end to end with every orbit dataset"
   }
   CHECK(readDataset(file, "/orbit/sun_body").dims == std::vector<hsize_t>{P, 3});
   CHECK(readDataset(file, "/orbit/beta").units == "deg");
+  const H5Data temp = readDataset(file, "/solution/temperature");  // transient, last of 3 orbits
+  CHECK(temp.dims == std::vector<hsize_t>{P, 11});
+  CHECK(temp.units == "K");
+  for (double v : temp.values) {
+    CHECK(v > 150.0);  // a 3U CubeSat in LEO stays between about −120 °C and +130 °C
+    CHECK(v < 400.0);
+  }
   // The XDMF sidecar refers only to datasets that exist, with the dimensions it states.
   const std::string xmf = slurp(dir.path / "cubesat.xmf");
   REQUIRE_FALSE(xmf.empty());
