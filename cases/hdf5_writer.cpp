@@ -74,55 +74,49 @@ void Hdf5Writer::addUnits(long long dataset, const std::string& units) {
   writeStringAttribute(static_cast<hid_t>(dataset), "units", units);
 }
 
-void Hdf5Writer::writeMatrix(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m,
-                             const std::string& units) {
-  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  const RowMajor data = m;
-  const hsize_t dims[2] = {static_cast<hsize_t>(m.rows()), static_cast<hsize_t>(m.cols())};
-  Handle space{checkId(H5Screate_simple(2, dims, nullptr), "dataspace"), H5Sclose};
+void Hdf5Writer::writeArray(const std::string& path, long long file_type, long long memory_type, int rank,
+                            const unsigned long long* dims, const void* data, const std::string& units) {
+  hsize_t hdims[2] = {0, 0};
+  hsize_t count = 1;
+  for (int k = 0; k < rank; ++k) count *= (hdims[k] = static_cast<hsize_t>(dims[k]));
+  Handle space{checkId(H5Screate_simple(rank, hdims, nullptr), "dataspace"), H5Sclose};
   Handle dcpl{checkId(H5Pcreate(H5P_DATASET_CREATE), "dataset properties"), H5Pclose};
-  if (m.size() > 4096 && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
-    const hsize_t chunk[2] = {std::min<hsize_t>(dims[0], 256), std::min<hsize_t>(dims[1], 256)};
+  // Large matrices: 256 × 256 chunks, deflate level 4 (docs/hdf5-layout.md).
+  if (rank == 2 && count > 4096 && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
+    const hsize_t chunk[2] = {std::min<hsize_t>(hdims[0], 256), std::min<hsize_t>(hdims[1], 256)};
     check(H5Pset_chunk(dcpl.id, 2, chunk), "chunking");
     check(H5Pset_deflate(dcpl.id, 4), "deflate");
   }
   Handle lcpl{createLinkProps(), H5Pclose};
-  Handle ds{checkId(H5Dcreate2(static_cast<hid_t>(file_), path.c_str(), H5T_IEEE_F64LE, space.id, lcpl.id, dcpl.id,
-                               H5P_DEFAULT),
+  Handle ds{checkId(H5Dcreate2(static_cast<hid_t>(file_), path.c_str(), static_cast<hid_t>(file_type), space.id,
+                               lcpl.id, dcpl.id, H5P_DEFAULT),
                     "create dataset " + path),
             H5Dclose};
-  if (m.size() > 0) check(H5Dwrite(ds.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), "write " + path);
+  if (count > 0)
+    check(H5Dwrite(ds.id, static_cast<hid_t>(memory_type), H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write " + path);
   addUnits(ds.id, units);
+}
+
+void Hdf5Writer::writeMatrix(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m,
+                             const std::string& units) {
+  // HDF5 is row-major: (rows, cols) as a reader indexes it.
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> data = m;
+  const unsigned long long dims[2] = {static_cast<unsigned long long>(m.rows()), static_cast<unsigned long long>(m.cols())};
+  writeArray(path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, dims, data.data(), units);
 }
 
 void Hdf5Writer::writeIntegers(const std::string& path, const Eigen::Ref<const Eigen::MatrixXi>& m,
                                const std::string& units) {
-  using RowMajor = Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  const RowMajor data = m;
-  const bool vector = m.cols() == 1;
-  const hsize_t dims[2] = {static_cast<hsize_t>(m.rows()), static_cast<hsize_t>(m.cols())};
-  Handle space{checkId(H5Screate_simple(vector ? 1 : 2, dims, nullptr), "dataspace"), H5Sclose};
-  Handle lcpl{createLinkProps(), H5Pclose};
-  Handle ds{checkId(H5Dcreate2(static_cast<hid_t>(file_), path.c_str(), H5T_STD_I32LE, space.id, lcpl.id, H5P_DEFAULT,
-                               H5P_DEFAULT),
-                    "create dataset " + path),
-            H5Dclose};
-  if (m.size() > 0) check(H5Dwrite(ds.id, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), "write " + path);
-  addUnits(ds.id, units);
+  const Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> data = m;
+  const unsigned long long dims[2] = {static_cast<unsigned long long>(m.rows()), static_cast<unsigned long long>(m.cols())};
+  writeArray(path, H5T_STD_I32LE, H5T_NATIVE_INT, m.cols() == 1 ? 1 : 2, dims, data.data(), units);
 }
 
 void Hdf5Writer::writeVector(const std::string& path, const Eigen::Ref<const Eigen::VectorXd>& v,
                              const std::string& units) {
   const Eigen::VectorXd data = v;
-  const hsize_t dims[1] = {static_cast<hsize_t>(v.size())};
-  Handle space{checkId(H5Screate_simple(1, dims, nullptr), "dataspace"), H5Sclose};
-  Handle lcpl{createLinkProps(), H5Pclose};
-  Handle ds{checkId(H5Dcreate2(static_cast<hid_t>(file_), path.c_str(), H5T_IEEE_F64LE, space.id, lcpl.id,
-                               H5P_DEFAULT, H5P_DEFAULT),
-                    "create dataset " + path),
-            H5Dclose};
-  if (v.size() > 0) check(H5Dwrite(ds.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), "write " + path);
-  addUnits(ds.id, units);
+  const unsigned long long dims[1] = {static_cast<unsigned long long>(v.size())};
+  writeArray(path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, dims, data.data(), units);
 }
 
 void Hdf5Writer::writeStrings(const std::string& path, const std::vector<std::string>& values,

@@ -102,6 +102,17 @@ void preserveArea(TriangleSoup& soup, const Vec3& center, const Vec3& axis, bool
   apply(s);
 }
 
+// Removes the triangles of a grid that collapse to zero area (a row of vertices at an apex
+// or pole), relative to the primitive's size.
+void dropCollapsed(TriangleSoup& soup, double size) {
+  std::vector<std::array<int, 3>> kept;
+  for (const auto& tri : soup.triangles) {
+    const Vec3 c = (soup.vertices[tri[1]] - soup.vertices[tri[0]]).cross(soup.vertices[tri[2]] - soup.vertices[tri[0]]);
+    if (c.norm() > 1e-14 * size * size) kept.push_back(tri);
+  }
+  soup.triangles = std::move(kept);
+}
+
 }  // namespace
 
 double soupArea(const TriangleSoup& soup) {
@@ -218,13 +229,7 @@ TriangleSoup cone(const Vec3& base_center, const Vec3& axis_vec, double base_rad
     const double r = base_radius + (top_radius - base_radius) * t;
     return Vec3(base_center + t * height * axis + r * (std::cos(phi) * e0 + std::sin(phi) * e1));
   });
-  // Drop the triangles collapsed onto an apex (zero radius row).
-  std::vector<std::array<int, 3>> kept;
-  for (const auto& tri : soup.triangles) {
-    const Vec3 c = (soup.vertices[tri[1]] - soup.vertices[tri[0]]).cross(soup.vertices[tri[2]] - soup.vertices[tri[0]]);
-    if (c.norm() > 1e-14 * height * height) kept.push_back(tri);
-  }
-  soup.triangles = kept;
+  dropCollapsed(soup, height);  // the row at an apex (zero radius) collapses
   const double slant = std::hypot(height, base_radius - top_radius);
   preserveArea(soup, base_center, axis, true, 0.5 * span * (base_radius + top_radius) * slant);
   return soup;
@@ -257,12 +262,7 @@ TriangleSoup sphere(const Vec3& center, double radius, const Vec3& axis_in, doub
     return Vec3(center + radius * (std::cos(theta) * axis +
                                    std::sin(theta) * (std::cos(phi) * e0 + std::sin(phi) * e1)));
   });
-  std::vector<std::array<int, 3>> kept;  // drop the triangles collapsed onto a pole
-  for (const auto& tri : soup.triangles) {
-    const Vec3 c = (soup.vertices[tri[1]] - soup.vertices[tri[0]]).cross(soup.vertices[tri[2]] - soup.vertices[tri[0]]);
-    if (c.norm() > 1e-14 * radius * radius) kept.push_back(tri);
-  }
-  soup.triangles = kept;
+  dropCollapsed(soup, radius);  // the rows at the poles collapse
   preserveArea(soup, center, axis, false, span * radius * radius * (std::cos(t0) - std::cos(t1)));
   return soup;
 }

@@ -14,6 +14,14 @@ std::string nodeLabel(const std::vector<std::string>& names, int i) {
   return s.str();
 }
 
+void checkShape(Eigen::Index rows, Eigen::Index cols, int n) {
+  if (rows != n || cols != n) {
+    std::ostringstream s;
+    s << "view-factor matrix is " << rows << "×" << cols << "; expected " << n << "×" << n;
+    throw NetworkError(s.str());
+  }
+}
+
 void checkEntry(const std::vector<std::string>& names, int i, int j, double f) {
   if (!std::isfinite(f) || f < 0.0) {
     std::ostringstream s;
@@ -127,12 +135,7 @@ Network::Network(std::vector<std::string> names, Eigen::VectorXd area_m2, const 
     : names_(std::move(names)), area_(std::move(area_m2)), blocked_(std::move(blocked)) {
   validateCommon(tol);
   const int n = size();
-  if (view_factors.rows() != n || view_factors.cols() != n) {
-    std::ostringstream s;
-    s << "view-factor matrix is " << view_factors.rows() << "×" << view_factors.cols() << "; expected " << n << "×"
-      << n;
-    throw NetworkError(s.str());
-  }
+  checkShape(view_factors.rows(), view_factors.cols(), n);
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) checkEntry(names_, i, j, view_factors(i, j));
   checkRowSums(names_, view_factors.rowwise().sum(), blocked_, tol.row_sum);
@@ -149,12 +152,7 @@ Network::Network(std::vector<std::string> names, Eigen::VectorXd area_m2,
     : names_(std::move(names)), area_(std::move(area_m2)), blocked_(std::move(blocked)), sparse_(true) {
   validateCommon(tol);
   const int n = size();
-  if (view_factors.rows() != n || view_factors.cols() != n) {
-    std::ostringstream s;
-    s << "view-factor matrix is " << view_factors.rows() << "×" << view_factors.cols() << "; expected " << n << "×"
-      << n;
-    throw NetworkError(s.str());
-  }
+  checkShape(view_factors.rows(), view_factors.cols(), n);
   Eigen::VectorXd row_sums = Eigen::VectorXd::Zero(n);
   for (int k = 0; k < view_factors.outerSize(); ++k)
     for (Eigen::SparseMatrix<double>::InnerIterator it(view_factors, k); it; ++it) {

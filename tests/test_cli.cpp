@@ -1,5 +1,7 @@
 // The command-line contract (DESIGN.md §3) through the real executable: exit codes,
 // located error messages, atomic output, and the HDF5 layout read back with the HDF5 API.
+#include "temp_dir.hpp"
+
 #include <catch2/catch.hpp>
 #include <hdf5.h>
 
@@ -16,14 +18,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // A fresh directory per test, removed at the end.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "radnet-test-XXXXXX").string();
-    path = ::mkdtemp(tmpl.data());
-  }
-  ~TempDir() { fs::remove_all(path); }
-};
+using radnet::test::TempDir;
 
 struct Run {
   int exit_code;
@@ -37,7 +32,7 @@ std::string slurp(const fs::path& p) {
   return s.str();
 }
 
-Run radnet(const std::string& args, const TempDir& dir) {
+Run runRadnet(const std::string& args, const TempDir& dir) {
   const fs::path out = dir.path / "stdout.txt", err = dir.path / "stderr.txt";
   const std::string cmd = "cd '" + dir.path.string() + "' && '" + RADNET_EXE + "' " + args + " > '" + out.string() +
                           "' 2> '" + err.string() + "'";
@@ -91,7 +86,7 @@ H5Data readDataset(hid_t file, const std::string& name) {
 
 TEST_CASE("cli: run the seed room writes the HDF5 layout with units, and the paper's M'_2") {
   TempDir dir;
-  const Run r = radnet("run '" + source("cases/examples/seed-room.yaml") + "' -o out.h5", dir);
+  const Run r = runRadnet("run '" + source("cases/examples/seed-room.yaml") + "' -o out.h5", dir);
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   CHECK(r.out.find("ceiling") != std::string::npos);
@@ -139,7 +134,7 @@ TEST_CASE("cli: run the seed room writes the HDF5 layout with units, and the pap
 
 TEST_CASE("cli: check passes the shipped examples and fails a wrong expectation with exit 1") {
   TempDir dir;
-  const Run ok = radnet("check '" + source("cases/examples/seed-room.yaml") + "' '" +
+  const Run ok = runRadnet("check '" + source("cases/examples/seed-room.yaml") + "' '" +
                             source("cases/examples/random-network.yaml") + "' '" +
                             source("cases/examples/parallel-plates.yaml") + "'",
                         dir);
@@ -150,7 +145,7 @@ TEST_CASE("cli: check passes the shipped examples and fails a wrong expectation 
   std::string text = slurp(source("cases/examples/seed-room.yaml"));
   text.replace(text.find("value: 1.2431"), 13, "value: 1.3431");
   std::ofstream(dir.path / "wrong.yaml") << text;
-  const Run bad = radnet("check wrong.yaml", dir);
+  const Run bad = runRadnet("check wrong.yaml", dir);
   INFO(bad.out << bad.err);
   CHECK(bad.exit_code == 1);
   CHECK(bad.out.find("FAIL exitance ceiling") != std::string::npos);
@@ -164,7 +159,7 @@ TEST_CASE("cli: every malformed case exits 2 with file:line:column and writes no
     TempDir dir;
     const std::string text = slurp(entry.path());
     const std::string expected = text.substr(10, text.find('\n') - 10);  // after "# expect: " on the first line
-    const Run r = radnet("run '" + entry.path().string() + "' -o out.h5", dir);
+    const Run r = runRadnet("run '" + entry.path().string() + "' -o out.h5", dir);
     INFO(entry.path().filename().string() << "\nstderr: " << r.err);
     CHECK(r.exit_code == 2);
     CHECK(std::regex_search(r.err, located));
@@ -172,7 +167,7 @@ TEST_CASE("cli: every malformed case exits 2 with file:line:column and writes no
     CHECK(r.err.find(entry.path().filename().string()) != std::string::npos);
     CHECK_FALSE(fs::exists(dir.path / "out.h5"));
     CHECK(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator{}) == 2);  // stdout.txt, stderr.txt
-    const Run v = radnet("validate '" + entry.path().string() + "'", dir);
+    const Run v = runRadnet("validate '" + entry.path().string() + "'", dir);
     CHECK(v.exit_code == 2);
     ++count;
   }
@@ -181,16 +176,16 @@ TEST_CASE("cli: every malformed case exits 2 with file:line:column and writes no
 
 TEST_CASE("cli: a missing file and bad arguments exit 2, a numerical failure exits 3 with no output") {
   TempDir dir;
-  const Run missing = radnet("run no-such-case.yaml -o out.h5", dir);
+  const Run missing = runRadnet("run no-such-case.yaml -o out.h5", dir);
   CHECK(missing.exit_code == 2);
   CHECK(missing.err.find("no-such-case.yaml:0:0: cannot open") != std::string::npos);
-  CHECK(radnet("frobnicate", dir).exit_code == 2);
-  const Run no_dir = radnet("run '" + source("cases/examples/seed-room.yaml") + "' -o missing/out.h5", dir);
+  CHECK(runRadnet("frobnicate", dir).exit_code == 2);
+  const Run no_dir = runRadnet("run '" + source("cases/examples/seed-room.yaml") + "' -o missing/out.h5", dir);
   CHECK(no_dir.exit_code == 2);
   CHECK(no_dir.err.find("does not exist") != std::string::npos);
-  CHECK(radnet("run", dir).exit_code == 2);
+  CHECK(runRadnet("run", dir).exit_code == 2);
 
-  const Run num = radnet("run '" + source("tests/data/numerical/lossless-cavity.yaml") + "' -o out.h5", dir);
+  const Run num = runRadnet("run '" + source("tests/data/numerical/lossless-cavity.yaml") + "' -o out.h5", dir);
   INFO(num.err);
   CHECK(num.exit_code == 3);
   CHECK(num.err.find("numerical failure") != std::string::npos);
@@ -199,7 +194,7 @@ TEST_CASE("cli: a missing file and bad arguments exit 2, a numerical failure exi
 
 TEST_CASE("cli: a geometry case writes /geometry, view factors with errors, and closed exchange factors") {
   TempDir dir;
-  const Run r = radnet("run '" + source("cases/analytic/cube-interior.yaml") + "' -o cube.h5 --threads 1", dir);
+  const Run r = runRadnet("run '" + source("cases/analytic/cube-interior.yaml") + "' -o cube.h5 --threads 1", dir);
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   CHECK(r.err.find("view factors 100 %") != std::string::npos);  // progress on stderr
@@ -231,7 +226,7 @@ TEST_CASE("cli: a geometry case writes /geometry, view factors with errors, and 
   CHECK(emis.values[0] == 0.5);
   H5Fclose(file);
   // Same seed, one thread or two: the same bits.
-  const Run r2 = radnet("run '" + source("cases/analytic/cube-interior.yaml") + "' -o cube2.h5 --threads 2 -q", dir);
+  const Run r2 = runRadnet("run '" + source("cases/analytic/cube-interior.yaml") + "' -o cube2.h5 --threads 2 -q", dir);
   REQUIRE(r2.exit_code == 0);
   hid_t f2 = H5Fopen((dir.path / "cube2.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   CHECK(readDataset(f2, "/network/view_factors").values == f.values);
@@ -255,7 +250,7 @@ orbit: {altitude: 600.0e3, beta: 0.0, epoch: 2026-06-21T00:00:00Z, positions: 24
 attitude: {mode: sun}
 solver: {view_factors: {rays: 20000}}
 )";
-  const Run r = radnet("run plate.yaml -o plate.h5 -q", dir);
+  const Run r = runRadnet("run plate.yaml -o plate.h5 -q", dir);
   INFO(r.err << r.out);
   REQUIRE(r.exit_code == 0);
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
@@ -288,7 +283,7 @@ solver: {view_factors: {rays: 20000}}
 
 TEST_CASE("cli: the 3U CubeSat example runs end to end with every orbit dataset") {
   TempDir dir;
-  const Run r = radnet("run '" + source("cases/examples/cubesat-3u.yaml") + "' -o cubesat.h5 -q", dir);
+  const Run r = runRadnet("run '" + source("cases/examples/cubesat-3u.yaml") + "' -o cubesat.h5 -q", dir);
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   hid_t file = H5Fopen((dir.path / "cubesat.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
@@ -343,7 +338,7 @@ TEST_CASE("cli: includes of materials and surfaces, errors located in the includ
   std::ofstream(dir.path / "case.yaml") << "name: inc\nmaterials: {include: lib/materials.yaml}\n"
                                            "geometry:\n  - include: lib/panels.yaml\n"
                                            "solver: {view_factors: {rays: 1000}}\n";
-  const Run ok = radnet("run case.yaml -o inc.h5 -q", dir);
+  const Run ok = runRadnet("run case.yaml -o inc.h5 -q", dir);
   INFO(ok.err);
   REQUIRE(ok.exit_code == 0);
   hid_t file = H5Fopen((dir.path / "inc.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
@@ -354,7 +349,7 @@ TEST_CASE("cli: includes of materials and surfaces, errors located in the includ
   std::ofstream(dir.path / "lib" / "panels.yaml")
       << "- rectangle: {name: a, origin: [0, 0, 0], u: [1, 0, 0], v: [0, 1, 0], front: white}\n"
          "- rectangle: {name: b, origin: [0, 0, 1], u: [1, 0, 0], v: [0, 1, 0], front: grey}\n";
-  const Run bad = radnet("run case.yaml -o bad.h5", dir);
+  const Run bad = runRadnet("run case.yaml -o bad.h5", dir);
   CHECK(bad.exit_code == 2);
   CHECK(bad.err.find("panels.yaml:2:") != std::string::npos);
   CHECK(bad.err.find("unknown material 'grey'") != std::string::npos);
@@ -364,7 +359,7 @@ TEST_CASE("cli: includes of materials and surfaces, errors located in the includ
 TEST_CASE("cli: validate accepts the shipped examples") {
   TempDir dir;
   for (const char* ex : {"seed-room", "random-network", "parallel-plates", "cubesat-3u", "satellite"}) {
-    const Run r = radnet(std::string("validate '") + source("cases/examples/") + ex + ".yaml'", dir);
+    const Run r = runRadnet(std::string("validate '") + source("cases/examples/") + ex + ".yaml'", dir);
     INFO(ex << ": " << r.err);
     CHECK(r.exit_code == 0);
   }

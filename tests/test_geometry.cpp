@@ -3,6 +3,8 @@
 #include "geometry/primitives.hpp"
 #include "geometry/ray_caster.hpp"
 
+#include "temp_dir.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -16,18 +18,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "radnet-geom-XXXXXX").string();
-    path = ::mkdtemp(tmpl.data());
-  }
-  ~TempDir() { fs::remove_all(path); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path / name) << text;
-    return (path / name).string();
-  }
-};
+using radnet::test::TempDir;
 
 Vec3 meanNormal(const TriangleSoup& soup) {
   Vec3 n = Vec3::Zero();
