@@ -266,6 +266,7 @@ void writeSweep(Hdf5Writer& h5, const GeometryRunResult::Sweep& sw) {
   h5.writeMatrix("/loads/incident_earth_ir", sw.irradiance.earth_ir.transpose(), "W/m^2");
   h5.writeMatrix("/solution/exitance_solar", sw.exitance_solar.transpose(), "W/m^2");
   h5.attribute("/report", "solar_band_residual", sw.solar_residual);
+  h5.attribute("/report", "truncation_residual", std::max(sw.solar_residual, sw.ir_residual));
   h5.attribute("/report", "ir_band_residual", sw.ir_residual);
   h5.attribute("/report", "solar_energy_balance_error", sw.energy_balance_error);
   h5.attribute("/report", "planet_ray_casts", static_cast<long long>(sw.irradiance.planet_casts));
