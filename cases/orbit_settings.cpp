@@ -8,6 +8,7 @@ namespace radnet::cases {
 namespace {
 
 constexpr double kBig = std::numeric_limits<double>::max();
+constexpr double kPositive = std::numeric_limits<double>::min();  // "> 0" in messages
 
 Eigen::Vector3d vec3(const YamlDocument& doc, const YAML::Node& node, const std::string& what) {
   if (!node.IsSequence() || node.size() != 3) throw doc.error(node, what + ": expected [x, y, z]");
@@ -121,22 +122,22 @@ std::optional<OrbitSettings> parseOrbitSettings(const YamlDocument& doc) {
     orbits::KeplerElements el;
     if (kepler) {
       if (o["semi_major_axis"]) {
-        el.semi_major_axis_m = num("semi_major_axis", "(m)", 0, kBig, 0);
+        el.semi_major_axis_m = num("semi_major_axis", "(m)", kPositive, kBig, 0);
         el.eccentricity = num("eccentricity", "", 0, kBig, 0);
         el.inclination_rad = num("inclination", "(deg)", -kBig, kBig, 0) * M_PI / 180;
         el.raan_rad = num("raan", "(deg)", -kBig, kBig, 0) * M_PI / 180;
         el.arg_perigee_rad = num("arg_perigee", "(deg)", -kBig, kBig, 0) * M_PI / 180;
         el.true_anomaly_rad = num("true_anomaly", "(deg)", -kBig, kBig, 0) * M_PI / 180;
       } else {
-        el = orbits::perigeeApogeeElements(num("perigee_altitude", "(m)", -kBig, kBig, 0),
-                                           num("apogee_altitude", "(m)", -kBig, kBig, 0),
+        el = orbits::perigeeApogeeElements(num("perigee_altitude", "(m)", kPositive, kBig, 0),
+                                           num("apogee_altitude", "(m)", kPositive, kBig, 0),
                                            num("inclination", "(deg)", -kBig, kBig, 0), num("raan", "(deg)", -kBig, kBig, 0),
                                            num("arg_perigee", "(deg)", -kBig, kBig, 0),
                                            num("true_anomaly", "(deg)", -kBig, kBig, 0));
       }
       s.description = "Keplerian elements";
     } else {
-      const double h = num("altitude", "(m)", -kBig, kBig, 0);
+      const double h = num("altitude", "(m)", kPositive, kBig, 0);
       if (o["beta"]) {
         el = orbits::betaElements(h, num("beta", "(deg)", -90, 90, 0), epoch);
         s.description = "circular, beta " + std::to_string(num("beta", "", -90, 90, 0)) + "°";

@@ -109,8 +109,11 @@ Eigen::Vector3d Orbit::normal(double t) const {
 
 KeplerElements circularElements(double altitude_m, double inclination_deg, double raan_deg, double arg_latitude_deg,
                                 const EarthModel& earth) {
-  if (!(std::isfinite(altitude_m) && altitude_m > 0))
-    throw OrbitError("altitude " + std::to_string(altitude_m) + " m: expected a finite value > 0");
+  if (!(std::isfinite(altitude_m) && altitude_m > 0)) {
+    std::ostringstream s;
+    s << "altitude " << altitude_m << " m: expected a finite value > 0";
+    throw OrbitError(s.str());
+  }
   KeplerElements el;
   el.semi_major_axis_m = earth.equatorial_radius_m + altitude_m;
   el.inclination_rad = inclination_deg * kDeg;

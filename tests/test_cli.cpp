@@ -326,6 +326,30 @@ TEST_CASE("cli: the 3U CubeSat example runs end to end with every orbit dataset"
   H5Fclose(file);
 }
 
+TEST_CASE("cli: the larger satellite runs end to end: shapes, closed energy balance, no Sun in umbra") {
+  TempDir dir;
+  const Run r = runRadnet("run '" + source("cases/examples/satellite.yaml") + "' -o sat.h5 -q", dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  hid_t file = H5Fopen((dir.path / "sat.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  REQUIRE(file >= 0);
+  const H5Data tri = readDataset(file, "/geometry/triangles");
+  CHECK(tri.dims[0] > 4000);
+  const H5Data solar = readDataset(file, "/loads/solar"), sunlit = readDataset(file, "/orbit/sunlit_fraction");
+  const size_t P = solar.dims[0], n = solar.dims[1];
+  CHECK(n == 16);
+  for (size_t p = 0; p < P; ++p)
+    if (sunlit.values[p] == 0.0)
+      for (size_t i = 0; i < n; ++i) CHECK(std::abs(solar.values[p * n + i]) < 1e-6);  // no direct Sun in the umbra
+  double balance = -1;
+  hid_t attr = H5Aopen_by_name(file, "/report", "solar_energy_balance_error", H5P_DEFAULT, H5P_DEFAULT);
+  H5Aread(attr, H5T_NATIVE_DOUBLE, &balance);
+  H5Aclose(attr);
+  CHECK(balance >= 0.0);
+  CHECK(balance < 1e-12);  // in = absorbed + lost to space, every position
+  H5Fclose(file);
+}
+
 TEST_CASE("cli: includes of materials and surfaces, errors located in the included file") {
   TempDir dir;
   fs::create_directories(dir.path / "lib" / "parts");
