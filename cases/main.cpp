@@ -16,6 +16,10 @@
 #include <sstream>
 #include <unistd.h>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 namespace {
 
 using namespace radnet::cases;
@@ -131,7 +135,12 @@ int main(int argc, char** argv) {
         printNetworkSummary(*c.network, r, std::cout);
       } else {
         GeometryCase& g = *c.geometry;
-        if (threads > 0) g.view_factors.threads = threads;
+        if (threads > 0) {
+          g.view_factors.threads = threads;
+#ifdef _OPENMP
+          omp_set_num_threads(threads);  // the orbit loads' parallel loops too
+#endif
+        }
         if (seed >= 0) g.view_factors.seed = static_cast<std::uint64_t>(seed);
         const GeometryRunResult r = runGeometryCase(g, !quiet, progress);
         writeGeometryResult(g, r, out);

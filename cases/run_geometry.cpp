@@ -29,7 +29,7 @@ solver::BandSolution solveBand(const solver::Network& net, const solver::EigenPa
 }
 
 void runSweep(const GeometryCase& c, const geometry::RayCaster& caster, const Eigen::VectorXd& area,
-              GeometryRunResult& r, std::ostream& progress) {
+              GeometryRunResult& r, bool show_progress, std::ostream& progress) {
   const OrbitSettings& o = *c.orbit;
   GeometryRunResult::Sweep sw;
   StageTimer t_orbit;
@@ -41,8 +41,15 @@ void runSweep(const GeometryCase& c, const geometry::RayCaster& caster, const Ei
   progress << "radnet: orbit (" << o.description << "), period " << o.orbit->period() << " s, " << P
            << " positions (" << events << " eclipse entries/exits inserted)\n";
   StageTimer t_loads;
+  orbits::EnvironmentOptions env = o.environment;
+  if (show_progress)
+    env.progress = [&](int done, int total) {
+      if (done == total || done % std::max(1, total / 50) == 0)
+        progress << "\rradnet: orbit loads " << std::setw(3) << (100 * done / total) << " % (" << done << "/" << total
+                 << " positions)" << (done == total ? "\n" : "") << std::flush;
+    };
   sw.irradiance = orbits::environmentLoads(caster, area, sw.positions, orbits::earthFixedInBody(o.attitude),
-                                           o.orbit->earth().equatorial_radius_m, o.environment);
+                                           o.orbit->earth().equatorial_radius_m, env);
   r.timings_s.emplace_back("environment_loads", t_loads.seconds());
   progress << "radnet: loads: planet rays cast " << sw.irradiance.planet_casts << " time(s) for " << P << " positions\n";
 
@@ -193,7 +200,7 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
   if (r.exchange.status != solver::Status::Converged)
     throw NumericalError(std::string("exchange factors ") + solver::toString(r.exchange.status) + ": " +
                          r.exchange.message);
-  if (c.orbit) runSweep(c, caster, area, r, progress);
+  if (c.orbit) runSweep(c, caster, area, r, show_progress, progress);
   if (c.thermal) runThermal(c, r, progress);
   return r;
 }

@@ -62,6 +62,7 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
       // E = π ∫ L cos θ dω / π … with L = a S cos θ_s / π and rays drawn with pdf cos θ / π.
       out.albedo(i, p) = r.rays > 0 ? pos.solar_flux_w_m2 * sum / double(r.rays) : 0.0;
     }
+    if (opt.progress) opt.progress(p + 1, P);
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;

@@ -13,6 +13,7 @@
 
 #include <Eigen/Dense>
 
+#include <functional>
 #include <vector>
 
 namespace radnet::orbits {
@@ -25,6 +26,7 @@ struct EnvironmentOptions {
   int shadow_samples = 1024;     ///< points per node for direct-solar shadow rays
   std::int64_t planet_rays = 16384;  ///< cosine-weighted rays per node towards the planet
   std::uint64_t seed = 1;
+  std::function<void(int, int)> progress;  ///< (positions done, positions total), optional
 };
 
 struct EnvironmentLoads {
