@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 namespace radnet::cases {
@@ -104,59 +105,90 @@ std::optional<OrbitSettings> parseOrbitSettings(const YamlDocument& doc) {
   auto num = [&](const char* key, const std::string& what, double lo, double hi, double fallback) {
     return o[key] ? doc.number(o[key], "orbit." + std::string(key) + " " + what, lo, hi) : fallback;
   };
-  double epoch = orbits::julianDateFromIso("2026-03-20T00:00:00Z");
-  if (o["epoch"]) {
+  // `epoch` and `beta` may be lists: one orbit per combination (seasons × betas).
+  auto listOf = [&](const char* key) {
+    std::vector<YAML::Node> items;
+    const YAML::Node v = o[key];
+    if (!v) return items;
+    if (v.IsSequence()) {
+      if (v.size() == 0) throw doc.error(v, std::string("orbit.") + key + ": the list is empty");
+      for (size_t k = 0; k < v.size(); ++k) items.push_back(v[k]);
+    } else {
+      items.push_back(v);
+    }
+    return items;
+  };
+  std::vector<std::pair<double, std::string>> epochs;
+  for (const YAML::Node& e : listOf("epoch")) {
+    const std::string text = doc.string(e, "orbit.epoch");
     try {
-      epoch = orbits::julianDateFromIso(doc.string(o["epoch"], "orbit.epoch"));
-    } catch (const std::invalid_argument& e) {
-      throw doc.error(o["epoch"], std::string("orbit.epoch: ") + e.what());
+      epochs.emplace_back(orbits::julianDateFromIso(text), text);
+    } catch (const std::invalid_argument& err) {
+      throw doc.error(e, std::string("orbit.epoch: ") + err.what());
     }
   }
+  if (epochs.empty()) epochs.emplace_back(orbits::julianDateFromIso("2026-03-20T00:00:00Z"), "2026-03-20T00:00:00Z");
+  std::vector<std::optional<double>> betas;
+  for (const YAML::Node& b : listOf("beta")) betas.push_back(doc.number(b, "orbit.beta (deg)", -90, 90));
+  if (betas.empty()) betas.push_back(std::nullopt);
+
   const bool kepler = o["semi_major_axis"] || o["perigee_altitude"];
   const int forms = (o["beta"] ? 1 : 0) + (o["ltan"] || o["sun_synchronous"] ? 1 : 0) + (kepler ? 1 : 0);
   if (forms > 1)
     throw doc.error(o, "orbit: give one form: 'beta', or 'ltan'/'sun_synchronous', or Keplerian elements "
                        "('semi_major_axis'/'perigee_altitude'), or 'altitude' with 'inclination' and 'raan'");
   if (!kepler && !o["altitude"]) throw doc.error(o, "orbit: missing 'altitude' (m)");
-  try {
-    orbits::KeplerElements el;
-    if (kepler) {
-      if (o["semi_major_axis"]) {
-        el.semi_major_axis_m = num("semi_major_axis", "(m)", kPositive, kBig, 0);
-        el.eccentricity = num("eccentricity", "", 0, kBig, 0);
-        el.inclination_rad = num("inclination", "(deg)", -kBig, kBig, 0) * M_PI / 180;
-        el.raan_rad = num("raan", "(deg)", -kBig, kBig, 0) * M_PI / 180;
-        el.arg_perigee_rad = num("arg_perigee", "(deg)", -kBig, kBig, 0) * M_PI / 180;
-        el.true_anomaly_rad = num("true_anomaly", "(deg)", -kBig, kBig, 0) * M_PI / 180;
-      } else {
-        el = orbits::perigeeApogeeElements(num("perigee_altitude", "(m)", kPositive, kBig, 0),
-                                           num("apogee_altitude", "(m)", kPositive, kBig, 0),
-                                           num("inclination", "(deg)", -kBig, kBig, 0), num("raan", "(deg)", -kBig, kBig, 0),
-                                           num("arg_perigee", "(deg)", -kBig, kBig, 0),
-                                           num("true_anomaly", "(deg)", -kBig, kBig, 0));
-      }
-      s.description = "Keplerian elements";
-    } else {
-      const double h = num("altitude", "(m)", kPositive, kBig, 0);
-      if (o["beta"]) {
-        el = orbits::betaElements(h, num("beta", "(deg)", -90, 90, 0), epoch);
-        s.description = "circular, beta " + std::to_string(num("beta", "", -90, 90, 0)) + "°";
-      } else if (o["ltan"] || o["sun_synchronous"]) {
-        if (o["sun_synchronous"] && !doc.boolean(o["sun_synchronous"], "orbit.sun_synchronous"))
-          throw doc.error(o["sun_synchronous"], "orbit.sun_synchronous: false makes no orbit; remove it or give 'inclination'");
-        if (o["inclination"]) throw doc.error(o["inclination"], "orbit.inclination: a sun-synchronous orbit's inclination follows from J2; remove it");
-        const double ltan = num("ltan", "(hours)", 0, 24, 12.0);
-        el = orbits::circularElements(h, orbits::sunSynchronousInclinationDeg(h), orbits::raanForLocalTimeDeg(ltan, epoch));
-        s.description = "sun-synchronous, LTAN " + std::to_string(ltan) + " h";
-      } else {
-        el = orbits::circularElements(h, num("inclination", "(deg)", 0, 180, 0), num("raan", "(deg)", -kBig, kBig, 0),
-                                      num("true_anomaly", "(deg)", -kBig, kBig, 0));
-        s.description = "circular";
+  for (const auto& [epoch, epoch_text] : epochs) {
+    for (const auto& beta : betas) {
+      try {
+        orbits::KeplerElements el;
+        if (kepler) {
+          if (o["semi_major_axis"]) {
+            el.semi_major_axis_m = num("semi_major_axis", "(m)", kPositive, kBig, 0);
+            el.eccentricity = num("eccentricity", "", 0, kBig, 0);
+            el.inclination_rad = num("inclination", "(deg)", -kBig, kBig, 0) * M_PI / 180;
+            el.raan_rad = num("raan", "(deg)", -kBig, kBig, 0) * M_PI / 180;
+            el.arg_perigee_rad = num("arg_perigee", "(deg)", -kBig, kBig, 0) * M_PI / 180;
+            el.true_anomaly_rad = num("true_anomaly", "(deg)", -kBig, kBig, 0) * M_PI / 180;
+          } else {
+            el = orbits::perigeeApogeeElements(num("perigee_altitude", "(m)", kPositive, kBig, 0),
+                                               num("apogee_altitude", "(m)", kPositive, kBig, 0),
+                                               num("inclination", "(deg)", -kBig, kBig, 0), num("raan", "(deg)", -kBig, kBig, 0),
+                                               num("arg_perigee", "(deg)", -kBig, kBig, 0),
+                                               num("true_anomaly", "(deg)", -kBig, kBig, 0));
+          }
+          s.description = "Keplerian elements";
+        } else {
+          const double h = num("altitude", "(m)", kPositive, kBig, 0);
+          if (beta) {
+            el = orbits::betaElements(h, *beta, epoch);
+            s.description = "circular, by beta";
+          } else if (o["ltan"] || o["sun_synchronous"]) {
+            if (o["sun_synchronous"] && !doc.boolean(o["sun_synchronous"], "orbit.sun_synchronous"))
+              throw doc.error(o["sun_synchronous"], "orbit.sun_synchronous: false makes no orbit; remove it or give 'inclination'");
+            if (o["inclination"]) throw doc.error(o["inclination"], "orbit.inclination: a sun-synchronous orbit's inclination follows from J2; remove it");
+            const double ltan = num("ltan", "(hours)", 0, 24, 12.0);
+            el = orbits::circularElements(h, orbits::sunSynchronousInclinationDeg(h), orbits::raanForLocalTimeDeg(ltan, epoch));
+            std::ostringstream d;
+            d << "sun-synchronous, LTAN " << ltan << " h";
+            s.description = d.str();
+          } else {
+            el = orbits::circularElements(h, num("inclination", "(deg)", 0, 180, 0), num("raan", "(deg)", -kBig, kBig, 0),
+                                          num("true_anomaly", "(deg)", -kBig, kBig, 0));
+            s.description = "circular";
+          }
+        }
+        OrbitCase oc;
+        oc.orbit = std::make_unique<orbits::Orbit>(el, epoch);
+        std::ostringstream label;
+        label << "epoch " << epoch_text;
+        if (beta) label << ", beta " << *beta << " deg";
+        oc.label = label.str();
+        s.cases.push_back(std::move(oc));
+      } catch (const orbits::OrbitError& e) {
+        throw doc.error(o, std::string("orbit: ") + e.what());
       }
     }
-    s.orbit = std::make_unique<orbits::Orbit>(el, epoch);
-  } catch (const orbits::OrbitError& e) {
-    throw doc.error(o, std::string("orbit: ") + e.what());
   }
   if (o["positions"]) s.sweep.positions_per_orbit = static_cast<int>(doc.integer(o["positions"], "orbit.positions", 1, 100000));
   if (o["orbits"]) s.sweep.orbits = doc.number(o["orbits"], "orbit.orbits", 1e-3, 10000);

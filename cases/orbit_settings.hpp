@@ -9,11 +9,19 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace radnet::cases {
 
-struct OrbitSettings {
+/// One orbit of a case; several when `epoch` or `beta` is a list (seasons, beta sweeps,
+/// hot and cold cases), one per combination.
+struct OrbitCase {
   std::unique_ptr<orbits::Orbit> orbit;
+  std::string label;  ///< e.g. "epoch 2026-06-21T00:00:00Z, beta 60°"
+};
+
+struct OrbitSettings {
+  std::vector<OrbitCase> cases;
   std::string description;  ///< how the orbit was defined, for the summary
   orbits::AttitudeSpec attitude;
   orbits::SweepOptions sweep;

@@ -32,25 +32,52 @@ void runSweep(const GeometryCase& c, const geometry::RayCaster& caster, const Ei
               GeometryRunResult& r, bool show_progress, std::ostream& progress) {
   const OrbitSettings& o = *c.orbit;
   GeometryRunResult::Sweep sw;
-  StageTimer t_orbit;
-  sw.positions = orbits::sweepOrbit(*o.orbit, o.attitude, o.sweep);
-  r.timings_s.emplace_back("orbit", t_orbit.seconds());
-  const int P = static_cast<int>(sw.positions.size()), n = static_cast<int>(area.size());
-  int events = 0;
-  for (const auto& p : sw.positions) events += p.event;
-  progress << "radnet: orbit (" << o.description << "), period " << o.orbit->period() << " s, " << P
-           << " positions (" << events << " eclipse entries/exits inserted)\n";
-  StageTimer t_loads;
-  orbits::EnvironmentOptions env = o.environment;
-  if (show_progress)
-    env.progress = [&](int done, int total) {
-      if (done == total || done % std::max(1, total / 50) == 0)
-        progress << "\rradnet: orbit loads " << std::setw(3) << (100 * done / total) << " % (" << done << "/" << total
-                 << " positions)" << (done == total ? "\n" : "") << std::flush;
-    };
-  sw.irradiance = orbits::environmentLoads(caster, area, sw.positions, orbits::earthFixedInBody(o.attitude),
-                                           o.orbit->earth().equatorial_radius_m, env);
-  r.timings_s.emplace_back("environment_loads", t_loads.seconds());
+  const int n = static_cast<int>(area.size());
+  // Each orbit case (an epoch × beta combination) is swept and loaded on its own, then all
+  // positions join the band solves as one matrix.
+  std::vector<orbits::EnvironmentLoads> parts;
+  for (size_t k = 0; k < o.cases.size(); ++k) {
+    const orbits::Orbit& orbit = *o.cases[k].orbit;
+    StageTimer t_orbit;
+    const std::vector<orbits::SweepPosition> positions = orbits::sweepOrbit(orbit, o.attitude, o.sweep);
+    r.timings_s.emplace_back("orbit", t_orbit.seconds());
+    int events = 0;
+    for (const auto& p : positions) events += p.event;
+    progress << "radnet: orbit " << k + 1 << "/" << o.cases.size() << " (" << o.description << ", "
+             << o.cases[k].label << "), period " << orbit.period() << " s, " << positions.size() << " positions ("
+             << events << " eclipse entries/exits inserted)\n";
+    StageTimer t_loads;
+    orbits::EnvironmentOptions env = o.environment;
+    if (show_progress)
+      env.progress = [&](int done, int total) {
+        if (done == total || done % std::max(1, total / 50) == 0)
+          progress << "\rradnet: orbit loads " << std::setw(3) << (100 * done / total) << " % (" << done << "/"
+                   << total << " positions)" << (done == total ? "\n" : "") << std::flush;
+      };
+    parts.push_back(orbits::environmentLoads(caster, area, positions, orbits::earthFixedInBody(o.attitude),
+                                             orbit.earth().equatorial_radius_m, env));
+    r.timings_s.emplace_back("environment_loads", t_loads.seconds());
+    sw.case_start.push_back(static_cast<int>(sw.positions.size()));
+    sw.positions.insert(sw.positions.end(), positions.begin(), positions.end());
+  }
+  const int P = static_cast<int>(sw.positions.size());
+  sw.case_start.push_back(P);
+  for (const auto& oc : o.cases) sw.case_labels.push_back(oc.label);
+  auto join = [&](auto member) {
+    Eigen::MatrixXd all(n, P);
+    for (size_t k = 0; k < parts.size(); ++k)
+      all.middleCols(sw.case_start[k], sw.case_start[k + 1] - sw.case_start[k]) = parts[k].*member;
+    return all;
+  };
+  sw.irradiance.direct = join(&orbits::EnvironmentLoads::direct);
+  sw.irradiance.albedo = join(&orbits::EnvironmentLoads::albedo);
+  sw.irradiance.earth_ir = join(&orbits::EnvironmentLoads::earth_ir);
+  sw.irradiance.earth_view_factor = join(&orbits::EnvironmentLoads::earth_view_factor);
+  for (const auto& part : parts) {
+    sw.irradiance.planet_casts += part.planet_casts;
+    sw.irradiance.shadow_rays += part.shadow_rays;
+    sw.irradiance.seconds += part.seconds;
+  }
   progress << "radnet: loads: planet rays cast " << sw.irradiance.planet_casts << " time(s) for " << P << " positions\n";
 
   // Solar band (ρ = 1 − α): direct and albedo as 2P right-hand sides of one solve.
@@ -103,10 +130,27 @@ void runThermal(const GeometryCase& c, GeometryRunResult& r, std::ostream& progr
                                         : Eigen::MatrixXd::Zero(n, 1);
   StageTimer t_thermal;
   if (ts.transient_orbits) {
-    std::vector<double> times;
-    for (const auto& p : r.sweep->positions) times.push_back(p.t_s);
-    r.thermal = solver::transient(net, times, q_env, c.orbit->orbit->period() * c.orbit->sweep.orbits,
-                                  *ts.transient_orbits, Eigen::VectorXd::Constant(n, ts.initial_temperature), ts.options);
+    // One transient per orbit case, each periodic over its own swept orbit(s).
+    const auto& sw = *r.sweep;
+    r.thermal = solver::ThermalResult{};
+    r.thermal->temperature.resize(n, q_env.cols());
+    for (size_t k = 0; k + 1 < sw.case_start.size(); ++k) {
+      const int begin = sw.case_start[k], count = sw.case_start[k + 1] - begin;
+      std::vector<double> times;
+      for (int p = begin; p < begin + count; ++p) times.push_back(sw.positions[static_cast<size_t>(p)].t_s);
+      const double period = c.orbit->cases[k].orbit->period() * c.orbit->sweep.orbits;
+      solver::ThermalResult part = solver::transient(net, times, q_env.middleCols(begin, count), period,
+                                                     *ts.transient_orbits,
+                                                     Eigen::VectorXd::Constant(n, ts.initial_temperature), ts.options);
+      r.thermal->newton_iterations += part.newton_iterations;
+      r.thermal->max_residual_w = std::max(r.thermal->max_residual_w, part.max_residual_w);
+      if (part.status != solver::Status::Converged) {
+        r.thermal->status = part.status;
+        r.thermal->message = part.message + " (orbit case " + std::to_string(k + 1) + ")";
+        break;
+      }
+      r.thermal->temperature.middleCols(begin, count) = part.temperature;
+    }
   } else {
     r.thermal = solver::steadyStates(net, q_env, ts.options);
   }
@@ -242,7 +286,7 @@ std::vector<XdmfAttribute> writeCellValues(Hdf5Writer& h5, const GeometryCase& c
   return attrs;
 }
 
-void writeSweep(Hdf5Writer& h5, const GeometryRunResult::Sweep& sw) {
+void writeSweep(Hdf5Writer& h5, const GeometryRunResult::Sweep& sw) {  // positions of every orbit case
   const int P = static_cast<int>(sw.positions.size());
   Eigen::VectorXd time(P), sunlit(P), beta(P), flux(P), event(P);
   Eigen::MatrixXd sun(P, 3), earth(P, 3);
@@ -263,6 +307,11 @@ void writeSweep(Hdf5Writer& h5, const GeometryRunResult::Sweep& sw) {
   h5.writeVector("/orbit/beta", beta, "deg");
   h5.writeVector("/orbit/solar_flux", flux, "W/m^2");
   h5.writeVector("/orbit/eclipse_event", event, "1");
+  Eigen::VectorXi case_of(P);
+  for (size_t k = 0; k + 1 < sw.case_start.size(); ++k)
+    case_of.segment(sw.case_start[k], sw.case_start[k + 1] - sw.case_start[k]).setConstant(static_cast<int>(k));
+  h5.writeIntegers("/orbit/case", case_of, "1");
+  h5.writeStrings("/orbit/case_label", sw.case_labels);
   // Positions × nodes, as DESIGN.md §3 lays out (P, n).
   h5.writeMatrix("/loads/solar", sw.absorbed_solar.transpose(), "W");
   h5.writeMatrix("/loads/albedo", sw.absorbed_albedo.transpose(), "W");

@@ -24,7 +24,9 @@ struct GeometryRunResult {
   std::string exchange_method;
   /// Orbit sweep (present when the case has an orbit).
   struct Sweep {
-    std::vector<orbits::SweepPosition> positions;
+    std::vector<orbits::SweepPosition> positions;  ///< of every orbit case, one after another
+    std::vector<int> case_start;                   ///< first position of each case, then P
+    std::vector<std::string> case_labels;
     orbits::EnvironmentLoads irradiance;  ///< external irradiances, W/m² (n×P)
     Eigen::MatrixXd absorbed_solar, absorbed_albedo, absorbed_earth_ir;  ///< absorbed after interreflection, W (n×P)
     Eigen::MatrixXd exitance_solar;  ///< solar-band exitance (direct + albedo), W/m² (n×P)

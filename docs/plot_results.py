@@ -24,6 +24,29 @@ def text(values):
     return [v.decode() if isinstance(v, bytes) else str(v) for v in values]
 
 
+def timeline(f):
+    """Minutes along the sweep, orbit cases (epochs × betas) laid side by side, and the
+    position indices where a new case starts (lines are broken there)."""
+    t = f["/orbit/time"][:] / 60.0
+    if "/orbit/case" not in f:
+        return t, []
+    case = f["/orbit/case"][:]
+    x = np.empty_like(t)
+    offset, breaks = 0.0, []
+    for k in np.unique(case):
+        idx = np.where(case == k)[0]
+        x[idx] = t[idx] - t[idx[0]] + offset
+        offset = x[idx[-1]] + 0.05 * (x[idx[-1]] - x[idx[0]] + 1.0)
+        if idx[0] > 0:
+            breaks.append(idx[0])
+    return x, breaks
+
+
+def broken(x, y, breaks):
+    """Inserts NaN at case boundaries so that a line does not join two cases."""
+    return np.insert(x, breaks, np.nan), np.insert(y, breaks, np.nan)
+
+
 def shade_eclipses(ax, t_min, sunlit):
     """Grey bands where the spacecraft is in the Earth's shadow (darker in the umbra)."""
     dark = sunlit < 1.0
@@ -37,7 +60,7 @@ def shade_eclipses(ax, t_min, sunlit):
 
 
 def plot_loads(f, out, stem):
-    t = f["/orbit/time"][:] / 60.0
+    t, breaks = timeline(f)
     sunlit = f["/orbit/sunlit_fraction"][:]
     names = text(f["/nodes/name"][:])
     fig, axes = plt.subplots(3, 1, figsize=(10, 10), sharex=True)
@@ -46,11 +69,11 @@ def plot_loads(f, out, stem):
         shade_eclipses(ax, t, sunlit)
         for i, name in enumerate(names):
             if np.any(data[:, i] > 0):
-                ax.plot(t, data[:, i], label=name, lw=1.2)
+                ax.plot(*broken(t, data[:, i], breaks), label=name, lw=1.2)
         ax.set_ylabel(f"absorbed {label} [W]")
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize=7, ncol=3, loc="upper right")
-    axes[-1].set_xlabel("time since epoch [min]  (grey: eclipse)")
+    axes[-1].set_xlabel("time since each orbit case's epoch [min], cases side by side  (grey: eclipse)")
     fig.suptitle(f"{f['/meta'].attrs['case_name']}: absorbed environmental power per node")
     fig.tight_layout()
     path = os.path.join(out, stem + "_loads.png")
@@ -60,14 +83,14 @@ def plot_loads(f, out, stem):
 
 
 def plot_temperature(f, out, stem):
-    t = f["/orbit/time"][:] / 60.0
+    t, breaks = timeline(f)
     temp = f["/solution/temperature"][:]
     names = text(f["/nodes/name"][:])
     fig, ax = plt.subplots(figsize=(10, 5))
     shade_eclipses(ax, t, f["/orbit/sunlit_fraction"][:])
     for i, name in enumerate(names):
-        ax.plot(t, temp[:, i] - 273.15, label=name, lw=1.2)
-    ax.set_xlabel("time since epoch [min]  (grey: eclipse)")
+        ax.plot(*broken(t, temp[:, i] - 273.15, breaks), label=name, lw=1.2)
+    ax.set_xlabel("time since each orbit case's epoch [min], cases side by side  (grey: eclipse)")
     ax.set_ylabel("temperature [°C]")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, ncol=3)
@@ -81,6 +104,8 @@ def plot_temperature(f, out, stem):
 def plot_eigenvalues(f, out, stem):
     values = np.abs(f["/eigen/values"][:])
     bound = f["/eigen"].attrs.get("largest_dropped_eigenvalue_bound", 0.0)
+    if not np.any(values > 0):  # e.g. a single plate: G = 0, nothing to draw on a log scale
+        return None
     fig, ax = plt.subplots(figsize=(7, 4))
     ax.semilogy(np.arange(1, len(values) + 1), values, "o-", label="kept |λ|")
     if bound > 0:
@@ -114,7 +139,8 @@ def main(argv):
         if "/eigen/values" in f:
             written.append(plot_eigenvalues(f, out, stem))
     for path in written:
-        print(path)
+        if path:
+            print(path)
     return 0
 
 

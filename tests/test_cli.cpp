@@ -350,6 +350,39 @@ TEST_CASE("cli: the larger satellite runs end to end: shapes, closed energy bala
   H5Fclose(file);
 }
 
+TEST_CASE("cli: hot and cold cases in one run: a list of betas and epochs, one orbit case each") {
+  TempDir dir;
+  std::ofstream(dir.path / "hotcold.yaml") << R"(name: hot-cold
+materials:
+  cells: {emissivity: 0.85, absorptivity: 0.92}
+geometry:
+  - rectangle: {name: plate, origin: [0, 0, 0], u: [1, 0, 0], v: [0, 1, 0], front: cells}
+orbit: {altitude: 500.0e3, beta: [0.0, 75.0], epoch: [2026-06-21T00:00:00Z, 2026-12-21T00:00:00Z], positions: 24}
+attitude: {mode: sun}
+thermal: {nodes: {plate: {capacitance: 2000.0}}, transient: {orbits: 2}}
+solver: {view_factors: {rays: 2000}}
+)";
+  const Run r = runRadnet("run hotcold.yaml -o hc.h5 -q", dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  hid_t file = H5Fopen((dir.path / "hc.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const H5Data which = readDataset(file, "/orbit/case"), sunlit = readDataset(file, "/orbit/sunlit_fraction");
+  const H5Data temp = readDataset(file, "/solution/temperature");
+  // 4 cases; β = 0 has an eclipse (4 events), β = 75° is above the critical 68.0° (none).
+  REQUIRE(which.dims[0] == 2 * (24 + 4) + 2 * 24);
+  CHECK(which.values.front() == 0.0);
+  CHECK(which.values.back() == 3.0);
+  std::vector<double> coldest(4, 1e9);  // per case, K
+  for (size_t p = 0; p < which.values.size(); ++p) {
+    const size_t k = static_cast<size_t>(which.values[p]);
+    if (k == 1 || k == 3) CHECK(sunlit.values[p] == 1.0);  // β = 75°: always in the Sun
+    coldest[k] = std::min(coldest[k], temp.values[p]);
+  }
+  CHECK(coldest[0] < coldest[1] - 10.0);  // the eclipsing orbit (β = 0) cools down
+  CHECK(coldest[2] < coldest[3] - 10.0);
+  H5Fclose(file);
+}
+
 TEST_CASE("cli: includes of materials and surfaces, errors located in the included file") {
   TempDir dir;
   fs::create_directories(dir.path / "lib" / "parts");
