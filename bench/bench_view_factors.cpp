@@ -11,11 +11,19 @@
 #include <iomanip>
 #include <iostream>
 #include <sstream>
+#include <sys/resource.h>
 #include <thread>
 
 using namespace radnet::geometry;
 
 namespace {
+
+// Peak resident memory of this process so far, MiB (Linux reports ru_maxrss in KiB).
+double peakMiB() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_maxrss) / 1024.0;
+}
 
 double since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -64,7 +72,7 @@ int main(int argc, char** argv) {
      << " threads). Wall-clock seconds of one run each.\n\n";
 
   md << "## Rays per second against scene size\n\nA satellite (box bus, two two-sided wings, mast, dish), all nodes casting.\n\n"
-     << "| triangles | nodes | AABB build (s) | rays | time (s) | rays/s (2 cores) | rays/s (1 core) |\n|---|---|---|---|---|---|---|\n";
+     << "| triangles | nodes | AABB build (s) | rays | time (s) | rays/s (2 cores) | rays/s (1 core) | peak memory so far (MiB) |\n|---|---|---|---|---|---|---|---|\n";
   for (int m : {5, 16, 51}) {  // ≈ 1k, 10k and 100k triangles (39 m²)
     const Scene s = satellite(m);
     auto t0 = std::chrono::steady_clock::now();
@@ -78,7 +86,7 @@ int main(int argc, char** argv) {
     const ViewFactorResult r1 = computeViewFactors(caster, opt);
     md << "| " << s.faces().size() << " | " << s.nodes().size() << " | " << std::setprecision(3) << build << " | "
        << r2.total_rays << " | " << r2.seconds << " | " << std::setprecision(3) << r2.total_rays / r2.seconds / 1e6
-       << " M | " << r1.total_rays / r1.seconds / 1e6 << " M |\n";
+       << " M | " << r1.total_rays / r1.seconds / 1e6 << " M | " << std::setprecision(4) << peakMiB() << " |\n";
     std::cerr << "satellite m = " << m << " done\n";
   }
 
