@@ -4,12 +4,22 @@
 #include "cases/xdmf.hpp"
 
 #include <filesystem>
+#include <functional>
 
 #include <iomanip>
 #include <ostream>
 
 namespace radnet::cases {
 namespace {
+
+// A progress line on stderr, redrawn in place about 50 times per stage.
+std::function<void(int, int)> progressBar(std::ostream& out, const char* stage, const char* unit) {
+  return [&out, stage, unit](int done, int total) {
+    if (done == total || done % std::max(1, total / 50) == 0)
+      out << "\rradnet: " << stage << " " << std::setw(3) << (100 * done / total) << " % (" << done << "/" << total
+          << " " << unit << ")" << (done == total ? "\n" : "") << std::flush;
+  };
+}
 
 // Dense GR costs O(n³); beyond this the low-rank form E V C Vᵀ E is used and its residual reported.
 constexpr int kDenseExchangeLimit = 3000;
@@ -48,12 +58,7 @@ void runSweep(const GeometryCase& c, const geometry::RayCaster& caster, const Ei
              << events << " eclipse entries/exits inserted)\n";
     StageTimer t_loads;
     orbits::EnvironmentOptions env = o.environment;
-    if (show_progress)
-      env.progress = [&](int done, int total) {
-        if (done == total || done % std::max(1, total / 50) == 0)
-          progress << "\rradnet: orbit loads " << std::setw(3) << (100 * done / total) << " % (" << done << "/"
-                   << total << " positions)" << (done == total ? "\n" : "") << std::flush;
-      };
+    if (show_progress) env.progress = progressBar(progress, "orbit loads", "positions");
     parts.push_back(orbits::environmentLoads(caster, area, positions, orbits::earthFixedInBody(o.attitude),
                                              orbit.earth().equatorial_radius_m, env));
     r.timings_s.emplace_back("environment_loads", t_loads.seconds());
@@ -179,12 +184,7 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
   StageTimer t_vf;
   if (c.method == ViewFactorMethod::MonteCarlo) {
     geometry::ViewFactorOptions opt = c.view_factors;
-    if (show_progress)
-      opt.progress = [&](int done, int total) {
-        if (done == total || done % std::max(1, total / 50) == 0)
-          progress << "\rradnet: view factors " << std::setw(3) << (100 * done / total) << " % (" << done << "/"
-                   << total << " nodes)" << (done == total ? "\n" : "") << std::flush;
-      };
+    if (show_progress) opt.progress = progressBar(progress, "view factors", "nodes");
     const geometry::ViewFactorResult vf = geometry::computeViewFactors(caster, opt);
     r.raw_view_factors = vf.denseViewFactors();
     r.view_factor_stderr = vf.denseStandardError();

@@ -82,6 +82,15 @@ H5Data readDataset(hid_t file, const std::string& name) {
   return d;
 }
 
+double readDoubleAttribute(hid_t file, const char* object, const char* name) {
+  double value = -1.0;
+  const hid_t attr = H5Aopen_by_name(file, object, name, H5P_DEFAULT, H5P_DEFAULT);
+  REQUIRE(attr >= 0);
+  H5Aread(attr, H5T_NATIVE_DOUBLE, &value);
+  H5Aclose(attr);
+  return value;
+}
+
 }  // namespace
 
 TEST_CASE("cli: run the seed room writes the HDF5 layout with units, and the paper's M'_2") {
@@ -273,9 +282,7 @@ solver: {view_factors: {rays: 20000}}
   }
   CHECK(dark > 0);
   CHECK(events == 4);
-  double balance = -1;
-  H5Aread(H5Aopen_by_name(file, "/report", "solar_energy_balance_error", H5P_DEFAULT, H5P_DEFAULT), H5T_NATIVE_DOUBLE, &balance);
-  CHECK(balance < 1e-12);
+  CHECK(readDoubleAttribute(file, "/report", "solar_energy_balance_error") < 1e-12);
   const H5Data tri = readDataset(file, "/geometry/triangles");
   CHECK(tri.dims[1] == 3);
   H5Fclose(file);
@@ -341,10 +348,7 @@ TEST_CASE("cli: the larger satellite runs end to end: shapes, closed energy bala
   for (size_t p = 0; p < P; ++p)
     if (sunlit.values[p] == 0.0)
       for (size_t i = 0; i < n; ++i) CHECK(std::abs(solar.values[p * n + i]) < 1e-6);  // no direct Sun in the umbra
-  double balance = -1;
-  hid_t attr = H5Aopen_by_name(file, "/report", "solar_energy_balance_error", H5P_DEFAULT, H5P_DEFAULT);
-  H5Aread(attr, H5T_NATIVE_DOUBLE, &balance);
-  H5Aclose(attr);
+  const double balance = readDoubleAttribute(file, "/report", "solar_energy_balance_error");
   CHECK(balance >= 0.0);
   CHECK(balance < 1e-12);  // in = absorbed + lost to space, every position
   H5Fclose(file);
