@@ -141,7 +141,10 @@ int main(int argc, char** argv) {
           omp_set_num_threads(threads);  // the orbit loads' parallel loops too
 #endif
         }
-        if (seed >= 0) g.view_factors.seed = static_cast<std::uint64_t>(seed);
+        if (seed >= 0) {  // every random stream of the run: view factors, shadow and planet rays
+          g.view_factors.seed = static_cast<std::uint64_t>(seed);
+          if (g.orbit) g.orbit->environment.seed = static_cast<std::uint64_t>(seed);
+        }
         const GeometryRunResult r = runGeometryCase(g, !quiet, progress);
         writeGeometryResult(g, r, out);
         printGeometrySummary(g, r, std::cout);
