@@ -78,7 +78,7 @@ SolverSettings parseSolverSettings(const YamlDocument& doc, const YAML::Node& no
 
 NetworkCase loadNetworkCase(const YamlDocument& doc) {
   const YAML::Node& root = doc.root();
-  doc.expectMap(root, "case", {"name", "description", "network", "solver", "expect"});
+  doc.expectMap(root, "case", {"name", "description", "network", "solver", "thermal", "expect"});
   NetworkCase c;
   c.file = doc.file();
   c.yaml_text = doc.text();
@@ -143,6 +143,9 @@ NetworkCase loadNetworkCase(const YamlDocument& doc) {
   c.solver = parseSolverSettings(doc, root["solver"]);
   if (root["solver"] && root["solver"]["view_factors"])
     throw doc.error(root["solver"]["view_factors"], "solver.view_factors: only for geometry cases; this case gives the view factors");
+  c.thermal = parseThermalSettings(doc, c.names, false);
+  if (c.thermal && !c.emissivity)
+    throw doc.error(root["thermal"], "thermal: temperatures need the nodes' 'emissivity' (for the exchange factors)");
   if (root["expect"]) c.expectations = parseExpectations(doc, root["expect"], c.names);
   // Validate the network now, so that `radnet validate` catches what `run` would.
   (void)c.buildNetwork();

@@ -1,6 +1,7 @@
 #pragma once
 // The network-only case form: the user gives areas, reflectances and form factors from
 // another tool (or a paper) and radnet solves the network. Schema in docs/case-files.md.
+#include "cases/thermal_settings.hpp"
 #include "cases/yaml_support.hpp"
 #include "solver/eigenpairs.hpp"
 #include "solver/network.hpp"
@@ -51,6 +52,7 @@ struct NetworkCase {
   Eigen::SparseMatrix<double> view_factors_sparse;  ///< `view_factor_entries` form
   solver::NetworkTolerances tolerances;
   SolverSettings solver;
+  std::optional<ThermalSettings> thermal;  ///< steady state with dissipations (needs emissivities)
   std::vector<Expectation> expectations;
   int network_line = 0, network_column = 0;  ///< position of `network:` for re-located errors
 

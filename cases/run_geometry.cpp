@@ -121,15 +121,7 @@ void runSweep(const GeometryCase& c, const geometry::RayCaster& caster, const Ei
 void runThermal(const GeometryCase& c, GeometryRunResult& r, std::ostream& progress) {
   const ThermalSettings& ts = *c.thermal;
   const int n = r.network->size();
-  solver::ThermalNetwork net;
-  net.gr = r.exchange.gr;
-  net.gr_space = r.exchange.gr_space;
-  net.conductors.resize(n, n);
-  net.conductors.setFromTriplets(ts.conductors.begin(), ts.conductors.end());
-  net.capacitance = ts.capacitance;
-  net.dissipation = ts.dissipation;
-  net.fixed_temperature = ts.fixed_temperature;
-  net.space_temperature = ts.space_temperature;
+  const solver::ThermalNetwork net = thermalNetwork(ts, r.exchange.gr, r.exchange.gr_space);
   const Eigen::MatrixXd q_env = r.sweep ? Eigen::MatrixXd(r.sweep->absorbed_solar + r.sweep->absorbed_albedo +
                                                           r.sweep->absorbed_earth_ir)
                                         : Eigen::MatrixXd::Zero(n, 1);

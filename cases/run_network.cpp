@@ -70,6 +70,13 @@ NetworkRunResult runNetworkCase(const NetworkCase& c, std::ostream& progress) {
       throw NumericalError(std::string("exchange factors ") + solver::toString(r.exchange->status) + ": " +
                            r.exchange->message);
   }
+  if (c.thermal) {  // steady state with the dissipations and boundary temperatures
+    r.thermal = solver::steadyStates(thermalNetwork(*c.thermal, r.exchange->gr, r.exchange->gr_space),
+                                     Eigen::MatrixXd::Zero(net.size(), 1), c.thermal->options);
+    if (r.thermal->status != solver::Status::Converged)
+      throw NumericalError(std::string("temperatures ") + solver::toString(r.thermal->status) + ": " +
+                           r.thermal->message);
+  }
   return r;
 }
 
@@ -85,6 +92,10 @@ void writeNetworkResult(const NetworkCase& c, const NetworkRunResult& r, const s
   writeEigen(h5, r.pairs);
   h5.writeVector("/solution/exitance", r.solution.exitance.col(0), "W/m^2");
   h5.writeVector("/solution/irradiance", r.solution.irradiance.col(0), "W/m^2");
+  if (r.thermal) {
+    h5.writeMatrix("/solution/temperature", r.thermal->temperature.transpose(), "K");
+    h5.attribute("/solution/temperature", "mode", std::string("steady"));
+  }
   writeTimings(h5, r.timings_s);
   h5.attribute("/report", "truncation_residual", r.solution.max_residual);
   h5.attribute("/report", "refined", static_cast<long long>(r.solution.refined));
@@ -113,6 +124,10 @@ void printNetworkSummary(const NetworkCase& c, const NetworkRunResult& r, std::o
       << (r.solution.refined ? " (refined, " + std::to_string(r.solution.refine_iterations) + " CG iterations)"
                              : " (eigenvector radiosity, not refined)")
       << "\n";
+  if (r.thermal)
+    for (int i = 0; i < net.size(); ++i)
+      out << "temperature " << net.names()[static_cast<size_t>(i)] << ": " << std::fixed << std::setprecision(3)
+          << r.thermal->temperature(i, 0) << std::defaultfloat << " K\n";
   if (r.exchange)
     out << "exchange factors GR (" << r.exchange_method << "), Σ GR_space = " << r.exchange->gr_space.sum()
         << " m²\n";
@@ -136,6 +151,7 @@ std::optional<double> lookupNetworkResult(const NetworkCase& c, const NetworkRun
   }
   if (!r.exchange) return std::nullopt;
   if (x.quantity == "radiative_exchange") return r.exchange->gr(i, j);
+  if (x.quantity == "temperature" && r.thermal) return r.thermal->temperature(i, 0);
   if (x.quantity == "gr_space") return r.exchange->gr_space[i];
   return std::nullopt;
 }

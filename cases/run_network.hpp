@@ -4,6 +4,7 @@
 #include "cases/network_case.hpp"
 #include "solver/exchange.hpp"
 #include "solver/low_rank_solver.hpp"
+#include "solver/thermal.hpp"
 
 #include <iosfwd>
 #include <map>
@@ -20,6 +21,7 @@ struct NetworkRunResult {
   solver::BandSolution solution;               ///< one column: the case's initial exitance
   std::optional<solver::ExchangeFactors> exchange;
   std::string exchange_method;                 ///< "dense LU" or "low rank"
+  std::optional<solver::ThermalResult> thermal;  ///< steady state (n×1), K, with `thermal:`
   std::vector<std::pair<std::string, double>> timings_s;  ///< stage name, wall seconds
 };
 

@@ -20,6 +20,21 @@ int nodeIndex(const YamlDocument& doc, const YAML::Node& node, const std::string
 
 }  // namespace
 
+solver::ThermalNetwork thermalNetwork(const ThermalSettings& ts, const Eigen::MatrixXd& gr,
+                                      const Eigen::VectorXd& gr_space) {
+  const Eigen::Index n = gr.rows();
+  solver::ThermalNetwork net;
+  net.gr = gr;
+  net.gr_space = gr_space;
+  net.conductors.resize(n, n);
+  net.conductors.setFromTriplets(ts.conductors.begin(), ts.conductors.end());
+  net.capacitance = ts.capacitance;
+  net.dissipation = ts.dissipation;
+  net.fixed_temperature = ts.fixed_temperature;
+  net.space_temperature = ts.space_temperature;
+  return net;
+}
+
 std::optional<ThermalSettings> parseThermalSettings(const YamlDocument& doc, const std::vector<std::string>& names,
                                                     bool has_orbit) {
   const YAML::Node t = doc.root()["thermal"];

@@ -23,6 +23,10 @@ struct ThermalSettings {
   solver::ThermalOptions options;
 };
 
+/// The solver's thermal network from these settings and a run's exchange factors (m²).
+solver::ThermalNetwork thermalNetwork(const ThermalSettings& settings, const Eigen::MatrixXd& gr,
+                                      const Eigen::VectorXd& gr_space);
+
 /// Parses `thermal:` against the case's node names; nullopt when absent.
 /// @param has_orbit a transient needs an orbit (its period and loads)
 std::optional<ThermalSettings> parseThermalSettings(const YamlDocument& doc, const std::vector<std::string>& nodes,
