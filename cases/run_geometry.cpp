@@ -336,8 +336,12 @@ void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, cons
   h5.writeStrings("/nodes/material", c.node_material);
   h5.writeMatrix("/geometry/vertices", c.scene.vertexMatrix(), "m");
   h5.writeIntegers("/geometry/triangles", c.scene.triangleMatrix(), "1");
-  h5.writeIntegers("/geometry/triangle_node", c.scene.frontNodes(), "1");  // −1: inactive side
-  h5.writeIntegers("/geometry/triangle_back_node", c.scene.backNodes(), "1");
+  // triangle_node: the node a triangle belongs to (its front side's, or its back side's
+  // when only the back is active); the per-side maps keep −1 for an inactive side.
+  const Eigen::VectorXi front = c.scene.frontNodes(), back = c.scene.backNodes();
+  h5.writeIntegers("/geometry/triangle_node", front.binaryExpr(back, [](int f, int b) { return f >= 0 ? f : b; }), "1");
+  h5.writeIntegers("/geometry/triangle_front_node", front, "1");
+  h5.writeIntegers("/geometry/triangle_back_node", back, "1");
   h5.writeMatrix("/network/view_factor_stderr", r.view_factor_stderr, "1");
   h5.writeMatrix("/network/view_factors_raw", r.raw_view_factors, "1");
   h5.writeVector("/network/blocked_view_factor", r.network->blockedFraction(), "1");

@@ -217,6 +217,8 @@ TEST_CASE("cli: a geometry case writes /geometry, view factors with errors, and 
   CHECK(v.units == "m");
   CHECK(t.dims == std::vector<hsize_t>{48, 3});  // 6 faces × 2 × 2 cells × 2 triangles
   CHECK(tn.dims == std::vector<hsize_t>{48});
+  for (double node : tn.values) CHECK(node >= 0.0);  // inner (back) sides: every triangle has its node
+  CHECK(readDataset(file, "/geometry/triangle_front_node").values.front() == -1.0);
   const H5Data f = readDataset(file, "/network/view_factors");
   const H5Data e = readDataset(file, "/network/view_factor_stderr");
   const H5Data gr = readDataset(file, "/network/radiative_exchange");
