@@ -26,6 +26,102 @@ void addPolygon(TriangleSoup& soup, const std::vector<int>& poly, const std::str
   for (size_t k = 1; k + 1 < poly.size(); ++k) soup.triangles.push_back({poly[0], poly[k], poly[k + 1]});
 }
 
+// CGAL's PLY reader dereferences a null element when a header is malformed (a property
+// before any element, say): check the header's structure first, so a broken file is an
+// error message and never a crash.
+void checkPlyHeader(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  int line_no = 0;
+  auto fail = [&](const std::string& what) {
+    throw GeometryError(path + ":" + std::to_string(line_no) + ": malformed PLY header: " + what);
+  };
+  if (!std::getline(in, line) || (++line_no, line.rfind("ply", 0) != 0)) fail("the first line must be 'ply'");
+  bool format = false, element = false;
+  const double file_bytes = static_cast<double>(std::filesystem::file_size(path));
+  double min_bytes = 0.0;  // every property of every element takes at least one byte
+  long long count = 0;
+  static const std::vector<std::string> types = {"char",  "uchar",  "short",   "ushort",  "int",    "uint",
+                                                 "float", "double", "int8",    "uint8",   "int16",  "uint16",
+                                                 "int32", "uint32", "float32", "float64"};
+  auto isType = [&](const std::string& t) { return std::find(types.begin(), types.end(), t) != types.end(); };
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream ls(line);
+    std::string word;
+    if (!(ls >> word)) continue;
+    if (word == "end_header") {
+      if (!format) fail("no 'format' line");
+      if (!element) fail("no 'element' line");
+      if (min_bytes > file_bytes)
+        fail("its elements need at least " + std::to_string(static_cast<long long>(min_bytes)) + " bytes but the file has " +
+             std::to_string(static_cast<long long>(file_bytes)) + " (truncated, or a wrong count)");
+      return;
+    }
+    if (word == "comment" || word == "obj_info") continue;
+    if (word == "format") {
+      std::string kind, version;
+      if (!(ls >> kind >> version) || (kind != "ascii" && kind != "binary_little_endian" && kind != "binary_big_endian"))
+        fail("'format' must be ascii, binary_little_endian or binary_big_endian");
+      format = true;
+    } else if (word == "element") {
+      std::string name;
+      count = -1;
+      if (!(ls >> name >> count) || count < 0) fail("'element' needs a name and a count >= 0");
+      element = true;
+    } else if (word == "property") {
+      if (!element) fail("'property' before any 'element'");
+      min_bytes += static_cast<double>(count);
+      std::string type, a, b;
+      if (!(ls >> type)) fail("'property' without a type");
+      if (type == "list") {
+        if (!(ls >> a >> b) || !isType(a) || !isType(b)) fail("'property list' needs two valid types");
+      } else if (!isType(type)) {
+        fail("unknown property type '" + type + "'");
+      }
+    } else {
+      fail("unexpected keyword '" + word + "'");
+    }
+  }
+  fail("no 'end_header' line");
+}
+
+// An OFF header's counts are trusted by CGAL's reader, which reserves memory for them: a
+// corrupt count of 1e9 vertices would take 20+ GB. Compare them with the file size first
+// (an ASCII vertex takes at least 6 bytes, "0 0 0\n"; a face at least 8).
+void checkOffCounts(const std::string& path) {
+  std::ifstream in(path);
+  std::string token;
+  std::vector<double> numbers;
+  bool binary = false;
+  while (numbers.size() < 2 && in >> token) {
+    if (token[0] == '#') {
+      std::getline(in, token);
+      continue;
+    }
+    if (token.find("OFF") != std::string::npos) continue;
+    if (token == "BINARY") {
+      binary = true;
+      break;
+    }
+    try {
+      numbers.push_back(std::stod(token));
+    } catch (const std::exception&) {
+      throw GeometryError(path + ": malformed OFF header: expected vertex and face counts, found '" + token + "'");
+    }
+  }
+  if (binary || numbers.size() < 2) return;  // CGAL reports what is missing
+  if (numbers[0] < 0 || numbers[1] < 0) throw GeometryError(path + ": malformed OFF header: negative counts");
+  const double need = 6.0 * numbers[0] + 8.0 * numbers[1];
+  const double have = static_cast<double>(std::filesystem::file_size(path));
+  if (need > have)
+    throw GeometryError(path + ": the OFF header promises " + std::to_string(static_cast<long long>(numbers[0])) +
+                        " vertices and " + std::to_string(static_cast<long long>(numbers[1])) + " faces, which need at least " +
+                        std::to_string(static_cast<long long>(need)) + " bytes; the file has " +
+                        std::to_string(static_cast<long long>(have)) + " (truncated, or a wrong count)");
+}
+
 void checkScale(double scale, const std::string& path) {
   if (!(std::isfinite(scale) && scale > 0)) throw GeometryError(path + ": scale must be a finite value > 0");
 }
@@ -38,6 +134,8 @@ TriangleSoup readMesh(const std::string& path, double scale) {
   if (ext != ".off" && ext != ".obj" && ext != ".stl" && ext != ".ply")
     throw GeometryError(path + ": unknown mesh format '" + ext + "'; expected .off, .obj, .stl or .ply");
   if (!std::filesystem::exists(path)) throw GeometryError(path + ": mesh file not found");
+  if (ext == ".ply") checkPlyHeader(path);
+  if (ext == ".off") checkOffCounts(path);
   std::vector<Point3> points;
   std::vector<std::vector<std::size_t>> polygons;
   bool ok = false;
