@@ -188,8 +188,15 @@ std::vector<MeshGroup> readObjGroups(const std::string& path, double scale) {
       std::vector<int> poly;
       std::string token;
       while (ls >> token) {
-        const int idx = std::stoi(token.substr(0, token.find('/')));  // "v/vt/vn": the vertex
-        poly.push_back(idx > 0 ? idx - 1 : static_cast<int>(vertices.size()) + idx);
+        long idx = 0;  // "v/vt/vn": the vertex
+        try {
+          idx = std::stol(token.substr(0, token.find('/')));
+        } catch (const std::exception&) {
+          throw GeometryError(path + ":" + std::to_string(line_no) + ": malformed face index '" + token + "'");
+        }
+        if (idx == 0 || std::abs(idx) > 2000000000L)
+          throw GeometryError(path + ":" + std::to_string(line_no) + ": face index " + token + " out of range");
+        poly.push_back(static_cast<int>(idx > 0 ? idx - 1 : static_cast<long>(vertices.size()) + idx));
       }
       auto it = std::find_if(groups.begin(), groups.end(), [&](const auto& g) { return g.first == current; });
       if (it == groups.end()) {

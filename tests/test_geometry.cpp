@@ -184,4 +184,6 @@ TEST_CASE("mesh files: OFF, OBJ (with groups), STL, PLY read and scaled, bad fil
   CHECK_THROWS_WITH(readMesh(off, -1.0), Contains("scale"));
   const std::string bad_index = dir.write("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
   CHECK_THROWS_AS(readObjGroups(bad_index, 1.0), GeometryError);
+  const std::string garbage = dir.write("garbage.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\ng x\nf 1 two 3\n");
+  CHECK_THROWS_WITH(readObjGroups(garbage, 1.0), Contains("garbage.obj:5") && Contains("'two'"));
 }
