@@ -122,7 +122,8 @@ void printNetworkSummary(const NetworkCase& c, const NetworkRunResult& r, std::o
   out << "residual ‖M_o − (I − S G) M‖/‖M_o‖ with the full G: " << std::scientific << std::setprecision(3)
       << r.solution.max_residual << std::defaultfloat
       << (r.solution.refined ? " (refined, " + std::to_string(r.solution.refine_iterations) + " CG iterations)"
-                             : " (eigenvector radiosity, not refined)")
+          : c.solver.refineEnabled() ? " (rank-" + std::to_string(r.pairs.rank()) + " solve already within the tolerance)"
+                                     : " (eigenvector radiosity at rank " + std::to_string(r.pairs.rank()) + ", not refined)")
       << "\n";
   if (r.thermal)
     for (int i = 0; i < net.size(); ++i)
