@@ -1,5 +1,7 @@
 #include "cases/output.hpp"
 
+#include "cases/errors.hpp"
+
 #include <chrono>
 #include <ctime>
 
@@ -51,6 +53,24 @@ void writeEigen(Hdf5Writer& h5, const solver::EigenPairs& pairs) {
 
 void writeTimings(Hdf5Writer& h5, const Timings& timings) {
   for (const auto& [stage, seconds] : timings) h5.attribute("/report", "time_" + stage + "_s", seconds);
+}
+
+solver::ExchangeFactors computeExchangeFactors(const solver::Network& net, const solver::EigenPairs& pairs,
+                                               const Eigen::VectorXd& emissivity, bool full_accuracy,
+                                               std::string& method) {
+  constexpr int kDenseExchangeLimit = 3000;  // dense GR costs O(n³)
+  solver::ExchangeFactors ex;
+  if (full_accuracy && net.size() <= kDenseExchangeLimit) {
+    ex = solver::exchangeFactorsDense(net, emissivity);
+    method = "dense LU";
+  } else {
+    const solver::LowRankBandSolver ir(net, pairs, Eigen::VectorXd::Ones(net.size()) - emissivity);
+    ex = solver::exchangeFactorsLowRank(net, ir, emissivity);
+    method = "low rank (k = " + std::to_string(pairs.rank()) + ")";
+  }
+  if (ex.status != solver::Status::Converged)
+    throw NumericalError(std::string("exchange factors ") + solver::toString(ex.status) + ": " + ex.message);
+  return ex;
 }
 
 solver::EigenPairs decomposeForBands(const solver::Network& net, const Eigen::VectorXd& max_reflectance, int rank,

@@ -29,6 +29,13 @@ void writeTimings(Hdf5Writer& h5, const Timings& timings);
 solver::EigenPairs decomposeForBands(const solver::Network& net, const Eigen::VectorXd& max_reflectance,
                                      int rank, double tolerance, int max_rank, solver::EigenMethod method);
 
+/// The exchange factors of a run: exact by dense LU when the case asks for full accuracy
+/// and n ≤ 3000 (O(n³)), else E V C Vᵀ E from the eigenpairs. Sets `method` to say which.
+/// @throws NumericalError when they cannot be formed (e.g. a lossless closed cavity)
+solver::ExchangeFactors computeExchangeFactors(const solver::Network& net, const solver::EigenPairs& pairs,
+                                               const Eigen::VectorXd& emissivity, bool full_accuracy,
+                                               std::string& method);
+
 /// Wall time of a stage.
 class StageTimer {
  public:

@@ -21,9 +21,6 @@ std::function<void(int, int)> progressBar(std::ostream& out, const char* stage, 
   };
 }
 
-// Dense GR costs O(n³); beyond this the low-rank form E V C Vᵀ E is used and its residual reported.
-constexpr int kDenseExchangeLimit = 3000;
-
 // One band for all positions at once: M_o = ρ ∘ E (n×cols); returns the solution and
 // the absorbed power (1 − ρ) A (E + H), W.
 solver::BandSolution solveBand(const solver::Network& net, const solver::EigenPairs& pairs, const Eigen::VectorXd& rho,
@@ -224,18 +221,8 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
                          r.pairs.message);
 
   StageTimer t_gr;
-  if (n <= kDenseExchangeLimit && c.solver.refineEnabled()) {
-    r.exchange = solver::exchangeFactorsDense(*r.network, c.emissivity);
-    r.exchange_method = "dense LU";
-  } else {
-    const solver::LowRankBandSolver ir(*r.network, r.pairs, Eigen::VectorXd::Ones(n) - c.emissivity);
-    r.exchange = solver::exchangeFactorsLowRank(*r.network, ir, c.emissivity);
-    r.exchange_method = "low rank (k = " + std::to_string(r.pairs.rank()) + ")";
-  }
+  r.exchange = computeExchangeFactors(*r.network, r.pairs, c.emissivity, c.solver.refineEnabled(), r.exchange_method);
   r.timings_s.emplace_back("exchange_factors", t_gr.seconds());
-  if (r.exchange.status != solver::Status::Converged)
-    throw NumericalError(std::string("exchange factors ") + solver::toString(r.exchange.status) + ": " +
-                         r.exchange.message);
   if (c.orbit) runSweep(c, caster, area, r, show_progress, progress);
   if (c.thermal) runThermal(c, r, progress);
   return r;
@@ -426,7 +413,7 @@ std::optional<double> lookupGeometryResult(const GeometryRunResult& r, const Exp
   const solver::Network& net = *r.network;
   const int i = x.node.empty() ? -1 : net.indexOf(x.node);
   const int j = x.to.empty() ? -1 : net.indexOf(x.to);
-  if (x.quantity == "view_factor") return net.denseConductance()(i, j) / net.area()[i];
+  if (x.quantity == "view_factor") return net.conductance(i, j) / net.area()[i];
   if (x.quantity == "space_view_factor") return net.spaceViewFactor()[i];
   if (x.quantity == "radiative_exchange") return r.exchange.gr(i, j);
   if (x.quantity == "gr_space") return r.exchange.gr_space[i];

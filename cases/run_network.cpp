@@ -10,25 +10,12 @@
 #include <ostream>
 
 namespace radnet::cases {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-// The dense exact GR costs O(n³); above this the low-rank form E V C Vᵀ E is used.
-constexpr int kDenseExchangeLimit = 3000;
-
-}  // namespace
-
 NetworkRunResult runNetworkCase(const NetworkCase& c, std::ostream& progress) {
   NetworkRunResult r;
-  auto t0 = Clock::now();
+  StageTimer t_network;
   r.network = std::make_unique<solver::Network>(c.buildNetwork());
   const solver::Network& net = *r.network;
-  r.timings_s.emplace_back("network", secondsSince(t0));
+  r.timings_s.emplace_back("network", t_network.seconds());
   progress << "radnet: network of " << net.size() << " nodes (" << (net.isSparse() ? "sparse" : "dense")
            << "), reciprocity correction moved a view factor by at most " << net.reciprocity().max_view_factor_change
            << "\n";
@@ -36,39 +23,28 @@ NetworkRunResult runNetworkCase(const NetworkCase& c, std::ostream& progress) {
   // One eigendecomposition serves both bands.
   Eigen::VectorXd rho_max = c.reflectance;
   if (c.emissivity) rho_max = rho_max.cwiseMax(Eigen::VectorXd::Ones(net.size()) - *c.emissivity);
-  t0 = Clock::now();
+  StageTimer t_eigen;
   r.pairs = decomposeForBands(net, rho_max, c.solver.rank, c.solver.tolerance, c.solver.max_rank, c.solver.method);
-  r.timings_s.emplace_back("eigendecomposition", secondsSince(t0));
+  r.timings_s.emplace_back("eigendecomposition", t_eigen.seconds());
   if (r.pairs.status != solver::Status::Converged)
     throw NumericalError(std::string("eigendecomposition of G ") + solver::toString(r.pairs.status) + ": " +
                          r.pairs.message);
   progress << "radnet: " << r.pairs.rank() << " eigenpairs (" << solver::toString(r.pairs.method) << "), largest |λ| "
            << std::abs(r.pairs.values[0]) << " m², largest dropped ≤ " << r.pairs.dropped_bound << " m²\n";
 
-  t0 = Clock::now();
+  StageTimer t_band;
   const double refine_tol = c.solver.refineEnabled() ? c.solver.tolerance : 0.0;
   solver::LowRankBandSolver band(net, r.pairs, c.reflectance);
   r.solution = band.solve(c.initial_exitance, refine_tol);
-  r.timings_s.emplace_back("band solve", secondsSince(t0));
+  r.timings_s.emplace_back("band solve", t_band.seconds());
   if (r.solution.status != solver::Status::Converged)
     throw NumericalError(std::string("band solve ") + solver::toString(r.solution.status) + ": " +
                          r.solution.message);
 
   if (c.emissivity) {
-    t0 = Clock::now();
-    const bool exact = c.solver.refineEnabled() && net.size() <= kDenseExchangeLimit;
-    if (exact) {
-      r.exchange = solver::exchangeFactorsDense(net, *c.emissivity);
-      r.exchange_method = "dense LU";
-    } else {
-      solver::LowRankBandSolver ir(net, r.pairs, Eigen::VectorXd::Ones(net.size()) - *c.emissivity);
-      r.exchange = solver::exchangeFactorsLowRank(net, ir, *c.emissivity);
-      r.exchange_method = "low rank";
-    }
-    r.timings_s.emplace_back("exchange factors", secondsSince(t0));
-    if (r.exchange->status != solver::Status::Converged)
-      throw NumericalError(std::string("exchange factors ") + solver::toString(r.exchange->status) + ": " +
-                           r.exchange->message);
+    StageTimer t_exchange;
+    r.exchange = computeExchangeFactors(net, r.pairs, *c.emissivity, c.solver.refineEnabled(), r.exchange_method);
+    r.timings_s.emplace_back("exchange factors", t_exchange.seconds());
   }
   if (c.thermal) {  // steady state with the dissipations and boundary temperatures
     r.thermal = solver::steadyStates(thermalNetwork(*c.thermal, r.exchange->gr, r.exchange->gr_space),
@@ -144,7 +120,7 @@ std::optional<double> lookupNetworkResult(const NetworkCase& c, const NetworkRun
   (void)c;
   if (x.quantity == "exitance") return r.solution.exitance(i, 0);
   if (x.quantity == "irradiance") return r.solution.irradiance(i, 0);
-  if (x.quantity == "view_factor") return net.denseConductance()(i, j) / net.area()[i];
+  if (x.quantity == "view_factor") return net.conductance(i, j) / net.area()[i];
   if (x.quantity == "space_view_factor") return net.spaceViewFactor()[i];
   if (x.quantity == "eigenvalue") {
     if (x.index >= r.pairs.rank()) return std::nullopt;

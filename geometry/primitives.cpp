@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <tuple>
 
 namespace radnet::geometry {
 namespace {
@@ -61,6 +62,27 @@ double sweepRadians(const Sweep& s) {
 }
 
 bool fullTurn(const Sweep& s) { return (s.end_deg - s.start_deg) >= 360.0 - 1e-9; }
+
+// The angular layout shared by discs, cones and spheres: an orthonormal frame normal to
+// the axis, the swept range, and the number of segments (a closed turn needs at least 3).
+struct AngularFrame {
+  Vec3 axis, e0, e1;
+  double start, span;
+  bool wrap;
+  int segments;
+  Vec3 radial(double phi) const { return std::cos(phi) * e0 + std::sin(phi) * e1; }
+};
+
+AngularFrame angularFrame(const Vec3& axis_in, const Sweep& sweep, int angular, const char* what) {
+  AngularFrame f;
+  f.axis = unit(axis_in, what);
+  std::tie(f.e0, f.e1) = planeFrame(f.axis, sweep.reference);
+  f.span = sweepRadians(sweep);
+  f.start = sweep.start_deg * kDeg;
+  f.wrap = fullTurn(sweep);
+  f.segments = std::max(angular, f.wrap ? 3 : 1);
+  return f;
+}
 
 // Adds a (rows+1) × (cols+1) vertex grid, returning the index of vertex (0, 0); cells become two triangles.
 template <class F>
@@ -182,12 +204,12 @@ TriangleSoup disc(const Vec3& center, const Vec3& normal, double radius, double 
   requirePositive(radius, "disc radius");
   if (!(std::isfinite(inner_radius) && inner_radius >= 0 && inner_radius < radius))
     throw GeometryError("disc: inner_radius must be in [0, radius)");
-  const Vec3 axis = unit(normal, "disc normal");
-  const auto [e0, e1] = planeFrame(axis, sweep.reference);
-  const double span = sweepRadians(sweep), start = sweep.start_deg * kDeg;
-  const bool wrap = fullTurn(sweep);
-  const int segments = std::max(angular, wrap ? 3 : 1);
-  auto at = [&](double r, double phi) { return Vec3(center + r * (std::cos(phi) * e0 + std::sin(phi) * e1)); };
+  const AngularFrame fr = angularFrame(normal, sweep, angular, "disc normal");
+  const Vec3& axis = fr.axis;
+  const double span = fr.span, start = fr.start;
+  const bool wrap = fr.wrap;
+  const int segments = fr.segments;
+  auto at = [&](double r, double phi) { return Vec3(center + r * fr.radial(phi)); };
   TriangleSoup soup;
   const int rings = radial;
   if (inner_radius > 0) {
@@ -217,17 +239,17 @@ TriangleSoup cone(const Vec3& base_center, const Vec3& axis_vec, double base_rad
         base_radius + top_radius > 0))
     throw GeometryError("cone: radii must be finite, >= 0 and not both zero");
   const double height = axis_vec.norm();
-  const Vec3 axis = unit(axis_vec, "cone axis");
-  const auto [e0, e1] = planeFrame(axis, sweep.reference);
-  const double span = sweepRadians(sweep), start = sweep.start_deg * kDeg;
-  const bool wrap = fullTurn(sweep);
-  const int segments = std::max(angular, wrap ? 3 : 1);
+  const AngularFrame fr = angularFrame(axis_vec, sweep, angular, "cone axis");
+  const Vec3& axis = fr.axis;
+  const double span = fr.span, start = fr.start;
+  const bool wrap = fr.wrap;
+  const int segments = fr.segments;
   TriangleSoup soup;
   // Counter-clockwise in φ about the axis with rows going up the axis gives outward normals.
   grid(soup, axial, segments, wrap, [&](int i, int j) {
     const double t = double(i) / axial, phi = start + span * j / segments;
     const double r = base_radius + (top_radius - base_radius) * t;
-    return Vec3(base_center + t * height * axis + r * (std::cos(phi) * e0 + std::sin(phi) * e1));
+    return Vec3(base_center + t * height * axis + r * fr.radial(phi));
   });
   dropCollapsed(soup, height);  // the row at an apex (zero radius) collapses
   const double slant = std::hypot(height, base_radius - top_radius);
@@ -249,18 +271,17 @@ TriangleSoup sphere(const Vec3& center, double radius, const Vec3& axis_in, doub
   requirePositive(radius, "sphere radius");
   if (!(theta_min_deg >= 0 && theta_max_deg <= 180 && theta_min_deg < theta_max_deg))
     throw GeometryError("sphere: polar range must satisfy 0 <= theta_min < theta_max <= 180");
-  const Vec3 axis = unit(axis_in, "sphere axis");
-  const auto [e0, e1] = planeFrame(axis, sweep.reference);
-  const double span = sweepRadians(sweep), start = sweep.start_deg * kDeg;
-  const bool wrap = fullTurn(sweep);
-  const int segments = std::max(azimuthal, wrap ? 3 : 1);
+  const AngularFrame fr = angularFrame(axis_in, sweep, azimuthal, "sphere axis");
+  const Vec3& axis = fr.axis;
+  const double span = fr.span, start = fr.start;
+  const bool wrap = fr.wrap;
+  const int segments = fr.segments;
   const double t0 = theta_min_deg * kDeg, t1 = theta_max_deg * kDeg;
   TriangleSoup soup;
   // Rows from θ_max down to θ_min so that (φ, row) runs counter-clockwise seen from outside.
   grid(soup, polar, segments, wrap, [&](int i, int j) {
     const double theta = t1 - (t1 - t0) * i / polar, phi = start + span * j / segments;
-    return Vec3(center + radius * (std::cos(theta) * axis +
-                                   std::sin(theta) * (std::cos(phi) * e0 + std::sin(phi) * e1)));
+    return Vec3(center + radius * (std::cos(theta) * axis + std::sin(theta) * fr.radial(phi)));
   });
   dropCollapsed(soup, radius);  // the rows at the poles collapse
   preserveArea(soup, center, axis, false, span * radius * radius * (std::cos(t0) - std::cos(t1)));

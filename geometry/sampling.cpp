@@ -50,19 +50,6 @@ Sobol4::Sobol4(std::uint64_t seed) {
   for (auto& s : shift_) s = static_cast<std::uint32_t>(rng() >> 32);
 }
 
-std::array<double, 4> Sobol4::at(std::uint32_t index) const {
-  const std::uint32_t gray = index ^ (index >> 1);
-  const auto& v = directions();
-  std::array<double, 4> out{};
-  for (int d = 0; d < 4; ++d) {
-    std::uint32_t x = 0;
-    for (int k = 0; k < 32 && (gray >> k); ++k)
-      if ((gray >> k) & 1u) x ^= v[d][k];
-    out[d] = double(x ^ shift_[d]) / kTwoPow32;
-  }
-  return out;
-}
-
 void Sobol4::seek(std::uint32_t index) {
   index_ = index;
   const std::uint32_t gray = index ^ (index >> 1);

@@ -21,9 +21,7 @@ std::uint64_t mixSeed(std::uint64_t seed, std::uint64_t a, std::uint64_t b = 0);
 class Sobol4 {
  public:
   explicit Sobol4(std::uint64_t seed);
-  /// Point i of the shifted sequence, coordinates in [0, 1) (random access, O(log i)).
-  std::array<double, 4> at(std::uint32_t index) const;
-  /// Positions the stream at point `index` for next().
+  /// Positions the stream at point `index` for next() (O(log index)).
   void seek(std::uint32_t index);
   /// The current point, then advances (Antonov–Saleev Gray-code update, O(1)).
   std::array<double, 4> next();

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <set>
 #include <stdexcept>
 
 #ifdef _OPENMP
@@ -43,6 +44,14 @@ std::pair<double, double> replicaStats(const std::vector<Tally>& tallies, int ta
   return {mean, std::sqrt(var / r)};
 }
 
+// Every target any replica hit, in increasing order (space and blocked first).
+std::set<int> targetsOf(const std::vector<Tally>& tallies) {
+  std::set<int> targets;
+  for (const Tally& t : tallies)
+    for (const auto& kv : t) targets.insert(kv.first);
+  return targets;
+}
+
 }  // namespace
 
 void computeViewFactorRow(const RayCaster& caster, int node, const ViewFactorOptions& opt,
@@ -77,27 +86,22 @@ void computeViewFactorRow(const RayCaster& caster, int node, const ViewFactorOpt
     done = per_replica;
     if (opt.target_error <= 0 || per_replica >= cap) break;
     double worst = 0.0;
-    std::map<int, bool> targets;
-    for (const Tally& t : tallies)
-      for (const auto& kv : t) targets[kv.first] = true;
-    for (const auto& kv : targets) worst = std::max(worst, replicaStats(tallies, kv.first, double(per_replica)).second);
+    for (int target : targetsOf(tallies))
+      worst = std::max(worst, replicaStats(tallies, target, double(per_replica)).second);
     if (worst <= opt.target_error) break;
     per_replica = std::min(cap, 2 * per_replica);
   }
   rays = per_replica * replicas;
-  std::map<int, bool> targets;
-  for (const Tally& t : tallies)
-    for (const auto& kv : t) targets[kv.first] = true;
   row.clear();
   row_error.clear();
   space[0] = space[1] = blocked[0] = blocked[1] = 0.0;
-  for (const auto& kv : targets) {
-    const auto [mean, err] = replicaStats(tallies, kv.first, double(per_replica));
-    if (kv.first == kSpace) { space[0] = mean; space[1] = err; }
-    else if (kv.first == kBlocked) { blocked[0] = mean; blocked[1] = err; }
+  for (int target : targetsOf(tallies)) {
+    const auto [mean, err] = replicaStats(tallies, target, double(per_replica));
+    if (target == kSpace) { space[0] = mean; space[1] = err; }
+    else if (target == kBlocked) { blocked[0] = mean; blocked[1] = err; }
     else {
-      row.emplace_back(kv.first, mean);
-      row_error.emplace_back(kv.first, err);
+      row.emplace_back(target, mean);
+      row_error.emplace_back(target, err);
     }
   }
 }

@@ -19,10 +19,10 @@
 namespace radnet::orbits {
 
 struct EnvironmentOptions {
-  double albedo = 0.30;  ///< Bond albedo, – (Earth mean, e.g. Gilmore, Spacecraft Thermal Control Handbook, table 2.3)
+  double albedo = 0.30;  ///< Bond albedo, – (orbit-average Earth value; Gilmore, Spacecraft Thermal Control Handbook, ch. 2)
   /// Optional latitude dependence: (|geocentric latitude| deg, albedo) pairs, linear in between.
   std::vector<std::pair<double, double>> albedo_by_latitude;
-  double earth_ir_w_m2 = 237.0;  ///< outgoing longwave radiation, W/m² (global mean, Gilmore table 2.3)
+  double earth_ir_w_m2 = 237.0;  ///< outgoing longwave radiation, W/m² (global mean; Gilmore, ch. 2)
   int shadow_samples = 1024;     ///< points per node for direct-solar shadow rays
   std::int64_t planet_rays = 16384;  ///< cosine-weighted rays per node towards the planet
   std::uint64_t seed = 1;

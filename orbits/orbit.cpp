@@ -79,13 +79,11 @@ OrbitState Orbit::state(double t) const {
   const double raan = el_.raan_rad + raan_rate_ * t, argp = el_.arg_perigee_rad + argp_rate_ * t;
   const double ecc = solveKepler(m0_ + mean_motion_ * t, e);
   const double cosE = std::cos(ecc), sinE = std::sin(ecc);
-  const double r = a * (1 - e * cosE);
   const double sq = std::sqrt(1 - e * e);
   // Perifocal position and velocity (the velocity of the osculating ellipse).
   const Eigen::Vector3d pos_pf(a * (cosE - e), a * sq * sinE, 0.0);
   const double edot = mean_motion_ / (1 - e * cosE);
   const Eigen::Vector3d vel_pf(-a * sinE * edot, a * sq * cosE * edot, 0.0);
-  (void)r;
   const Eigen::Matrix3d eciFromPerifocal = (Eigen::AngleAxisd(raan, Eigen::Vector3d::UnitZ()) *
                                             Eigen::AngleAxisd(el_.inclination_rad, Eigen::Vector3d::UnitX()) *
                                             Eigen::AngleAxisd(argp, Eigen::Vector3d::UnitZ()))

@@ -28,13 +28,13 @@ ExchangeFactors exchangeFactorsDense(const Network& net, const Eigen::VectorXd& 
   Eigen::PartialPivLU<Eigen::MatrixXd> lu(lhs);
   ExchangeFactors ex;
   // (I − S G)⁻¹ E maps emissive voltages to exitances; E G then gives the absorbed power.
-  const Eigen::MatrixXd x = lu.solve(Eigen::MatrixXd(emissivity.asDiagonal()));
-  ex.gr = emissivity.asDiagonal() * (g * x);
-  if (!x.allFinite() || lu.rcond() < 1e-14) {
+  if (lu.rcond() < 1e-14) {
     ex.status = Status::Singular;
     ex.message = "I − S G is singular in the IR band (a closed cavity with ε = 0 everywhere?)";
     return ex;
   }
+  const Eigen::MatrixXd x = lu.solve(Eigen::MatrixXd(emissivity.asDiagonal()));
+  ex.gr = emissivity.asDiagonal() * (g * x);
   finishFactors(ex, net, emissivity);
   return ex;
 }

@@ -72,6 +72,8 @@ class Network {
   Eigen::MatrixXd denseConductance() const;
   /// Symmetric conductance in sparse storage (valid only when isSparse()).
   const Eigen::SparseMatrix<double>& sparseConductance() const { return g_sparse_; }
+  /// One conductance G_ij, m² (no copy of the matrix).
+  double conductance(int i, int j) const { return sparse_ ? g_sparse_.coeff(i, j) : g_dense_(i, j); }
   /// Y = G X for a block of vectors, without forming a dense copy of a sparse G.
   Eigen::MatrixXd applyConductance(const Eigen::Ref<const Eigen::MatrixXd>& x) const;
 

@@ -11,7 +11,6 @@ namespace {
 
 // ∂G/∂T (n×n, W/K): conduction Laplacian plus 4σT³ times the radiative coupling.
 Eigen::MatrixXd jacobian(const ThermalNetwork& net, const Eigen::VectorXd& t) {
-  const Eigen::Index n = t.size();
   Eigen::MatrixXd j = net.gr;
   j.diagonal() -= net.gr.rowwise().sum() + net.gr_space;
   j = kStefanBoltzmann * j * (4.0 * t.array().cube()).matrix().asDiagonal();
@@ -20,7 +19,6 @@ Eigen::MatrixXd jacobian(const ThermalNetwork& net, const Eigen::VectorXd& t) {
       j(it.row(), it.col()) += it.value();
       j(it.row(), it.row()) -= it.value();
     }
-  (void)n;
   return j;
 }
 
