@@ -163,6 +163,53 @@ TriangleSoup readMesh(const std::string& path, double scale) {
   return soup;
 }
 
+namespace {
+
+// The vertex indices (0-based) of one OBJ face line's "v/vt/vn" tokens; negative indices
+// count back from the vertices read so far.
+std::vector<int> objFace(std::istringstream& ls, size_t vertex_count, const std::string& path, size_t line_no) {
+  std::vector<int> poly;
+  std::string token;
+  while (ls >> token) {
+    long idx = 0;  // "v/vt/vn": the vertex
+    try {
+      idx = std::stol(token.substr(0, token.find('/')));
+    } catch (const std::exception&) {
+      throw GeometryError(path + ":" + std::to_string(line_no) + ": malformed face index '" + token + "'");
+    }
+    if (idx == 0 || std::abs(idx) > 2000000000L)
+      throw GeometryError(path + ":" + std::to_string(line_no) + ": face index " + token + " out of range");
+    poly.push_back(static_cast<int>(idx > 0 ? idx - 1 : static_cast<long>(vertex_count) + idx));
+  }
+  return poly;
+}
+
+// One group's polygons as a soup that keeps only the vertices it uses, renumbered.
+MeshGroup objGroup(const std::string& name, const std::vector<std::vector<int>>& polys,
+                   const std::vector<Vec3>& vertices, const std::string& path) {
+  MeshGroup g{name, {}};
+  std::vector<int> remap(vertices.size(), -1);
+  for (size_t i = 0; i < polys.size(); ++i) {
+    std::vector<int> poly;
+    for (int v : polys[i]) {
+      if (v < 0 || v >= static_cast<int>(vertices.size())) {
+        std::ostringstream s;
+        s << path << ": group '" << name << "' face " << i << " refers to a missing vertex";
+        throw GeometryError(s.str());
+      }
+      if (remap[static_cast<size_t>(v)] < 0) {
+        remap[static_cast<size_t>(v)] = static_cast<int>(g.soup.vertices.size());
+        g.soup.vertices.push_back(vertices[static_cast<size_t>(v)]);
+      }
+      poly.push_back(remap[static_cast<size_t>(v)]);
+    }
+    addPolygon(g.soup, poly, path + " group '" + name + "'", i);
+  }
+  return g;
+}
+
+}  // namespace
+
 std::vector<MeshGroup> readObjGroups(const std::string& path, double scale) {
   checkScale(scale, path);
   std::ifstream in(path);
@@ -185,50 +232,17 @@ std::vector<MeshGroup> readObjGroups(const std::string& path, double scale) {
       ls >> name;
       current = name.empty() ? "default" : name;
     } else if (tag == "f") {
-      std::vector<int> poly;
-      std::string token;
-      while (ls >> token) {
-        long idx = 0;  // "v/vt/vn": the vertex
-        try {
-          idx = std::stol(token.substr(0, token.find('/')));
-        } catch (const std::exception&) {
-          throw GeometryError(path + ":" + std::to_string(line_no) + ": malformed face index '" + token + "'");
-        }
-        if (idx == 0 || std::abs(idx) > 2000000000L)
-          throw GeometryError(path + ":" + std::to_string(line_no) + ": face index " + token + " out of range");
-        poly.push_back(static_cast<int>(idx > 0 ? idx - 1 : static_cast<long>(vertices.size()) + idx));
-      }
+      std::vector<int> poly = objFace(ls, vertices.size(), path, line_no);
       auto it = std::find_if(groups.begin(), groups.end(), [&](const auto& g) { return g.first == current; });
       if (it == groups.end()) {
         groups.push_back({current, {}});
         it = groups.end() - 1;
       }
-      it->second.push_back(poly);
+      it->second.push_back(std::move(poly));
     }
   }
   std::vector<MeshGroup> out;
-  for (const auto& [name, polys] : groups) {
-    MeshGroup g{name, {}};
-    // Each group keeps only the vertices it uses, renumbered.
-    std::vector<int> remap(vertices.size(), -1);
-    for (size_t i = 0; i < polys.size(); ++i) {
-      std::vector<int> poly;
-      for (int v : polys[i]) {
-        if (v < 0 || v >= static_cast<int>(vertices.size())) {
-          std::ostringstream s;
-          s << path << ": group '" << name << "' face " << i << " refers to a missing vertex";
-          throw GeometryError(s.str());
-        }
-        if (remap[static_cast<size_t>(v)] < 0) {
-          remap[static_cast<size_t>(v)] = static_cast<int>(g.soup.vertices.size());
-          g.soup.vertices.push_back(vertices[static_cast<size_t>(v)]);
-        }
-        poly.push_back(remap[static_cast<size_t>(v)]);
-      }
-      addPolygon(g.soup, poly, path + " group '" + name + "'", i);
-    }
-    out.push_back(std::move(g));
-  }
+  for (const auto& [name, polys] : groups) out.push_back(objGroup(name, polys, vertices, path));
   if (out.empty()) throw GeometryError(path + ": the mesh has no faces");
   return out;
 }

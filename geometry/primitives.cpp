@@ -1,5 +1,7 @@
 #include "geometry/primitives.hpp"
 
+#include "solver/units.hpp"
+
 #include <cmath>
 #include <sstream>
 #include <tuple>
@@ -7,7 +9,6 @@
 namespace radnet::geometry {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 
 void requireCount(int n, const char* what) {
   if (n < 1 || n > 100000) throw GeometryError(std::string(what) + ": subdivisions must be in [1, 100000]");
@@ -55,7 +56,7 @@ std::pair<Vec3, Vec3> planeFrame(const Vec3& axis, const std::optional<Vec3>& re
 }
 
 double sweepRadians(const Sweep& s) {
-  const double span = (s.end_deg - s.start_deg) * kDeg;
+  const double span = units::degToRad(s.end_deg - s.start_deg);
   if (!(std::isfinite(span) && span > 0 && span <= 2 * M_PI + 1e-12))
     throw GeometryError("angle range must satisfy start < end ≤ start + 360°");
   return span;
@@ -78,7 +79,7 @@ AngularFrame angularFrame(const Vec3& axis_in, const Sweep& sweep, int angular, 
   f.axis = unit(axis_in, what);
   std::tie(f.e0, f.e1) = planeFrame(f.axis, sweep.reference);
   f.span = sweepRadians(sweep);
-  f.start = sweep.start_deg * kDeg;
+  f.start = units::degToRad(sweep.start_deg);
   f.wrap = fullTurn(sweep);
   f.segments = std::max(angular, f.wrap ? 3 : 1);
   return f;
@@ -276,7 +277,7 @@ TriangleSoup sphere(const Vec3& center, double radius, const Vec3& axis_in, doub
   const double span = fr.span, start = fr.start;
   const bool wrap = fr.wrap;
   const int segments = fr.segments;
-  const double t0 = theta_min_deg * kDeg, t1 = theta_max_deg * kDeg;
+  const double t0 = units::degToRad(theta_min_deg), t1 = units::degToRad(theta_max_deg);
   TriangleSoup soup;
   // Rows from θ_max down to θ_min so that (φ, row) runs counter-clockwise seen from outside.
   grid(soup, polar, segments, wrap, [&](int i, int j) {

@@ -25,16 +25,20 @@ struct ReciprocityCorrection {
   double max_closure_error = 0.0;  ///< max_i |Σ_j F_ij + F_space,i + F_blocked,i − 1| after correction
 };
 
-/// @param area  node areas, m²
-/// @param f, sigma  estimated F and its standard errors (n×n, row = from)
-/// @param space, space_sigma, blocked, blocked_sigma  per-node estimates and standard errors
-/// @param rays  rays cast per node (sets a variance floor of one ray's worth, (1/N)², so that
-///              entries with a zero error estimate are not frozen)
-ReciprocityCorrection enforceReciprocity(const Eigen::VectorXd& area,
-                                         const Eigen::SparseMatrix<double, Eigen::RowMajor>& f,
-                                         const Eigen::SparseMatrix<double, Eigen::RowMajor>& sigma,
-                                         const Eigen::VectorXd& space, const Eigen::VectorXd& space_sigma,
-                                         const Eigen::VectorXd& blocked, const Eigen::VectorXd& blocked_sigma,
+/// A view-factor estimate with its standard errors: what the correction weighs. Monte
+/// Carlo ray casting (view_factors.hpp) and the contour method both produce one.
+struct ViewFactorEstimate {
+  Eigen::SparseMatrix<double, Eigen::RowMajor> view_factors;    ///< F (n×n), row = from, –
+  Eigen::SparseMatrix<double, Eigen::RowMajor> standard_error;  ///< σ of each F_ij, –
+  Eigen::VectorXd space, space_error;      ///< F_space,i and its σ, –
+  Eigen::VectorXd blocked, blocked_error;  ///< F_blocked,i (rays stopped by inactive sides) and σ, –
+};
+
+/// @param area      node areas, m²
+/// @param estimate  estimated F, F_space, F_blocked and their standard errors
+/// @param rays      rays cast per node (sets a variance floor of one ray's worth, (1/N)², so that
+///                  entries with a zero error estimate are not frozen)
+ReciprocityCorrection enforceReciprocity(const Eigen::VectorXd& area, const ViewFactorEstimate& estimate,
                                          const Eigen::VectorXd& rays);
 
 }  // namespace radnet::geometry

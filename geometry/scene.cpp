@@ -6,32 +6,11 @@
 
 namespace radnet::geometry {
 
-int Scene::nodeIndex(const std::string& name) const {
-  for (size_t i = 0; i < nodes_.size(); ++i)
-    if (nodes_[i].name == name) return static_cast<int>(i);
-  return -1;
-}
+namespace {
 
-int Scene::nodeFor(const std::string& name, int side, const std::string& label) {
-  if (name.empty()) return -1;
-  const int existing = nodeIndex(name);
-  if (existing >= 0) {
-    if (nodes_[static_cast<size_t>(existing)].side != side)
-      throw GeometryError(label + ": node '" + name + "' is used for a front side and for a back side; a node " +
-                          "collects sides of one kind");
-    return existing;
-  }
-  nodes_.push_back(Node{name, 0.0, {}, side});
-  return static_cast<int>(nodes_.size() - 1);
-}
-
-void Scene::addSurface(const std::string& surface, const std::string& label, const TriangleSoup& soup,
-                       const std::string& front_node, const std::string& back_node) {
-  if (soup.triangles.empty()) throw GeometryError(label + ": no triangles");
-  if (front_node.empty() && back_node.empty())
-    throw GeometryError(label + ": neither side names a material; the surface would belong to no node");
-  if (!front_node.empty() && front_node == back_node)
-    throw GeometryError(label + ": front and back sides cannot be the same node '" + front_node + "'");
+// The soup's triangles as faces (normal, area), after checking every vertex is finite,
+// every index valid and no triangle degenerate; slivers add one warning.
+std::vector<Face> checkedFaces(const TriangleSoup& soup, const std::string& label, std::vector<std::string>& warnings) {
   for (size_t i = 0; i < soup.vertices.size(); ++i)
     if (!soup.vertices[i].allFinite()) {
       std::ostringstream s;
@@ -78,8 +57,40 @@ void Scene::addSurface(const std::string& surface, const std::string& label, con
   if (slivers > 0) {
     std::ostringstream s;
     s << label << ": " << slivers << " sliver triangle(s) (aspect ratio > 1e4), first: triangle " << first_sliver;
-    warnings_.push_back(s.str());
+    warnings.push_back(s.str());
   }
+  return added;
+}
+
+}  // namespace
+
+int Scene::nodeIndex(const std::string& name) const {
+  for (size_t i = 0; i < nodes_.size(); ++i)
+    if (nodes_[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+int Scene::nodeFor(const std::string& name, int side, const std::string& label) {
+  if (name.empty()) return -1;
+  const int existing = nodeIndex(name);
+  if (existing >= 0) {
+    if (nodes_[static_cast<size_t>(existing)].side != side)
+      throw GeometryError(label + ": node '" + name + "' is used for a front side and for a back side; a node " +
+                          "collects sides of one kind");
+    return existing;
+  }
+  nodes_.push_back(Node{name, 0.0, {}, side});
+  return static_cast<int>(nodes_.size() - 1);
+}
+
+void Scene::addSurface(const std::string& surface, const std::string& label, const TriangleSoup& soup,
+                       const std::string& front_node, const std::string& back_node) {
+  if (soup.triangles.empty()) throw GeometryError(label + ": no triangles");
+  if (front_node.empty() && back_node.empty())
+    throw GeometryError(label + ": neither side names a material; the surface would belong to no node");
+  if (!front_node.empty() && front_node == back_node)
+    throw GeometryError(label + ": front and back sides cannot be the same node '" + front_node + "'");
+  std::vector<Face> added = checkedFaces(soup, label, warnings_);
   const int surface_id = static_cast<int>(surfaces_.size());
   surfaces_.push_back(surface);
   const int front = nodeFor(front_node, +1, label);

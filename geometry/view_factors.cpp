@@ -52,8 +52,7 @@ std::set<int> targetsOf(const std::vector<Tally>& tallies) {
   return targets;
 }
 
-}  // namespace
-
+// One node's row: rays from `node` until the fixed count or the target error.
 void computeViewFactorRow(const RayCaster& caster, int node, const ViewFactorOptions& opt,
                           std::vector<std::pair<int, double>>& row, std::vector<std::pair<int, double>>& row_error,
                           double space[2], double blocked[2], std::int64_t& rays) {
@@ -105,6 +104,8 @@ void computeViewFactorRow(const RayCaster& caster, int node, const ViewFactorOpt
     }
   }
 }
+
+}  // namespace
 
 ViewFactorResult computeViewFactors(const RayCaster& caster, const ViewFactorOptions& opt) {
   if (opt.replicas < 2) throw std::invalid_argument("view factors need at least 2 replicas for an error estimate");

@@ -4,6 +4,7 @@
 // the AABB tree decides where the ray's share of power lands (a node's side, an inactive
 // side = blocked, or nothing = space). F_ij is the fraction landing on node j.
 #include "geometry/ray_caster.hpp"
+#include "geometry/reciprocity.hpp"
 #include "geometry/scene.hpp"
 
 #include <Eigen/SparseCore>
@@ -38,11 +39,8 @@ struct ViewFactorOptions {
   std::function<void(int, int)> progress;
 };
 
-struct ViewFactorResult {
-  Eigen::SparseMatrix<double, Eigen::RowMajor> view_factors;  ///< F (n×n), –
-  Eigen::SparseMatrix<double, Eigen::RowMajor> standard_error;  ///< σ of each F_ij, –
-  Eigen::VectorXd space, space_error;      ///< F_space,i and its σ, –
-  Eigen::VectorXd blocked, blocked_error;  ///< F_blocked,i (rays stopped by inactive sides) and σ, –
+/// The estimate (F, F_space, F_blocked and their standard errors) and how it was made.
+struct ViewFactorResult : ViewFactorEstimate {
   std::vector<std::int64_t> rays;          ///< rays cast per node
   std::int64_t total_rays = 0;
   double seconds = 0.0;
@@ -54,10 +52,5 @@ struct ViewFactorResult {
 /// Casts the rays of every node. Reproducible: each node's streams depend only on
 /// (seed, node, replica), so results are bit-identical for any thread count.
 ViewFactorResult computeViewFactors(const RayCaster& caster, const ViewFactorOptions& options);
-
-/// One node's row (for tests and for distributing rows over processes later).
-void computeViewFactorRow(const RayCaster& caster, int node, const ViewFactorOptions& options,
-                          std::vector<std::pair<int, double>>& row, std::vector<std::pair<int, double>>& row_error,
-                          double space[2], double blocked[2], std::int64_t& rays);
 
 }  // namespace radnet::geometry

@@ -1,5 +1,7 @@
 #include "orbits/attitude.hpp"
 
+#include "solver/units.hpp"
+
 #include <cmath>
 
 namespace radnet::orbits {
@@ -52,7 +54,7 @@ Eigen::Matrix3d bodyFromEci(const AttitudeSpec& spec, const Orbit& orbit, const 
       return spec.body_from_eci.normalized().toRotationMatrix();
     case Mode::Spin: {
       // The body turns by θ about its axis: v_body(t) = R(−θ) v_body(0).
-      const double theta = spec.spin_rate_deg_s * M_PI / 180.0 * t;
+      const double theta = units::degToRad(spec.spin_rate_deg_s) * t;
       return Eigen::AngleAxisd(-theta, spec.spin_axis_body.normalized()).toRotationMatrix() *
              spec.body_from_eci.normalized().toRotationMatrix();
     }

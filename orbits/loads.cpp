@@ -1,5 +1,7 @@
 #include "orbits/loads.hpp"
 
+#include "solver/units.hpp"
+
 #include <chrono>
 #include <cmath>
 
@@ -56,7 +58,7 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
         if (cos_sun <= 0) continue;  // night side
         const double a = opt.albedo_by_latitude.empty()
                              ? opt.albedo
-                             : albedoAt(opt, std::asin(std::clamp((eciFromBody * normal).z(), -1.0, 1.0)) * 180.0 / M_PI);
+                             : albedoAt(opt, units::radToDeg(std::asin(std::clamp((eciFromBody * normal).z(), -1.0, 1.0))));
         sum += a * cos_sun;
       }
       // E = π ∫ L cos θ dω / π … with L = a S cos θ_s / π and rays drawn with pdf cos θ / π.

@@ -1,5 +1,7 @@
 #include "orbits/orbit.hpp"
 
+#include "solver/units.hpp"
+
 #include "orbits/sun.hpp"
 
 #include <cmath>
@@ -8,7 +10,6 @@
 namespace radnet::orbits {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 constexpr double kTropicalYearDays = 365.2421897;
 
 void requireFinite(double x, const char* what) {
@@ -114,9 +115,9 @@ KeplerElements circularElements(double altitude_m, double inclination_deg, doubl
   }
   KeplerElements el;
   el.semi_major_axis_m = earth.equatorial_radius_m + altitude_m;
-  el.inclination_rad = inclination_deg * kDeg;
-  el.raan_rad = raan_deg * kDeg;
-  el.true_anomaly_rad = arg_latitude_deg * kDeg;
+  el.inclination_rad = units::degToRad(inclination_deg);
+  el.raan_rad = units::degToRad(raan_deg);
+  el.true_anomaly_rad = units::degToRad(arg_latitude_deg);
   return el;
 }
 
@@ -128,10 +129,10 @@ KeplerElements perigeeApogeeElements(double hp, double ha, double inclination_de
   KeplerElements el;
   el.semi_major_axis_m = 0.5 * (rp + ra);
   el.eccentricity = (ra - rp) / (ra + rp);
-  el.inclination_rad = inclination_deg * kDeg;
-  el.raan_rad = raan_deg * kDeg;
-  el.arg_perigee_rad = arg_perigee_deg * kDeg;
-  el.true_anomaly_rad = true_anomaly_deg * kDeg;
+  el.inclination_rad = units::degToRad(inclination_deg);
+  el.raan_rad = units::degToRad(raan_deg);
+  el.arg_perigee_rad = units::degToRad(arg_perigee_deg);
+  el.true_anomaly_rad = units::degToRad(true_anomaly_deg);
   return el;
 }
 
@@ -141,7 +142,7 @@ double sunSynchronousInclinationDeg(double altitude_m, const EarthModel& earth) 
   const double c = -2.0 * rate * std::pow(a, 3.5) /
                    (3.0 * earth.j2 * earth.equatorial_radius_m * earth.equatorial_radius_m * std::sqrt(earth.gm_m3_s2));
   if (c < -1) throw OrbitError("no sun-synchronous orbit exists at this altitude (above ~5970 km)");
-  return std::acos(c) / kDeg;
+  return units::radToDeg(std::acos(c));
 }
 
 double raanForLocalTimeDeg(double ltan_hours, double epoch_jd) {
@@ -149,7 +150,7 @@ double raanForLocalTimeDeg(double ltan_hours, double epoch_jd) {
     throw OrbitError("local time of the ascending node must be in [0, 24) hours");
   // The Sun's right ascension is local noon: RAAN = α_sun + (LTAN − 12 h) × 15°/h.
   const SunPosition s = sunPosition(epoch_jd);
-  const double ra_sun = std::atan2(s.direction_eci.y(), s.direction_eci.x()) / kDeg;
+  const double ra_sun = units::radToDeg(std::atan2(s.direction_eci.y(), s.direction_eci.x()));
   return std::fmod(ra_sun + (ltan_hours - 12.0) * 15.0 + 720.0, 360.0);
 }
 
@@ -160,11 +161,11 @@ KeplerElements betaElements(double altitude_m, double beta_deg, double epoch_jd,
   // asin(h·s) = β; with β = 0 the Sun lies in the orbit plane.
   Eigen::Vector3d p = Eigen::Vector3d::UnitZ() - s.z() * s;
   p.normalize();
-  const double b = beta_deg * kDeg;
+  const double b = units::degToRad(beta_deg);
   Eigen::Vector3d h = std::sin(b) * s + std::cos(b) * p;
   const double inc = std::acos(std::clamp(h.z(), -1.0, 1.0));
   const double raan = std::atan2(h.x(), -h.y());
-  KeplerElements el = circularElements(altitude_m, inc / kDeg, raan / kDeg, 0.0, earth);
+  KeplerElements el = circularElements(altitude_m, units::radToDeg(inc), units::radToDeg(raan), 0.0, earth);
   return el;
 }
 

@@ -1,5 +1,7 @@
 #include "orbits/sun.hpp"
 
+#include "solver/units.hpp"
+
 #include "orbits/earth.hpp"
 
 #include <cmath>
@@ -7,7 +9,7 @@
 namespace radnet::orbits {
 
 SunPosition sunPosition(double jd) {
-  constexpr double deg = M_PI / 180.0;
+  constexpr double deg = units::kRadPerDeg;
   const double n = jd - kJ2000;                       // days from J2000.0
   const double L = (280.460 + 0.9856474 * n) * deg;   // mean longitude
   const double g = (357.528 + 0.9856003 * n) * deg;   // mean anomaly
@@ -22,7 +24,7 @@ SunPosition sunPosition(double jd) {
   return s;
 }
 
-double sunDeclinationDeg(double jd) { return std::asin(sunPosition(jd).direction_eci.z()) * 180.0 / M_PI; }
+double sunDeclinationDeg(double jd) { return units::radToDeg(std::asin(sunPosition(jd).direction_eci.z())); }
 
 double solarFlux(double solar_constant, double distance_m) {
   const double r = distance_m / kAstronomicalUnit;

@@ -1,5 +1,7 @@
 #include "solver/eigenpairs.hpp"
 
+#include "solver/policy.hpp"
+
 #include <Spectra/MatOp/DenseSymMatProd.h>
 #include <Spectra/MatOp/SparseSymMatProd.h>
 #include <Spectra/SymEigsSolver.h>
@@ -127,11 +129,7 @@ EigenPairs decomposeConductance(const Network& net, const EigenRequest& req) {
   const double max_s = req.max_s > 0 ? req.max_s : net.area().cwiseInverse().maxCoeff();
   const int cap = req.max_rank > 0 ? std::min(req.max_rank, n) : n;
 
-  EigenMethod method = req.method;
-  if (method == EigenMethod::Auto) {
-    // Ashdown §10: QR-type methods below ~400 elements, Lanczos above, unless most pairs are wanted.
-    method = (n <= 400 || (req.rank > 0 && 4 * req.rank > n)) ? EigenMethod::Dense : EigenMethod::Lanczos;
-  }
+  EigenMethod method = policy::eigenMethod(req.method, n, req.rank);
   // Spectra needs nev < n and a Krylov space larger than nev.
   if (method == EigenMethod::Lanczos && (n < 4 || req.rank >= n - 1)) method = EigenMethod::Dense;
 

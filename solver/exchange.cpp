@@ -27,6 +27,7 @@ ExchangeFactors exchangeFactorsDense(const Network& net, const Eigen::VectorXd& 
   const Eigen::MatrixXd lhs = Eigen::MatrixXd::Identity(n, n) - s.asDiagonal() * g;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu(lhs);
   ExchangeFactors ex;
+  ex.method = "dense LU";
   // (I − S G)⁻¹ E maps emissive voltages to exitances; E G then gives the absorbed power.
   if (lu.rcond() < 1e-14) {
     ex.status = Status::Singular;
@@ -43,6 +44,7 @@ ExchangeFactors exchangeFactorsLowRank(const Network& net, const LowRankBandSolv
                                        const Eigen::VectorXd& emissivity) {
   checkRange(net, emissivity, "emissivity", 0.0, 1.0);
   ExchangeFactors ex;
+  ex.method = "low rank (k = " + std::to_string(ir_band.rank()) + ")";
   if (ir_band.status() != Status::Converged) {
     ex.status = ir_band.status();
     ex.message = ir_band.message();

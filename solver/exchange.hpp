@@ -1,11 +1,13 @@
 #pragma once
-// The Oppenheim network of the IR band (DESIGN.md §2): emissive node voltages E_b = σT⁴,
+// The Oppenheim network of the IR band (docs/design.md, "The network"): emissive node voltages E_b = σT⁴,
 // surface reflectance ρ = 1 − ε, radiative exchange factors GR (ESATAN's GR).
 // Written without the textbook surface resistance (1 − ε)/(ε A), which breaks at ε = 1.
 #include "solver/low_rank_solver.hpp"
 #include "solver/network.hpp"
 
 #include <Eigen/Dense>
+
+#include <string>
 
 namespace radnet::solver {
 
@@ -14,6 +16,7 @@ struct ExchangeFactors {
   Eigen::MatrixXd gr;        ///< GR (n×n), symmetric, m²: Q_ij = σ GR_ij (T_i⁴ − T_j⁴)
   Eigen::VectorXd gr_space;  ///< GR_i,space = ε_i A_i − Σ_j GR_ij, m²
   double asymmetry = 0.0;    ///< max |GR_ij − GR_ji| / max|GR| before symmetrising (round-off), –
+  std::string method;        ///< "dense LU" or "low rank (k = <rank>)"
   Status status = Status::Converged;
   std::string message;
 };

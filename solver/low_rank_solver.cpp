@@ -96,14 +96,69 @@ Eigen::MatrixXd LowRankBandSolver::applyPreconditioner(const Eigen::Ref<const Ei
 // made that preconditioner indefinite (dropped negative λ), CG falls back to the
 // diagonal preconditioner A⁻¹ and says so in the message. The M-form residual is
 // A⁻¹ R^½ (b − K z), so each column stops on the same criterion that is reported.
+// One run of block preconditioned CG on K z = b (K = A − R^½ G R^½) from the current z,
+// until the recurrence residual of every column meets `tol`, `max_iter` total iterations
+// pass, the preconditioner turns indefinite (then low_rank_pc is cleared) or K proves
+// indefinite (`broke_down`). Returns the iterations done.
+int LowRankBandSolver::pcgRun(const Eigen::MatrixXd& b, Eigen::MatrixXd& z, const Eigen::VectorXd& scale, double tol,
+                              int max_iter, bool& low_rank_pc, bool& broke_down) const {
+  const Eigen::VectorXd& area = net_.area();
+  const Eigen::VectorXd r_weight = area.cwiseInverse().cwiseProduct(sqrt_rho_);
+  const Eigen::Index cols = b.cols();
+  auto applyK = [&](const Eigen::MatrixXd& x) -> Eigen::MatrixXd {
+    return area.asDiagonal() * x - sqrt_rho_.asDiagonal() * net_.applyConductance(sqrt_rho_.asDiagonal() * x);
+  };
+  auto converged = [&](const Eigen::MatrixXd& res) {
+    const Eigen::VectorXd rel = (r_weight.asDiagonal() * res).colwise().norm().transpose().cwiseQuotient(scale);
+    return (rel.array() <= tol).all();
+  };
+  Eigen::MatrixXd r = b - applyK(z);
+  Eigen::MatrixXd y = applyPreconditioner(r, low_rank_pc);
+  Eigen::VectorXd rz = (r.cwiseProduct(y)).colwise().sum().transpose();
+  if (low_rank_pc && (rz.array() < 0).any()) {  // indefinite preconditioner: use the diagonal one
+    low_rank_pc = false;
+    y = applyPreconditioner(r, false);
+    rz = (r.cwiseProduct(y)).colwise().sum().transpose();
+  }
+  Eigen::MatrixXd p = y;
+  int done_iterations = 0;
+  bool done = converged(r);
+  while (!done && done_iterations < max_iter) {
+    const Eigen::MatrixXd q = applyK(p);
+    const Eigen::VectorXd pq = (p.cwiseProduct(q)).colwise().sum().transpose();
+    Eigen::VectorXd alpha = Eigen::VectorXd::Zero(cols);
+    for (Eigen::Index c = 0; c < cols; ++c) {
+      if (rz[c] == 0.0) continue;  // column already exact
+      if (!(pq[c] > 0.0)) {
+        broke_down = true;
+        return done_iterations;
+      }
+      alpha[c] = rz[c] / pq[c];
+    }
+    z += p * alpha.asDiagonal();
+    r -= q * alpha.asDiagonal();
+    ++done_iterations;
+    done = converged(r);
+    if (done) break;
+    y = applyPreconditioner(r, low_rank_pc);
+    const Eigen::VectorXd rz_new = (r.cwiseProduct(y)).colwise().sum().transpose();
+    if (low_rank_pc && (rz_new.array() < 0).any()) {  // restart with A⁻¹
+      low_rank_pc = false;
+      break;
+    }
+    Eigen::VectorXd beta = Eigen::VectorXd::Zero(cols);
+    for (Eigen::Index c = 0; c < cols; ++c) beta[c] = rz[c] > 0 ? rz_new[c] / rz[c] : 0.0;
+    p = y + p * beta.asDiagonal();
+    rz = rz_new;
+    if (!z.allFinite()) break;
+  }
+  return done_iterations;
+}
+
 void LowRankBandSolver::refine(const Eigen::Ref<const Eigen::MatrixXd>& mo, BandSolution& sol, double tol,
                                int max_iter) const {
   const Eigen::VectorXd& area = net_.area();
-  const Eigen::VectorXd r_weight = area.cwiseInverse().cwiseProduct(sqrt_rho_);
   const Eigen::Index cols = mo.cols();
-  auto applyK = [&](const Eigen::MatrixXd& z) -> Eigen::MatrixXd {
-    return area.asDiagonal() * z - sqrt_rho_.asDiagonal() * net_.applyConductance(sqrt_rho_.asDiagonal() * z);
-  };
   Eigen::VectorXd scale(cols);
   for (Eigen::Index c = 0; c < cols; ++c) scale[c] = std::max(mo.col(c).norm(), std::numeric_limits<double>::min());
 
@@ -113,45 +168,8 @@ void LowRankBandSolver::refine(const Eigen::Ref<const Eigen::MatrixXd>& mo, Band
   sol.refined = true;
   int total = 0;
   for (int restart = 0; restart < 4 && total < max_iter; ++restart) {
-    Eigen::MatrixXd r = b - applyK(z);
-    Eigen::MatrixXd y = applyPreconditioner(r, low_rank_pc);
-    Eigen::VectorXd rz = (r.cwiseProduct(y)).colwise().sum().transpose();
-    if (low_rank_pc && (rz.array() < 0).any()) {  // indefinite preconditioner: use the diagonal one
-      low_rank_pc = false;
-      y = applyPreconditioner(r, false);
-      rz = (r.cwiseProduct(y)).colwise().sum().transpose();
-    }
-    Eigen::MatrixXd p = y;
-    auto converged = [&](const Eigen::MatrixXd& res) {
-      Eigen::VectorXd rel = (r_weight.asDiagonal() * res).colwise().norm().transpose().cwiseQuotient(scale);
-      return std::pair<bool, Eigen::VectorXd>{(rel.array() <= tol).all(), rel};
-    };
-    bool done = converged(r).first;
     bool broke_down = false;
-    while (!done && total < max_iter) {
-      const Eigen::MatrixXd q = applyK(p);
-      const Eigen::VectorXd pq = (p.cwiseProduct(q)).colwise().sum().transpose();
-      Eigen::VectorXd alpha = Eigen::VectorXd::Zero(cols);
-      for (Eigen::Index c = 0; c < cols; ++c) {
-        if (rz[c] == 0.0) continue;  // column already exact
-        if (!(pq[c] > 0.0)) { broke_down = true; break; }
-        alpha[c] = rz[c] / pq[c];
-      }
-      if (broke_down) break;
-      z += p * alpha.asDiagonal();
-      r -= q * alpha.asDiagonal();
-      ++total;
-      done = converged(r).first;
-      if (done) break;
-      y = applyPreconditioner(r, low_rank_pc);
-      const Eigen::VectorXd rz_new = (r.cwiseProduct(y)).colwise().sum().transpose();
-      if (low_rank_pc && (rz_new.array() < 0).any()) { low_rank_pc = false; break; }  // restart with A⁻¹
-      Eigen::VectorXd beta = Eigen::VectorXd::Zero(cols);
-      for (Eigen::Index c = 0; c < cols; ++c) beta[c] = rz[c] > 0 ? rz_new[c] / rz[c] : 0.0;
-      p = y + p * beta.asDiagonal();
-      rz = rz_new;
-      if (!z.allFinite()) break;
-    }
+    total += pcgRun(b, z, scale, tol, max_iter - total, low_rank_pc, broke_down);
     if (broke_down) {
       sol.status = Status::Singular;
       sol.message = "refinement: A − R^½ G R^½ is not positive definite (spectral radius of S G ≥ 1?)";

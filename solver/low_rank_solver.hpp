@@ -1,6 +1,6 @@
 #pragma once
 // Production band solve: exact for the rank-k conductance G'_k = V Λ Vᵀ by the
-// push-through identity (DESIGN.md §2)
+// push-through identity (docs/design.md, "The network")
 //     (I − S V Λ Vᵀ)⁻¹ = I + S V C Vᵀ,   C = Λ (I − Vᵀ S V Λ)⁻¹,
 // so a reflectance set costs O(n k²) once, and each right-hand side O(n k). It replaces
 // the paper's eigenvector iteration (Ashdown 2001, eqs. 35–37), which converges to the
@@ -61,6 +61,8 @@ class LowRankBandSolver {
 
  private:
   void refine(const Eigen::Ref<const Eigen::MatrixXd>& mo, BandSolution& sol, double tol, int max_iter) const;
+  int pcgRun(const Eigen::MatrixXd& b, Eigen::MatrixXd& z, const Eigen::VectorXd& scale, double tol, int max_iter,
+             bool& low_rank_pc, bool& broke_down) const;
   Eigen::MatrixXd applyPreconditioner(const Eigen::Ref<const Eigen::MatrixXd>& r, bool low_rank) const;
 
   const Network& net_;

@@ -3,6 +3,8 @@
 // A_i and form factors F_ij, and its symmetric conductance matrix G = A F (eq. 10, 13).
 // Space is the black, cold enclosure of eq. 6 and is not a node: its share of each row
 // is F_space,i = 1 − Σ_j F_ij − F_blocked,i.
+#include "solver/units.hpp"
+
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 
@@ -12,8 +14,8 @@
 
 namespace radnet::solver {
 
-/// Stefan–Boltzmann constant σ, W m⁻² K⁻⁴ (CODATA 2018, exact in SI since 2019).
-inline constexpr double kStefanBoltzmann = 5.670374419e-8;
+/// Stefan–Boltzmann constant σ, W m⁻² K⁻⁴ (solver/units.hpp).
+using units::kStefanBoltzmann;
 
 /// A caller mistake in network data; the message names the offending node(s) and value.
 class NetworkError : public std::invalid_argument {

@@ -103,6 +103,29 @@ Eigen::VectorXd startingGuess(const ThermalNetwork& net, const Eigen::VectorXd& 
   return t;
 }
 
+// Loads at time t (s): linear between the given positions, periodic with the orbit.
+Eigen::VectorXd periodicLoad(const std::vector<double>& times, const Eigen::MatrixXd& q_env, double period,
+                             double t) {
+  const size_t P = times.size();
+  double tau = std::fmod(t, period);
+  if (tau < times.front()) tau += period;
+  auto it = std::upper_bound(times.begin(), times.end(), tau);
+  const size_t hi = it == times.end() ? 0 : static_cast<size_t>(it - times.begin());
+  const size_t lo = hi == 0 ? P - 1 : hi - 1;
+  const double t_lo = times[lo], t_hi = hi == 0 ? times[0] + period : times[hi];
+  const double w = t_hi > t_lo ? (tau - t_lo) / (t_hi - t_lo) : 0.0;
+  return (1 - w) * q_env.col(static_cast<Eigen::Index>(lo)) + w * q_env.col(static_cast<Eigen::Index>(hi));
+}
+
+// The next time step (s) towards an output time `remaining` seconds away: the first is
+// max_step/64, then each at most doubles up to max_step; no sliver of a last step.
+double nextStep(double h_prev, double max_step, double remaining) {
+  double h = h_prev > 0 ? std::min(max_step, 2.0 * h_prev) : max_step / 64.0;
+  if (h >= remaining) h = remaining;
+  else if (remaining - h < 0.25 * h) h = 0.5 * remaining;
+  return h;
+}
+
 }  // namespace
 
 void ThermalNetwork::validate() const {
@@ -163,17 +186,6 @@ ThermalResult transient(const ThermalNetwork& net, const std::vector<double>& ti
   if (P == 0 || static_cast<Eigen::Index>(P) != q_env.cols()) throw std::invalid_argument("transient: one load column per time");
   if (!(period > 0 && orbits > 0 && opt.max_step_s > 0)) throw std::invalid_argument("transient: period, orbits and step must be > 0");
   if (initial.size() != n || (initial.array() <= 0).any()) throw std::invalid_argument("transient: initial temperatures must be > 0 K");
-  // Loads at time t: linear between the given positions, periodic with the orbit.
-  auto load = [&](double t) -> Eigen::VectorXd {
-    double tau = std::fmod(t, period);
-    if (tau < times.front()) tau += period;
-    auto it = std::upper_bound(times.begin(), times.end(), tau);
-    const size_t hi = it == times.end() ? 0 : static_cast<size_t>(it - times.begin());
-    const size_t lo = hi == 0 ? P - 1 : hi - 1;
-    const double t_lo = times[lo], t_hi = hi == 0 ? times[0] + period : times[hi];
-    const double w = t_hi > t_lo ? (tau - t_lo) / (t_hi - t_lo) : 0.0;
-    return (1 - w) * q_env.col(static_cast<Eigen::Index>(lo)) + w * q_env.col(static_cast<Eigen::Index>(hi));
-  };
   // Output times: the P positions of the last orbit.
   const double last = (std::ceil(orbits) - 1) * period;
   std::vector<double> marks;
@@ -191,10 +203,7 @@ ThermalResult transient(const ThermalNetwork& net, const std::vector<double>& ti
     // for ratios below 1 + √2) up to max_step_s.
     const double target = marks[next_mark];
     while (target - clock > 1e-9 * std::max(1.0, std::abs(target))) {
-      double h = h_prev > 0 ? std::min(opt.max_step_s, 2.0 * h_prev) : opt.max_step_s / 64.0;
-      const double remaining = target - clock;
-      if (h >= remaining) h = remaining;
-      else if (remaining - h < 0.25 * h) h = 0.5 * remaining;  // no sliver of a last step
+      const double h = nextStep(h_prev, opt.max_step_s, target - clock);
       // Variable-step BDF2: y⁺ − a y + b y⁻ = h β f(y⁺); the first step is backward Euler.
       double a = 1.0, b = 0.0, beta = 1.0;
       if (h_prev > 0) {
@@ -206,7 +215,7 @@ ThermalResult transient(const ThermalNetwork& net, const std::vector<double>& ti
       const Eigen::VectorXd history = a * t_now - b * t_prev;
       Eigen::VectorXd guess = t_now;
       double residual = 0.0;
-      const Status s = newton(net, guess, load(clock + h), net.capacitance, history, h * beta, opt,
+      const Status s = newton(net, guess, periodicLoad(times, q_env, period, clock + h), net.capacitance, history, h * beta, opt,
                               res.newton_iterations, residual, res.message);
       if (s != Status::Converged) {
         res.status = s;

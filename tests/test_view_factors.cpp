@@ -111,8 +111,7 @@ TEST_CASE("interior of a closed cube: opposite 0.19982, adjacent 0.20004, closed
   checkWithin3Sigma(r, 4, 5, parallelRectangles(1, 1, 1));      // +z → −z
   Eigen::VectorXd area = Eigen::VectorXd::Ones(6), rays(6);
   for (int i = 0; i < 6; ++i) rays[i] = double(r.rays[static_cast<size_t>(i)]);
-  const ReciprocityCorrection c = enforceReciprocity(area, r.view_factors, r.standard_error, r.space, r.space_error,
-                                                     r.blocked, r.blocked_error, rays);
+  const ReciprocityCorrection c = enforceReciprocity(area, r, rays);
   const Eigen::MatrixXd f = Eigen::MatrixXd(c.view_factors);
   CHECK((f.rowwise().sum().array() - 1.0).abs().maxCoeff() < 1e-12);
   CHECK((f - f.transpose()).cwiseAbs().maxCoeff() < 1e-15);  // equal areas: F symmetric

@@ -1,0 +1,182 @@
+// radnet command line (docs/design.md, "Contracts"): run, check, validate.
+// Exit codes: 0 success, 1 a check failed, 2 bad input, 3 numerical failure.
+#include "cases/config/case_file.hpp"
+#include "cases/config/errors.hpp"
+#include "cases/output/expectations.hpp"
+#include "cases/output/result_files.hpp"
+#include "cases/output/summary.hpp"
+#include "cases/pipeline/geometry_run.hpp"
+#include "cases/pipeline/network_run.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <unistd.h>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace {
+
+using namespace radnet::cases;
+
+constexpr int kExitCheckFailed = 1;
+constexpr int kExitBadInput = 2;
+constexpr int kExitNumerical = 3;
+
+struct RunOptions {
+  std::string case_path, output;
+  bool quiet = false;
+  int threads = 0;
+  long long seed = -1;
+};
+
+std::string defaultOutput(const std::string& case_path) {
+  return std::filesystem::path(case_path).stem().string() + ".h5";
+}
+
+// Fails early, before any computing, when the output cannot be written.
+void checkOutputPath(const std::string& out) {
+  const std::filesystem::path dir = std::filesystem::absolute(out).parent_path();
+  if (!std::filesystem::is_directory(dir))
+    throw InputError(out, 0, 0, "output directory '" + dir.string() + "' does not exist");
+  if (::access(dir.c_str(), W_OK) != 0)
+    throw InputError(out, 0, 0, "output directory '" + dir.string() + "' is not writable");
+}
+
+// Runs `body`, mapping each error channel to its exit code with a message on stderr.
+template <class Body>
+int guarded(Body&& body) {
+  try {
+    return body();
+  } catch (const InputError& e) {
+    std::cerr << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const NumericalError& e) {
+    std::cerr << "radnet: numerical failure: " << e.what() << "\n";
+    return kExitNumerical;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "radnet: invalid input: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "radnet: out of memory: the case is too large for this machine\n";
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "radnet: error: " << e.what() << "\n";
+    return kExitNumerical;
+  }
+}
+
+// --threads and --seed apply to every parallel loop and every random stream of the run.
+void applyRunOptions(const RunOptions& o, GeometryCase& g) {
+  if (o.threads > 0) {
+    g.view_factors.monte_carlo.threads = o.threads;
+#ifdef _OPENMP
+    omp_set_num_threads(o.threads);  // the orbit loads' parallel loops too
+#endif
+  }
+  if (o.seed >= 0) {  // view factors, shadow and planet rays
+    g.view_factors.monte_carlo.seed = static_cast<std::uint64_t>(o.seed);
+    if (g.orbit) g.orbit->environment.seed = static_cast<std::uint64_t>(o.seed);
+  }
+}
+
+int runCommand(const RunOptions& o) {
+  LoadedCase c = loadCase(o.case_path);
+  std::ostringstream sink;
+  std::ostream& progress = o.quiet ? static_cast<std::ostream&>(sink) : std::cerr;
+  const std::string out = o.output.empty() ? defaultOutput(o.case_path) : o.output;
+  checkOutputPath(out);
+  if (c.network) {
+    const NetworkRunResult r = runNetworkCase(*c.network, progress);
+    writeNetworkResult(*c.network, r, out);
+    printNetworkSummary(*c.network, r, std::cout);
+  } else {
+    applyRunOptions(o, *c.geometry);
+    const GeometryRunResult r = runGeometryCase(*c.geometry, !o.quiet, progress);
+    writeGeometryResult(*c.geometry, r, out);
+    printGeometrySummary(*c.geometry, r, std::cout);
+  }
+  if (!o.quiet) std::cerr << "radnet: wrote " << out << "\n";
+  return 0;
+}
+
+// One case of `radnet check`: runs it when it has an `expect:` block; counts failures.
+int checkCase(const std::string& path, int& checked, int& failed_total) {
+  const LoadedCase c = loadCase(path);
+  std::cout << "== " << path << "\n";
+  if (c.expectations().empty()) {
+    std::cout << "SKIP (no 'expect:' block)\n";
+    return 0;
+  }
+  ++checked;
+  std::ostringstream sink;
+  int failed = 0;
+  if (c.network) {
+    const NetworkRunResult r = runNetworkCase(*c.network, sink);
+    failed = evaluateExpectations(c.expectations(), [&](const Expectation& x) { return lookupResult(r, x); }, std::cout);
+  } else {
+    const GeometryRunResult r = runGeometryCase(*c.geometry, false, sink);
+    failed = evaluateExpectations(c.expectations(), [&](const Expectation& x) { return lookupResult(r, x); }, std::cout);
+  }
+  failed_total += failed;
+  return failed ? kExitCheckFailed : 0;
+}
+
+// Every case runs; the worst outcome decides the exit code.
+int checkCommand(const std::vector<std::string>& paths) {
+  int worst = 0, failed_total = 0, checked = 0;
+  for (const auto& path : paths) worst = std::max(worst, guarded([&] { return checkCase(path, checked, failed_total); }));
+  if (checked == 0 && worst == 0) {
+    std::cerr << "radnet check: none of the cases has an 'expect:' block: nothing was checked\n";
+    return kExitBadInput;
+  }
+  std::cout << (failed_total == 0 && worst == 0 ? "all checks passed" : "checks FAILED") << " (" << checked
+            << " case(s) checked)\n";
+  return worst;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"radnet: thermal radiation network solver for spacecraft"};
+  app.require_subcommand(1);
+
+  RunOptions run_options;
+  auto* run = app.add_subcommand("run", "run a case: network, eigenpairs, band solves; write HDF5");
+  run->add_option("case", run_options.case_path, "case file (YAML)")->required();
+  run->add_option("-o,--output", run_options.output, "output HDF5 file (default: <case name>.h5 in this directory)");
+  run->add_flag("-q,--quiet", run_options.quiet, "no progress on stderr");
+  run->add_option("--threads", run_options.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+  run->add_option("--seed", run_options.seed, "random seed for ray casting (overrides the case)");
+
+  std::vector<std::string> check_cases;
+  auto* check = app.add_subcommand("check", "run cases with an 'expect:' block; exit 1 on any regression");
+  check->add_option("cases", check_cases, "case files (YAML)")->required();
+
+  std::string validate_case;
+  auto* validate = app.add_subcommand("validate", "parse and validate a case only");
+  validate->add_option("case", validate_case, "case file (YAML)")->required();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return kExitBadInput;
+  }
+  if (*run) return guarded([&] { return runCommand(run_options); });
+  if (*validate)
+    return guarded([&] {
+      const LoadedCase c = loadCase(validate_case);
+      std::cout << validate_case << ": valid (" << c.nodeCount() << " nodes)\n";
+      return 0;
+    });
+  return checkCommand(check_cases);
+}

@@ -1,0 +1,26 @@
+#pragma once
+// A case file of either form: the network given directly (`network:`), or geometry with
+// computed view factors (`geometry:`). Schema in docs/case-files.md.
+#include "cases/config/geometry_case.hpp"
+#include "cases/config/network_case.hpp"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace radnet::cases {
+
+struct LoadedCase {
+  std::optional<NetworkCase> network;
+  std::optional<GeometryCase> geometry;
+  size_t nodeCount() const { return network ? network->names.size() : geometry->node_names.size(); }
+  const std::vector<Expectation>& expectations() const {
+    return network ? network->expectations : geometry->expectations;
+  }
+};
+
+/// Reads, parses and validates the case file at `path`.
+/// @throws InputError with file:line:column
+LoadedCase loadCase(const std::string& path);
+
+}  // namespace radnet::cases

@@ -1,0 +1,16 @@
+#pragma once
+// The `expect:` block of a case (docs/case-files.md).
+#include "cases/config/expectation.hpp"
+#include "cases/config/yaml_document.hpp"
+
+#include <string>
+#include <vector>
+
+namespace radnet::cases {
+
+/// Parses `expect:` (a sequence of {quantity, node, to, index, value, tolerance}) against
+/// the case's node names. @throws InputError with file:line:column
+std::vector<Expectation> parseExpectations(const YamlDocument& doc, const YAML::Node& node,
+                                           const std::vector<std::string>& node_names);
+
+}  // namespace radnet::cases

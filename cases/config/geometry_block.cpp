@@ -1,0 +1,161 @@
+#include "cases/config/expect_block.hpp"
+#include "cases/config/geometry_case.hpp"
+#include "cases/config/primitive_specs.hpp"
+
+#include <filesystem>
+
+namespace radnet::cases {
+namespace {
+
+// What the surfaces of a case share while they are read: the case, and each node's material.
+struct GeometryContext {
+  GeometryCase& c;
+  std::vector<std::string> material_names;
+  std::map<std::string, std::string> node_material;  // node name → material
+};
+
+std::string materialOf(const YamlDocument& doc, const YAML::Node& node, const std::string& what,
+                       const GeometryContext& ctx) {
+  if (!node) return "";
+  const std::string m = doc.string(node, what);
+  if (!ctx.c.materials.count(m)) {
+    std::string msg = what + ": unknown material '" + m + "'";
+    if (auto near = nearestWord(m, ctx.material_names)) msg += " (did you mean '" + *near + "'?)";
+    throw doc.error(node, msg);
+  }
+  return m;
+}
+
+const PrimitiveSpec& primitiveSpec(const YamlDocument& doc, const YAML::Node& key, const std::string& where) {
+  const std::string kind = key.Scalar();
+  if (const PrimitiveSpec* spec = findPrimitive(kind)) return *spec;
+  std::vector<std::string> kinds = {"include"};
+  std::string expected;
+  const auto& specs = primitiveSpecs();
+  for (size_t k = 0; k < specs.size(); ++k) {
+    kinds.emplace_back(specs[k].kind);
+    expected += (k == 0 ? "" : k + 1 == specs.size() ? " or " : ", ") + std::string(specs[k].kind);
+  }
+  std::string msg = where + ": unknown primitive '" + kind + "'";
+  if (auto near = nearestWord(kind, kinds)) msg += " (did you mean '" + *near + "'?)";
+  throw doc.error(key, msg + "; expected " + expected);
+}
+
+// One `- <primitive>: {...}` entry: keys checked against its spec, sides' materials, then
+// its builder adds the surfaces to the scene.
+void parsePrimitive(const YamlDocument& doc, const YAML::Node& entry, const std::string& where, GeometryContext& ctx) {
+  GeometryCase& c = ctx.c;
+  const PrimitiveSpec& spec = primitiveSpec(doc, entry.begin()->first, where);
+  const YAML::Node p = entry.begin()->second;
+  const std::string what = where + "." + std::string(spec.kind);
+  if (!p.IsMap()) throw doc.error(p, what + ": expected a mapping of parameters");
+  std::vector<std::string> allowed = {"name", "front", "back", "subdivisions"};
+  allowed.insert(allowed.end(), spec.keys.begin(), spec.keys.end());
+  doc.expectMap(p, what, allowed);
+  const std::string name = doc.string(doc.required(p, "name", what), what + ".name");
+  const std::string front = materialOf(doc, p["front"], what + ".front", ctx);
+  const std::string back = materialOf(doc, p["back"], what + ".back", ctx);
+  if (front.empty() && back.empty())
+    throw doc.error(p, what + ": neither 'front' nor 'back' names a material; the surface would belong to no node");
+  auto add = [&](const std::string& surface, const std::string& node, const geometry::TriangleSoup& soup,
+                 const std::string& mesh_file) {
+    const std::string label =
+        std::string(spec.kind) + " '" + surface + "'" + (mesh_file.empty() ? "" : " from " + mesh_file);
+    const std::string fn = front.empty() ? "" : node, bn = back.empty() ? "" : node + ".back";
+    for (const auto& [nn, mat] : {std::pair{fn, front}, std::pair{bn, back}}) {
+      if (nn.empty()) continue;
+      auto [it, fresh] = ctx.node_material.emplace(nn, mat);
+      if (!fresh && it->second != mat)
+        throw geometry::GeometryError("node '" + nn + "' would have two materials ('" + it->second + "' and '" + mat +
+                                      "')");
+    }
+    c.scene.addSurface(surface, label, soup, fn, bn);
+  };
+  try {
+    const auto subdivisions = parseCounts(doc, p["subdivisions"], what + ".subdivisions", spec.default_subdivisions);
+    const PrimitiveInput input{doc,
+                               p,
+                               what,
+                               name,
+                               subdivisions,
+                               (front.empty() ? 0 : 1) + (back.empty() ? 0 : 1),
+                               c.scene.nodes().size(),
+                               std::filesystem::path(doc.file()).parent_path(),
+                               add};
+    spec.build(input);
+  } catch (const geometry::GeometryError& e) {
+    throw doc.error(entry, what + ": " + e.what());
+  }
+}
+
+void parseGeometryList(const YamlDocument& doc, const YAML::Node& geom, const std::string& list_what,
+                       GeometryContext& ctx, int depth) {
+  doc.expectSequence(geom, list_what);
+  if (geom.size() == 0) throw doc.error(geom, list_what + ": the list is empty; expected at least one surface");
+  for (size_t k = 0; k < geom.size(); ++k) {
+    const YAML::Node entry = geom[k];
+    const std::string where = list_what + "[" + std::to_string(k) + "]";
+    if (!entry.IsMap() || entry.size() != 1)
+      throw doc.error(entry, where + ": expected one primitive, e.g. '- rectangle: {...}'");
+    if (entry.begin()->first.Scalar() == "include") {  // surfaces in another file, read with its own positions
+      const YamlDocument inc = includeDocument(doc, entry.begin()->second, where + ".include", depth, ctx.c.included);
+      parseGeometryList(inc, inc.root(), inc.file(), ctx, depth + 1);
+      continue;
+    }
+    parsePrimitive(doc, entry, where, ctx);
+  }
+}
+
+// The scene's nodes get their names and their material's optical properties.
+void assignNodeMaterials(GeometryCase& c, const std::map<std::string, std::string>& node_material) {
+  const int n = static_cast<int>(c.scene.nodes().size());
+  c.emissivity.resize(n);
+  c.absorptivity.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const std::string& node = c.scene.nodes()[static_cast<size_t>(i)].name;
+    const std::string& mat = node_material.at(node);
+    c.node_names.push_back(node);
+    c.node_material.push_back(mat);
+    c.emissivity[i] = c.materials.at(mat).emissivity;
+    c.absorptivity[i] = c.materials.at(mat).absorptivity;
+  }
+}
+
+}  // namespace
+
+bool isGeometryCase(const YamlDocument& doc) { return doc.root().IsMap() && doc.root()["geometry"].IsDefined(); }
+
+GeometryCase loadGeometryCase(const YamlDocument& doc) {
+  const YAML::Node& root = doc.root();
+  doc.expectMap(root, "case",
+                {"name", "description", "materials", "geometry", "solver", "expect", "orbit", "attitude",
+                 "environment", "thermal"});
+  GeometryCase c;
+  c.file = doc.file();
+  c.yaml_text = doc.text();
+  c.name = doc.string(doc.required(root, "name", "case"), "name");
+
+  parseMaterials(doc, doc.required(root, "materials", "case"), c.materials, c.included, 0);
+  if (c.materials.empty()) throw doc.error(root["materials"], "materials: expected at least one material");
+  GeometryContext ctx{c, {}, {}};
+  for (const auto& [k, v] : c.materials) ctx.material_names.push_back(k);
+
+  const YAML::Node geom = doc.required(root, "geometry", "case");
+  parseGeometryList(doc, geom, "geometry", ctx, 0);
+  checkNodeMemory(doc, geom, "geometry", static_cast<double>(c.scene.nodes().size()));
+  try {
+    c.scene.validate();
+  } catch (const geometry::GeometryError& e) {
+    throw doc.error(geom, std::string("geometry: ") + e.what());
+  }
+  assignNodeMaterials(c, ctx.node_material);
+
+  c.solver = parseSolverSettings(doc, root["solver"]);
+  if (root["solver"]) c.view_factors = parseViewFactorSettings(doc, root["solver"]["view_factors"]);
+  c.orbit = parseOrbitSettings(doc);
+  c.thermal = parseThermalSettings(doc, c.node_names, c.orbit.has_value());
+  if (root["expect"]) c.expectations = parseExpectations(doc, root["expect"], c.node_names);
+  return c;
+}
+
+}  // namespace radnet::cases

@@ -1,0 +1,42 @@
+#include "cases/config/geometry_case.hpp"
+
+#include <filesystem>
+
+namespace radnet::cases {
+
+YamlDocument includeDocument(const YamlDocument& doc, const YAML::Node& node, const std::string& what, int depth,
+                             IncludedFiles& included) {
+  if (depth >= 8) throw doc.error(node, what + ": includes nested more than 8 deep (a cycle?)");
+  std::filesystem::path path = doc.string(node, what);
+  if (path.is_relative()) path = std::filesystem::path(doc.file()).parent_path() / path;
+  if (!std::filesystem::exists(path)) throw doc.error(node, what + ": file '" + path.string() + "' not found");
+  YamlDocument inc = YamlDocument::load(path.string());
+  included.emplace_back(path.string(), inc.text());
+  return inc;
+}
+
+void parseMaterials(const YamlDocument& doc, const YAML::Node& mats, std::map<std::string, Material>& materials,
+                    IncludedFiles& included, int depth) {
+  if (!mats.IsMap()) throw doc.error(mats, "materials: expected a mapping of material names");
+  for (const auto& kv : mats) {
+    const std::string mname = doc.string(kv.first, "material name");
+    if (mname == "include") {  // a file (or list of files) of material definitions
+      const YAML::Node files = kv.second;
+      for (size_t k = 0; k < (files.IsSequence() ? files.size() : 1); ++k) {
+        const YamlDocument inc =
+            includeDocument(doc, files.IsSequence() ? files[k] : files, "materials.include", depth, included);
+        parseMaterials(inc, inc.root(), materials, included, depth + 1);
+      }
+      continue;
+    }
+    const std::string what = "materials." + mname;
+    doc.expectMap(kv.second, what, {"emissivity", "absorptivity"});
+    Material m;
+    m.emissivity = doc.number(doc.required(kv.second, "emissivity", what), what + ".emissivity", 0.0, 1.0);
+    m.absorptivity = doc.number(doc.required(kv.second, "absorptivity", what), what + ".absorptivity", 0.0, 1.0);
+    if (materials.count(mname)) throw doc.error(kv.first, what + ": defined twice");
+    materials[mname] = m;
+  }
+}
+
+}  // namespace radnet::cases

@@ -1,0 +1,164 @@
+#include "cases/config/orbit_settings.hpp"
+
+#include "solver/units.hpp"
+
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <sstream>
+
+namespace radnet::cases {
+namespace {
+
+constexpr double kBig = std::numeric_limits<double>::max();
+constexpr double kPositive = std::numeric_limits<double>::min();  // "> 0" in messages
+constexpr const char* kDefaultEpoch = "2026-03-20T00:00:00Z";
+
+// Reads the optional numbers of the `orbit:` mapping with their unit in messages.
+struct OrbitKeys {
+  const YamlDocument& doc;
+  const YAML::Node& o;
+  double num(const char* key, const std::string& what, double lo, double hi, double fallback) const {
+    return o[key] ? doc.number(o[key], "orbit." + std::string(key) + " " + what, lo, hi) : fallback;
+  }
+  double angleRad(const char* key) const { return units::degToRad(num(key, "(deg)", -kBig, kBig, 0)); }
+};
+
+// `epoch` and `beta` may be lists: one orbit per combination (seasons × betas).
+std::vector<YAML::Node> listOf(const YamlDocument& doc, const YAML::Node& o, const char* key) {
+  std::vector<YAML::Node> items;
+  const YAML::Node v = o[key];
+  if (!v) return items;
+  if (v.IsSequence()) {
+    if (v.size() == 0) throw doc.error(v, std::string("orbit.") + key + ": the list is empty");
+    for (size_t k = 0; k < v.size(); ++k) items.push_back(v[k]);
+  } else {
+    items.push_back(v);
+  }
+  return items;
+}
+
+std::vector<std::pair<double, std::string>> epochs(const YamlDocument& doc, const YAML::Node& o) {
+  std::vector<std::pair<double, std::string>> out;  // (Julian date, as written)
+  for (const YAML::Node& e : listOf(doc, o, "epoch")) {
+    const std::string text = doc.string(e, "orbit.epoch");
+    try {
+      out.emplace_back(orbits::julianDateFromIso(text), text);
+    } catch (const std::invalid_argument& err) {
+      throw doc.error(e, std::string("orbit.epoch: ") + err.what());
+    }
+  }
+  if (out.empty()) out.emplace_back(orbits::julianDateFromIso(kDefaultEpoch), kDefaultEpoch);
+  return out;
+}
+
+orbits::KeplerElements keplerElements(const OrbitKeys& k) {
+  if (!k.o["semi_major_axis"])
+    return orbits::perigeeApogeeElements(
+        k.num("perigee_altitude", "(m)", kPositive, kBig, 0), k.num("apogee_altitude", "(m)", kPositive, kBig, 0),
+        k.num("inclination", "(deg)", -kBig, kBig, 0), k.num("raan", "(deg)", -kBig, kBig, 0),
+        k.num("arg_perigee", "(deg)", -kBig, kBig, 0), k.num("true_anomaly", "(deg)", -kBig, kBig, 0));
+  orbits::KeplerElements el;
+  el.semi_major_axis_m = k.num("semi_major_axis", "(m)", kPositive, kBig, 0);
+  el.eccentricity = k.num("eccentricity", "", 0, kBig, 0);
+  el.inclination_rad = k.angleRad("inclination");
+  el.raan_rad = k.angleRad("raan");
+  el.arg_perigee_rad = k.angleRad("arg_perigee");
+  el.true_anomaly_rad = k.angleRad("true_anomaly");
+  return el;
+}
+
+// A circular orbit by altitude: by beta, sun-synchronous by LTAN, or by inclination.
+orbits::KeplerElements circularElements(const OrbitKeys& k, std::optional<double> beta, double epoch,
+                                        std::string& description) {
+  const YamlDocument& doc = k.doc;
+  const YAML::Node& o = k.o;
+  const double h = k.num("altitude", "(m)", kPositive, kBig, 0);
+  if (beta) {
+    description = "circular, by beta";
+    return orbits::betaElements(h, *beta, epoch);
+  }
+  if (o["ltan"] || o["sun_synchronous"]) {
+    if (o["sun_synchronous"] && !doc.boolean(o["sun_synchronous"], "orbit.sun_synchronous"))
+      throw doc.error(o["sun_synchronous"], "orbit.sun_synchronous: false makes no orbit; remove it or give 'inclination'");
+    if (o["inclination"])
+      throw doc.error(o["inclination"],
+                      "orbit.inclination: a sun-synchronous orbit's inclination follows from J2; remove it");
+    const double ltan = k.num("ltan", "(hours)", 0, 24, 12.0);
+    std::ostringstream d;
+    d << "sun-synchronous, LTAN " << ltan << " h";
+    description = d.str();
+    return orbits::circularElements(h, orbits::sunSynchronousInclinationDeg(h), orbits::raanForLocalTimeDeg(ltan, epoch));
+  }
+  description = "circular";
+  return orbits::circularElements(h, k.num("inclination", "(deg)", 0, 180, 0), k.num("raan", "(deg)", -kBig, kBig, 0),
+                                  k.num("true_anomaly", "(deg)", -kBig, kBig, 0));
+}
+
+void parseSweepOptions(const YamlDocument& doc, const YAML::Node& o, orbits::SweepOptions& sweep) {
+  if (o["positions"])
+    sweep.positions_per_orbit = static_cast<int>(doc.integer(o["positions"], "orbit.positions", 1, 100000));
+  if (o["orbits"]) sweep.orbits = doc.number(o["orbits"], "orbit.orbits", 1e-3, 10000);
+  if (o["spacing"])
+    sweep.spacing = doc.choice(o["spacing"], "orbit.spacing", {"time", "true_anomaly"}) == "time"
+                        ? orbits::SweepOptions::Spacing::Time
+                        : orbits::SweepOptions::Spacing::TrueAnomaly;
+  if (o["eclipse_events"]) sweep.insert_eclipse_events = doc.boolean(o["eclipse_events"], "orbit.eclipse_events");
+}
+
+}  // namespace
+
+std::optional<OrbitSettings> parseOrbitSettings(const YamlDocument& doc) {
+  const YAML::Node& root = doc.root();
+  if (!root["orbit"]) {
+    for (const char* k : {"attitude", "environment"})
+      if (root[k]) throw doc.error(root[k], std::string("'") + k + "' needs an 'orbit:'");
+    return std::nullopt;
+  }
+  const YAML::Node o = root["orbit"];
+  doc.expectMap(o, "orbit",
+                {"altitude", "beta", "inclination", "raan", "ltan", "sun_synchronous", "semi_major_axis", "eccentricity",
+                 "perigee_altitude", "apogee_altitude", "arg_perigee", "true_anomaly", "epoch", "positions", "orbits",
+                 "eclipse_events", "spacing"});
+  OrbitSettings s;
+  const OrbitKeys keys{doc, o};
+  const auto epoch_list = epochs(doc, o);
+  std::vector<std::optional<double>> betas;
+  for (const YAML::Node& b : listOf(doc, o, "beta")) betas.push_back(doc.number(b, "orbit.beta (deg)", -90, 90));
+  if (betas.empty()) betas.push_back(std::nullopt);
+
+  const bool kepler = o["semi_major_axis"] || o["perigee_altitude"];
+  const int forms = (o["beta"] ? 1 : 0) + (o["ltan"] || o["sun_synchronous"] ? 1 : 0) + (kepler ? 1 : 0);
+  if (forms > 1)
+    throw doc.error(o, "orbit: give one form: 'beta', or 'ltan'/'sun_synchronous', or Keplerian elements "
+                       "('semi_major_axis'/'perigee_altitude'), or 'altitude' with 'inclination' and 'raan'");
+  if (!kepler && !o["altitude"]) throw doc.error(o, "orbit: missing 'altitude' (m)");
+  for (const auto& [epoch, epoch_text] : epoch_list) {
+    for (const auto& beta : betas) {
+      try {
+        orbits::KeplerElements el;
+        if (kepler) {
+          el = keplerElements(keys);
+          s.description = "Keplerian elements";
+        } else {
+          el = circularElements(keys, beta, epoch, s.description);
+        }
+        OrbitCase oc;
+        oc.orbit = std::make_unique<orbits::Orbit>(el, epoch);
+        std::ostringstream label;
+        label << "epoch " << epoch_text;
+        if (beta) label << ", beta " << *beta << " deg";
+        oc.label = label.str();
+        s.cases.push_back(std::move(oc));
+      } catch (const orbits::OrbitError& e) {
+        throw doc.error(o, std::string("orbit: ") + e.what());
+      }
+    }
+  }
+  parseSweepOptions(doc, o, s.sweep);
+  s.attitude = parseAttitude(doc, root["attitude"]);
+  parseEnvironment(doc, root["environment"], s.sweep, s.environment);
+  return s;
+}
+
+}  // namespace radnet::cases

@@ -1,0 +1,57 @@
+#pragma once
+// One spec per geometry primitive (docs/case-files.md, "Geometry"): its keys, its default
+// subdivisions and the builder that turns its parameters into surfaces. The geometry
+// block looks a primitive up here; adding a primitive is adding one row to the table
+// (docs/design.md, "Where to add things").
+#include "cases/config/yaml_document.hpp"
+#include "geometry/primitives.hpp"
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace radnet::cases {
+
+/// What a primitive's builder sees: its parameters, and how to add a surface.
+struct PrimitiveInput {
+  const YamlDocument& doc;
+  const YAML::Node& params;      ///< the primitive's mapping
+  const std::string& what;       ///< e.g. "geometry[3].rectangle", for messages
+  const std::string& name;       ///< the primitive's `name`
+  std::pair<int, int> subdivisions;
+  int active_sides = 1;          ///< sides that name a material (node grids count nodes per side)
+  size_t existing_nodes = 0;     ///< thermal nodes before this primitive (memory check)
+  std::filesystem::path folder;  ///< folder of the file that names the primitive (mesh paths)
+  /// Adds the triangles `soup` as surface `surface` to node `node` (and `node`.back);
+  /// `mesh_file` names the file they came from, for messages.
+  std::function<void(const std::string& surface, const std::string& node, const geometry::TriangleSoup& soup,
+                     const std::string& mesh_file)>
+      add;
+};
+
+struct PrimitiveSpec {
+  std::string_view kind;           ///< the case-file key, e.g. "rectangle"
+  std::vector<std::string> keys;   ///< its own keys, besides name, front, back and subdivisions
+  std::pair<int, int> default_subdivisions;
+  void (*build)(const PrimitiveInput& input);
+};
+
+/// Every primitive, in the order the documentation lists them.
+const std::vector<PrimitiveSpec>& primitiveSpecs();
+
+/// The spec of `kind`, or nullptr.
+const PrimitiveSpec* findPrimitive(std::string_view kind);
+
+/// `subdivisions` or `nodes`: [a, b] or a single count for both (each in [1, 10000]);
+/// `fallback` when absent.
+std::pair<int, int> parseCounts(const YamlDocument& doc, const YAML::Node& node, const std::string& what,
+                                std::pair<int, int> fallback);
+
+/// Refuses a network of `nodes` thermal nodes whose dense n × n matrices (raw and
+/// corrected F, their errors, G, GR and its LU: about 48 n² bytes) cannot fit in this
+/// machine's memory, before anything is built. @throws InputError at `where`
+void checkNodeMemory(const YamlDocument& doc, const YAML::Node& where, const std::string& what, double nodes);
+
+}  // namespace radnet::cases

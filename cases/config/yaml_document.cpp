@@ -1,0 +1,187 @@
+#include "cases/config/yaml_document.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+namespace radnet::cases {
+namespace {
+
+size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+const char* kindName(const YAML::Node& node) {
+  switch (node.Type()) {
+    case YAML::NodeType::Null: return "nothing (null)";
+    case YAML::NodeType::Scalar: return "a scalar";
+    case YAML::NodeType::Sequence: return "a sequence";
+    case YAML::NodeType::Map: return "a mapping";
+    default: return "nothing";
+  }
+}
+
+}  // namespace
+
+std::optional<std::string> nearestWord(const std::string& word, const std::vector<std::string>& allowed) {
+  std::optional<std::string> best;
+  size_t best_d = std::max<size_t>(2, word.size() / 3) + 1;  // only plausible typos
+  for (const auto& candidate : allowed) {
+    const size_t d = editDistance(word, candidate);
+    if (d < best_d) {
+      best_d = d;
+      best = candidate;
+    }
+  }
+  return best;
+}
+
+std::optional<std::string> nearestWord(const std::string& word, std::initializer_list<const char*> allowed) {
+  return nearestWord(word, std::vector<std::string>(allowed.begin(), allowed.end()));
+}
+
+YamlDocument YamlDocument::load(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, 0, "cannot open the file for reading");
+  std::ostringstream buf;
+  buf << in.rdbuf();
+  return parse(buf.str(), path);
+}
+
+YamlDocument YamlDocument::parse(const std::string& text, const std::string& label) {
+  try {
+    YAML::Node root = YAML::Load(text);
+    return YamlDocument(root, label, text);
+  } catch (const YAML::ParserException& e) {
+    throw InputError(label, e.mark.line + 1, e.mark.column + 1, "YAML syntax error: " + e.msg);
+  } catch (const YAML::Exception& e) {
+    throw InputError(label, e.mark.line + 1, e.mark.column + 1, std::string("YAML error: ") + e.msg);
+  }
+}
+
+InputError YamlDocument::error(const YAML::Node& node, const std::string& message) const {
+  const YAML::Mark mark = node.IsDefined() ? node.Mark() : YAML::Mark::null_mark();
+  const int line = mark.line >= 0 ? mark.line + 1 : 0;
+  const int column = mark.column >= 0 ? mark.column + 1 : 0;
+  return InputError(file_, line, column, message);
+}
+
+void YamlDocument::expectMap(const YAML::Node& node, const std::string& what,
+                             std::initializer_list<const char*> allowed) const {
+  expectMap(node, what, std::vector<std::string>(allowed.begin(), allowed.end()));
+}
+
+void YamlDocument::expectMap(const YAML::Node& node, const std::string& what,
+                             const std::vector<std::string>& allowed) const {
+  if (!node.IsMap()) throw error(node, what + ": expected a mapping of keys, found " + kindName(node));
+  for (const auto& kv : node) {
+    if (!kv.first.IsScalar()) throw error(kv.first, what + ": keys must be plain words");
+    const std::string key = kv.first.Scalar();
+    if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
+      std::string msg = what + ": unknown key '" + key + "'";
+      if (auto near = nearestWord(key, allowed)) msg += " (did you mean '" + *near + "'?)";
+      msg += "; expected one of:";
+      for (const auto& a : allowed) msg += " " + a;
+      throw error(kv.first, msg);
+    }
+  }
+}
+
+void YamlDocument::expectSequence(const YAML::Node& node, const std::string& what) const {
+  if (!node.IsSequence()) throw error(node, what + ": expected a sequence, found " + kindName(node));
+}
+
+YAML::Node YamlDocument::required(const YAML::Node& map, const std::string& key, const std::string& what) const {
+  YAML::Node child = map[key];
+  if (!child.IsDefined() || child.IsNull()) throw error(map, what + ": missing required key '" + key + "'");
+  return child;
+}
+
+double YamlDocument::number(const YAML::Node& node, const std::string& what, double lo, double hi) const {
+  double value = 0.0;
+  if (!node.IsScalar() || !YAML::convert<double>::decode(node, value))
+    throw error(node, what + ": expected a number, found " +
+                          (node.IsScalar() ? "'" + node.Scalar() + "'" : std::string(kindName(node))));
+  if (!std::isfinite(value)) throw error(node, what + ": expected a finite number, found '" + node.Scalar() + "'");
+  if (value < lo || value > hi) {
+    std::ostringstream s;
+    s << what << ": " << value << " is out of range; expected ";
+    // Bounds at the ends of double's range read as open-ended ranges, not as 1.8e308.
+    const double big = std::numeric_limits<double>::max();
+    if (lo == std::numeric_limits<double>::min() && hi == big) s << "a value > 0";
+    else if (hi == big) s << "a value >= " << lo;
+    else if (lo == -big) s << "a value <= " << hi;
+    else s << "a value in [" << lo << ", " << hi << "]";
+    throw error(node, s.str());
+  }
+  return value;
+}
+
+long long YamlDocument::integer(const YAML::Node& node, const std::string& what, long long lo, long long hi) const {
+  long long value = 0;
+  if (!node.IsScalar() || !YAML::convert<long long>::decode(node, value))
+    throw error(node, what + ": expected a whole number, found " +
+                          (node.IsScalar() ? "'" + node.Scalar() + "'" : std::string(kindName(node))));
+  if (value < lo || value > hi)
+    throw error(node, what + ": " + std::to_string(value) + " is out of range; expected a whole number in [" +
+                          std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return value;
+}
+
+std::string YamlDocument::string(const YAML::Node& node, const std::string& what) const {
+  if (!node.IsScalar() || node.Scalar().empty())
+    throw error(node, what + ": expected a non-empty text, found " + kindName(node));
+  return node.Scalar();
+}
+
+bool YamlDocument::boolean(const YAML::Node& node, const std::string& what) const {
+  bool value = false;
+  if (!node.IsScalar() || !YAML::convert<bool>::decode(node, value))
+    throw error(node, what + ": expected true or false");
+  return value;
+}
+
+Eigen::Vector3d YamlDocument::vector3(const YAML::Node& node, const std::string& what, bool nonzero) const {
+  constexpr double kBig = std::numeric_limits<double>::max();
+  if (!node.IsSequence() || node.size() != 3) throw error(node, what + ": expected [x, y, z]");
+  const Eigen::Vector3d v(number(node[0], what + "[0]", -kBig, kBig), number(node[1], what + "[1]", -kBig, kBig),
+                          number(node[2], what + "[2]", -kBig, kBig));
+  if (nonzero && !(v.norm() > 0)) throw error(node, what + ": expected a non-zero vector");
+  return v;
+}
+
+int YamlDocument::nodeIndex(const YAML::Node& node, const std::string& what,
+                            const std::vector<std::string>& names) const {
+  const std::string name = string(node, what);
+  const auto it = std::find(names.begin(), names.end(), name);
+  if (it == names.end()) {
+    std::string msg = what + ": no node named '" + name + "'";
+    if (auto near = nearestWord(name, names)) msg += " (did you mean '" + *near + "'?)";
+    throw error(node, msg);
+  }
+  return static_cast<int>(it - names.begin());
+}
+
+std::string YamlDocument::choice(const YAML::Node& node, const std::string& what,
+                                 const std::vector<std::string>& choices) const {
+  const std::string word = string(node, what);
+  if (std::find(choices.begin(), choices.end(), word) != choices.end()) return word;
+  std::string msg = what + ": '" + word + "'";
+  if (auto near = nearestWord(word, choices)) msg += " (did you mean '" + *near + "'?)";
+  msg += "; expected ";
+  for (size_t k = 0; k < choices.size(); ++k)
+    msg += (k == 0 ? "" : k + 1 == choices.size() ? " or " : ", ") + choices[k];
+  throw error(node, msg);
+}
+
+}  // namespace radnet::cases

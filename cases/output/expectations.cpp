@@ -1,0 +1,77 @@
+#include "cases/output/expectations.hpp"
+
+#include <cmath>
+#include <iomanip>
+#include <ostream>
+
+namespace radnet::cases {
+namespace {
+
+using Q = ExpectQuantity;
+
+// Quantities both case forms have: view factors, exchange factors, eigenvalues, temperatures.
+std::optional<double> lookupShared(const RadiativeNetwork& radiative, const std::optional<solver::ThermalResult>& thermal,
+                                   const Expectation& x) {
+  const solver::Network& net = *radiative.network;
+  const int i = x.node.empty() ? -1 : net.indexOf(x.node);
+  const int j = x.to.empty() ? -1 : net.indexOf(x.to);
+  switch (x.quantity) {
+    case Q::ViewFactor: return net.conductance(i, j) / net.area()[i];
+    case Q::SpaceViewFactor: return net.spaceViewFactor()[i];
+    case Q::Eigenvalue:
+      if (x.index >= radiative.pairs.rank()) return std::nullopt;
+      return radiative.pairs.values[x.index];
+    case Q::RadiativeExchange:
+      if (!radiative.exchange) return std::nullopt;
+      return radiative.exchange->gr(i, j);
+    case Q::GrSpace:
+      if (!radiative.exchange) return std::nullopt;
+      return radiative.exchange->gr_space[i];
+    case Q::Temperature: {
+      const int p = std::max(0, x.index);
+      if (!thermal || p >= thermal->temperature.cols()) return std::nullopt;
+      return thermal->temperature(i, p);
+    }
+    default: return std::nullopt;
+  }
+}
+
+}  // namespace
+
+std::optional<double> lookupResult(const NetworkRunResult& r, const Expectation& x) {
+  const int i = x.node.empty() ? -1 : r.radiative.network->indexOf(x.node);
+  if (x.quantity == Q::Exitance) return r.solution.exitance(i, 0);
+  if (x.quantity == Q::Irradiance) return r.solution.irradiance(i, 0);
+  return lookupShared(r.radiative, r.thermal, x);
+}
+
+std::optional<double> lookupResult(const GeometryRunResult& r, const Expectation& x) {
+  const int i = x.node.empty() ? -1 : r.radiative.network->indexOf(x.node);
+  if (x.quantity == Q::OrbitMeanAbsorbed)
+    return r.sweep ? std::optional<double>(r.sweep->absorbed_total.row(i).mean()) : std::nullopt;
+  if (x.quantity == Q::OrbitMaxAbsorbedSolar)
+    return r.sweep ? std::optional<double>(r.sweep->absorbed_solar.row(i).maxCoeff()) : std::nullopt;
+  return lookupShared(r.radiative, r.thermal, x);
+}
+
+int evaluateExpectations(const std::vector<Expectation>& expectations, const ResultLookup& lookup,
+                         std::ostream& out) {
+  int failed = 0;
+  for (const auto& x : expectations) {
+    const std::optional<double> got = lookup(x);
+    std::string label(toString(x.quantity));
+    if (!x.node.empty()) label += " " + x.node;
+    if (!x.to.empty()) label += " -> " + x.to;
+    if (x.index >= 0) label += " #" + std::to_string(x.index);
+    const bool ok = got && std::isfinite(*got) && std::abs(*got - x.value) <= x.tolerance;
+    if (!ok) ++failed;
+    out << (ok ? "PASS " : "FAIL ") << std::left << std::setw(40) << label << " expected " << std::setprecision(10)
+        << x.value << " ± " << x.tolerance << ", got ";
+    if (got) out << *got << " (error " << std::abs(*got - x.value) << ")";
+    else out << "nothing (the run has no such result)";
+    out << "  [" << x.where << "]\n";
+  }
+  return failed;
+}
+
+}  // namespace radnet::cases

@@ -1,0 +1,137 @@
+#include "cases/output/hdf5_layout.hpp"
+
+#include "solver/units.hpp"
+
+#include <ctime>
+
+namespace radnet::cases {
+
+void writeMeta(Hdf5Writer& h5, const std::string& case_name, const std::string& case_yaml,
+               const IncludedFiles& included) {
+  const std::time_t t = std::time(nullptr);
+  char created[32];
+  std::strftime(created, sizeof created, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  h5.attribute("/meta", "program", std::string("radnet"));
+  h5.attribute("/meta", "version", std::string(RADNET_VERSION));
+  h5.attribute("/meta", "case_name", case_name);
+  h5.attribute("/meta", "created_utc", std::string(created));
+  h5.writeText("/meta/case_yaml", case_yaml);
+  for (size_t k = 0; k < included.size(); ++k) {  // the included files, so a result carries all its input
+    const std::string path = "/meta/included/" + std::to_string(k);
+    h5.writeText(path, included[k].second);
+    h5.attribute(path, "file", included[k].first);
+  }
+}
+
+void writeRadiativeNetwork(Hdf5Writer& h5, const RadiativeNetwork& radiative) {
+  const solver::Network& net = *radiative.network;
+  h5.writeStrings("/nodes/name", net.names());
+  h5.writeVector("/nodes/area", net.area(), "m^2");
+  h5.writeMatrix("/network/view_factors", net.viewFactors(), "1");
+  h5.writeVector("/network/space_view_factor", net.spaceViewFactor(), "1");
+  h5.writeMatrix("/network/conductance", net.denseConductance(), "m^2");
+  h5.attribute("/network", "reciprocity_max_view_factor_change", net.reciprocity().max_view_factor_change);
+  h5.attribute("/network", "closure_max_row_overshoot", net.reciprocity().max_row_overshoot);
+  if (const auto& ex = radiative.exchange) {
+    h5.writeMatrix("/network/radiative_exchange", ex->gr, "m^2");
+    h5.writeVector("/network/gr_space", ex->gr_space, "m^2");
+    h5.attribute("/network/radiative_exchange", "method", ex->method);
+  }
+  const solver::EigenPairs& pairs = radiative.pairs;
+  h5.writeVector("/eigen/values", pairs.values, "m^2");
+  h5.writeMatrix("/eigen/vectors", pairs.vectors, "1");
+  h5.attribute("/eigen", "rank", static_cast<long long>(pairs.rank()));
+  h5.attribute("/eigen", "tolerance", pairs.tolerance);
+  h5.attribute("/eigen", "method", std::string(solver::toString(pairs.method)));
+  h5.attribute("/eigen", "largest_dropped_eigenvalue_bound", pairs.dropped_bound);
+}
+
+void writeGeometry(Hdf5Writer& h5, const geometry::Scene& scene, const Eigen::VectorXi& triangle_node) {
+  h5.writeMatrix("/geometry/vertices", scene.vertexMatrix(), "m");
+  h5.writeIntegers("/geometry/triangles", scene.triangleMatrix(), "1");
+  // triangle_node: the node a triangle belongs to (its front side's, or its back side's
+  // when only the back is active); the per-side maps keep −1 for an inactive side.
+  h5.writeIntegers("/geometry/triangle_node", triangle_node, "1");
+  h5.writeIntegers("/geometry/triangle_front_node", scene.frontNodes(), "1");
+  h5.writeIntegers("/geometry/triangle_back_node", scene.backNodes(), "1");
+}
+
+void writeViewFactorEstimate(Hdf5Writer& h5, const GeometryRunResult& r, ViewFactorMethod method) {
+  h5.writeMatrix("/network/view_factor_stderr", r.view_factor_stderr, "1");
+  h5.writeMatrix("/network/view_factors_raw", r.raw_view_factors, "1");
+  h5.writeVector("/network/blocked_view_factor", r.radiative.network->blockedFraction(), "1");
+  h5.attribute("/network", "correction_max_change", r.correction.max_change);
+  h5.attribute("/network", "correction_max_change_sigma", r.correction.max_change_sigma);
+  h5.attribute("/network", "method", std::string(toString(method)));
+  h5.attribute("/network", "rays_total", static_cast<long long>(r.total_rays));
+  h5.attribute("/report", "view_factor_error", r.view_factor_stderr.size() ? r.view_factor_stderr.maxCoeff() : 0.0);
+  h5.attribute("/report", "rays_per_second", r.rays_per_second);
+}
+
+namespace {
+
+// /orbit: the positions of every orbit case, one after another.
+void writeOrbit(Hdf5Writer& h5, const SweepResult& sw) {
+  const int P = static_cast<int>(sw.positions.size());
+  Eigen::VectorXd time(P), sunlit(P), beta(P), flux(P), event(P);
+  Eigen::MatrixXd sun(P, 3), earth(P, 3);
+  for (int p = 0; p < P; ++p) {
+    const auto& q = sw.positions[static_cast<size_t>(p)];
+    time[p] = q.t_s;
+    sunlit[p] = q.sunlit_fraction;
+    beta[p] = units::radToDeg(q.beta_rad);
+    flux[p] = q.solar_flux_w_m2;
+    event[p] = q.event ? 1.0 : 0.0;
+    sun.row(p) = q.sun_body.transpose();
+    earth.row(p) = q.earth_body.transpose();
+  }
+  h5.writeVector("/orbit/time", time, "s");
+  h5.writeMatrix("/orbit/sun_body", sun, "1");
+  h5.writeMatrix("/orbit/earth_body", earth, "1");
+  h5.writeVector("/orbit/sunlit_fraction", sunlit, "1");
+  h5.writeVector("/orbit/beta", beta, "deg");
+  h5.writeVector("/orbit/solar_flux", flux, "W/m^2");
+  h5.writeVector("/orbit/eclipse_event", event, "1");
+  Eigen::VectorXi case_of(P);
+  for (int k = 0; k < sw.caseCount(); ++k)
+    case_of.segment(sw.case_start[static_cast<size_t>(k)],
+                    sw.case_start[static_cast<size_t>(k) + 1] - sw.case_start[static_cast<size_t>(k)])
+        .setConstant(k);
+  h5.writeIntegers("/orbit/case", case_of, "1");
+  h5.writeStrings("/orbit/case_label", sw.case_labels);
+}
+
+}  // namespace
+
+void writeSweep(Hdf5Writer& h5, const SweepResult& sw) {
+  writeOrbit(h5, sw);
+  // Positions × nodes (P, n), as docs/hdf5-layout.md lays them out.
+  h5.writeMatrix("/loads/solar", sw.absorbed_solar.transpose(), "W");
+  h5.writeMatrix("/loads/albedo", sw.absorbed_albedo.transpose(), "W");
+  h5.writeMatrix("/loads/earth_ir", sw.absorbed_earth_ir.transpose(), "W");
+  h5.writeMatrix("/loads/earth_view_factor", sw.irradiance.earth_view_factor.transpose(), "1");
+  h5.writeMatrix("/loads/incident_solar", sw.irradiance.direct.transpose(), "W/m^2");
+  h5.writeMatrix("/loads/incident_albedo", sw.irradiance.albedo.transpose(), "W/m^2");
+  h5.writeMatrix("/loads/incident_earth_ir", sw.irradiance.earth_ir.transpose(), "W/m^2");
+  h5.writeMatrix("/solution/exitance_solar", sw.exitance_solar.transpose(), "W/m^2");
+  h5.attribute("/report", "solar_band_residual", sw.solar_residual);
+  h5.attribute("/report", "truncation_residual", std::max(sw.solar_residual, sw.ir_residual));
+  h5.attribute("/report", "ir_band_residual", sw.ir_residual);
+  h5.attribute("/report", "solar_energy_balance_error", sw.energy_balance_error);
+  h5.attribute("/report", "planet_ray_casts", static_cast<long long>(sw.irradiance.planet_casts));
+}
+
+void writeTemperatures(Hdf5Writer& h5, const solver::ThermalResult& thermal, const ThermalSettings& settings) {
+  h5.writeMatrix("/solution/temperature", thermal.temperature.transpose(), "K");
+  h5.attribute("/solution/temperature", "mode", std::string(settings.transient_orbits ? "transient" : "steady"));
+  h5.attribute("/report", "thermal_max_residual_w", thermal.max_residual_w);
+  h5.writeVector("/nodes/capacitance", settings.capacitance, "J/K");
+  h5.writeVector("/nodes/dissipation", settings.dissipation, "W");
+}
+
+void writeTimings(Hdf5Writer& h5, const StageTimings& timings) {
+  for (const auto& [stage, seconds] : timings.entries())
+    h5.attribute("/report", "time_" + std::string(stageName(stage)) + "_s", seconds);
+}
+
+}  // namespace radnet::cases

@@ -1,0 +1,29 @@
+#pragma once
+// One writer per HDF5 group of docs/hdf5-layout.md, shared by both case forms.
+#include "cases/config/geometry_case.hpp"
+#include "cases/config/thermal_settings.hpp"
+#include "cases/output/hdf5_writer.hpp"
+#include "cases/pipeline/results.hpp"
+
+#include <string>
+
+namespace radnet::cases {
+
+/// /meta: program, version, case name, creation time, the case file and its includes.
+void writeMeta(Hdf5Writer& h5, const std::string& case_name, const std::string& case_yaml,
+               const IncludedFiles& included = {});
+/// /nodes/{name, area}, /network/{view_factors, space_view_factor, conductance},
+/// /network/{radiative_exchange, gr_space} when known, /eigen/{values, vectors}.
+void writeRadiativeNetwork(Hdf5Writer& h5, const RadiativeNetwork& radiative);
+/// /geometry/{vertices, triangles, triangle_node, triangle_front_node, triangle_back_node}.
+void writeGeometry(Hdf5Writer& h5, const geometry::Scene& scene, const Eigen::VectorXi& triangle_node);
+/// /network/{view_factor_stderr, view_factors_raw, blocked_view_factor} and how F was made.
+void writeViewFactorEstimate(Hdf5Writer& h5, const GeometryRunResult& r, ViewFactorMethod method);
+/// /orbit, /loads and /solution/exitance_solar of a sweep, its residuals in /report.
+void writeSweep(Hdf5Writer& h5, const SweepResult& sweep);
+/// /solution/temperature (P, n) K with its mode, /nodes/{capacitance, dissipation}.
+void writeTemperatures(Hdf5Writer& h5, const solver::ThermalResult& thermal, const ThermalSettings& settings);
+/// /report time_<stage>_s attributes.
+void writeTimings(Hdf5Writer& h5, const StageTimings& timings);
+
+}  // namespace radnet::cases

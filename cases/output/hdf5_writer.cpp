@@ -1,0 +1,187 @@
+#include "cases/output/hdf5_writer.hpp"
+
+#include <hdf5.h>
+
+#include <cstdio>
+#include <stdexcept>
+#include <unistd.h>
+
+namespace radnet::cases {
+namespace {
+
+void check(herr_t status, const std::string& what) {
+  if (status < 0) throw std::runtime_error("HDF5: " + what + " failed");
+}
+hid_t checkId(hid_t id, const std::string& what) {
+  if (id < 0) throw std::runtime_error("HDF5: " + what + " failed");
+  return id;
+}
+
+// Closes an HDF5 identifier at scope exit.
+struct Handle {
+  hid_t id;
+  herr_t (*close)(hid_t);
+  ~Handle() {
+    if (id >= 0) close(id);
+  }
+};
+
+hid_t createLinkProps() {
+  hid_t lcpl = checkId(H5Pcreate(H5P_LINK_CREATE), "link property list");
+  H5Pset_create_intermediate_group(lcpl, 1);
+  return lcpl;
+}
+
+void writeStringAttribute(hid_t obj, const std::string& name, const std::string& value) {
+  // Variable-length UTF-8, so that h5py returns str rather than bytes.
+  Handle type{checkId(H5Tcopy(H5T_C_S1), "string type"), H5Tclose};
+  check(H5Tset_size(type.id, H5T_VARIABLE), "variable string");
+  check(H5Tset_cset(type.id, H5T_CSET_UTF8), "string charset");
+  Handle space{checkId(H5Screate(H5S_SCALAR), "scalar space"), H5Sclose};
+  if (H5Aexists(obj, name.c_str()) > 0) H5Adelete(obj, name.c_str());
+  Handle attr{checkId(H5Acreate2(obj, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), "attribute " + name),
+              H5Aclose};
+  const char* ptr = value.c_str();
+  check(H5Awrite(attr.id, type.id, &ptr), "write attribute " + name);
+}
+
+}  // namespace
+
+Hdf5Writer::Hdf5Writer(std::string final_path) : final_path_(std::move(final_path)) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported by exceptions, not printed
+  temp_path_ = final_path_ + ".tmp-" + std::to_string(::getpid());
+  file_ = H5Fcreate(temp_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (file_ < 0) throw std::runtime_error("cannot create the output file '" + temp_path_ + "'");
+}
+
+Hdf5Writer::~Hdf5Writer() {
+  if (!committed_) {
+    if (file_ >= 0) H5Fclose(static_cast<hid_t>(file_));
+    std::remove(temp_path_.c_str());
+  }
+}
+
+long long Hdf5Writer::ensureGroup(const std::string& path) {
+  if (path.empty() || path == "/") return H5Gopen2(static_cast<hid_t>(file_), "/", H5P_DEFAULT);
+  if (H5Lexists(static_cast<hid_t>(file_), path.c_str(), H5P_DEFAULT) > 0)
+    return H5Oopen(static_cast<hid_t>(file_), path.c_str(), H5P_DEFAULT);
+  Handle lcpl{createLinkProps(), H5Pclose};
+  return checkId(H5Gcreate2(static_cast<hid_t>(file_), path.c_str(), lcpl.id, H5P_DEFAULT, H5P_DEFAULT),
+                 "create group " + path);
+}
+
+void Hdf5Writer::addUnits(long long dataset, const std::string& units) {
+  writeStringAttribute(static_cast<hid_t>(dataset), "units", units);
+}
+
+void Hdf5Writer::writeArray(const std::string& path, long long file_type, long long memory_type, int rank,
+                            const unsigned long long* dims, const void* data, const std::string& units) {
+  hsize_t hdims[2] = {0, 0};
+  hsize_t count = 1;
+  for (int k = 0; k < rank; ++k) count *= (hdims[k] = static_cast<hsize_t>(dims[k]));
+  Handle space{checkId(H5Screate_simple(rank, hdims, nullptr), "dataspace"), H5Sclose};
+  Handle dcpl{checkId(H5Pcreate(H5P_DATASET_CREATE), "dataset properties"), H5Pclose};
+  // Large matrices: 256 × 256 chunks, deflate level 4 (docs/hdf5-layout.md).
+  if (rank == 2 && count > 4096 && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
+    const hsize_t chunk[2] = {std::min<hsize_t>(hdims[0], 256), std::min<hsize_t>(hdims[1], 256)};
+    check(H5Pset_chunk(dcpl.id, 2, chunk), "chunking");
+    check(H5Pset_deflate(dcpl.id, 4), "deflate");
+  }
+  Handle lcpl{createLinkProps(), H5Pclose};
+  Handle ds{checkId(H5Dcreate2(static_cast<hid_t>(file_), path.c_str(), static_cast<hid_t>(file_type), space.id,
+                               lcpl.id, dcpl.id, H5P_DEFAULT),
+                    "create dataset " + path),
+            H5Dclose};
+  if (count > 0)
+    check(H5Dwrite(ds.id, static_cast<hid_t>(memory_type), H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write " + path);
+  addUnits(ds.id, units);
+}
+
+void Hdf5Writer::writeMatrix(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m,
+                             const std::string& units) {
+  // HDF5 is row-major: (rows, cols) as a reader indexes it.
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> data = m;
+  const unsigned long long dims[2] = {static_cast<unsigned long long>(m.rows()), static_cast<unsigned long long>(m.cols())};
+  writeArray(path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, dims, data.data(), units);
+}
+
+void Hdf5Writer::writeIntegers(const std::string& path, const Eigen::Ref<const Eigen::MatrixXi>& m,
+                               const std::string& units) {
+  const Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> data = m;
+  const unsigned long long dims[2] = {static_cast<unsigned long long>(m.rows()), static_cast<unsigned long long>(m.cols())};
+  writeArray(path, H5T_STD_I32LE, H5T_NATIVE_INT, m.cols() == 1 ? 1 : 2, dims, data.data(), units);
+}
+
+void Hdf5Writer::writeVector(const std::string& path, const Eigen::Ref<const Eigen::VectorXd>& v,
+                             const std::string& units) {
+  const Eigen::VectorXd data = v;
+  const unsigned long long dims[1] = {static_cast<unsigned long long>(v.size())};
+  writeArray(path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, dims, data.data(), units);
+}
+
+void Hdf5Writer::writeStrings(const std::string& path, const std::vector<std::string>& values,
+                              const std::string& units) {
+  // Variable-length UTF-8 strings: h5py reads them as str/bytes without padding.
+  std::vector<const char*> ptrs;
+  for (const auto& s : values) ptrs.push_back(s.c_str());
+  Handle type{checkId(H5Tcopy(H5T_C_S1), "string type"), H5Tclose};
+  check(H5Tset_size(type.id, H5T_VARIABLE), "variable string");
+  check(H5Tset_cset(type.id, H5T_CSET_UTF8), "string charset");
+  const hsize_t dims[1] = {values.size()};
+  Handle space{checkId(H5Screate_simple(1, dims, nullptr), "dataspace"), H5Sclose};
+  Handle lcpl{createLinkProps(), H5Pclose};
+  Handle ds{checkId(H5Dcreate2(static_cast<hid_t>(file_), path.c_str(), type.id, space.id, lcpl.id, H5P_DEFAULT,
+                               H5P_DEFAULT),
+                    "create dataset " + path),
+            H5Dclose};
+  if (!values.empty()) check(H5Dwrite(ds.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, ptrs.data()), "write " + path);
+  addUnits(ds.id, units);
+}
+
+void Hdf5Writer::writeText(const std::string& path, const std::string& text) {
+  Handle type{checkId(H5Tcopy(H5T_C_S1), "string type"), H5Tclose};
+  check(H5Tset_size(type.id, H5T_VARIABLE), "variable string");
+  check(H5Tset_cset(type.id, H5T_CSET_UTF8), "string charset");
+  Handle space{checkId(H5Screate(H5S_SCALAR), "scalar space"), H5Sclose};
+  Handle lcpl{createLinkProps(), H5Pclose};
+  Handle ds{checkId(H5Dcreate2(static_cast<hid_t>(file_), path.c_str(), type.id, space.id, lcpl.id, H5P_DEFAULT,
+                               H5P_DEFAULT),
+                    "create dataset " + path),
+            H5Dclose};
+  const char* ptr = text.c_str();
+  check(H5Dwrite(ds.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, &ptr), "write " + path);
+  addUnits(ds.id, "");
+}
+
+void Hdf5Writer::attribute(const std::string& object, const std::string& name, const std::string& value) {
+  Handle obj{static_cast<hid_t>(ensureGroup(object)), H5Oclose};
+  writeStringAttribute(obj.id, name, value);
+}
+
+void Hdf5Writer::attribute(const std::string& object, const std::string& name, double value) {
+  Handle obj{static_cast<hid_t>(ensureGroup(object)), H5Oclose};
+  Handle space{checkId(H5Screate(H5S_SCALAR), "scalar space"), H5Sclose};
+  if (H5Aexists(obj.id, name.c_str()) > 0) H5Adelete(obj.id, name.c_str());
+  Handle attr{checkId(H5Acreate2(obj.id, name.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, H5P_DEFAULT), name),
+              H5Aclose};
+  check(H5Awrite(attr.id, H5T_NATIVE_DOUBLE, &value), "write attribute " + name);
+}
+
+void Hdf5Writer::attribute(const std::string& object, const std::string& name, long long value) {
+  Handle obj{static_cast<hid_t>(ensureGroup(object)), H5Oclose};
+  Handle space{checkId(H5Screate(H5S_SCALAR), "scalar space"), H5Sclose};
+  if (H5Aexists(obj.id, name.c_str()) > 0) H5Adelete(obj.id, name.c_str());
+  Handle attr{checkId(H5Acreate2(obj.id, name.c_str(), H5T_STD_I64LE, space.id, H5P_DEFAULT, H5P_DEFAULT), name),
+              H5Aclose};
+  check(H5Awrite(attr.id, H5T_NATIVE_LLONG, &value), "write attribute " + name);
+}
+
+void Hdf5Writer::commit() {
+  if (H5Fclose(static_cast<hid_t>(file_)) < 0) throw std::runtime_error("HDF5: closing '" + temp_path_ + "' failed");
+  file_ = -1;
+  if (std::rename(temp_path_.c_str(), final_path_.c_str()) != 0)
+    throw std::runtime_error("cannot rename '" + temp_path_ + "' to '" + final_path_ + "'");
+  committed_ = true;
+}
+
+}  // namespace radnet::cases

@@ -1,0 +1,50 @@
+#pragma once
+// Atomic HDF5 output (docs/hdf5-layout.md): everything is written to a temporary file beside the
+// requested one and renamed at commit(); a run that fails never leaves a half-written
+// file under the requested name. Every dataset carries a `units` attribute.
+#include <Eigen/Dense>
+
+#include <string>
+#include <vector>
+
+namespace radnet::cases {
+
+class Hdf5Writer {
+ public:
+  /// @throws std::runtime_error when the temporary file cannot be created
+  explicit Hdf5Writer(std::string final_path);
+  ~Hdf5Writer();
+  Hdf5Writer(const Hdf5Writer&) = delete;
+  Hdf5Writer& operator=(const Hdf5Writer&) = delete;
+
+  /// (rows×cols) dataset in row-major order as HDF5 expects; intermediate groups are created.
+  /// Matrices of more than 4096 entries are chunked and deflate-compressed.
+  void writeMatrix(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m, const std::string& units);
+  void writeVector(const std::string& path, const Eigen::Ref<const Eigen::VectorXd>& v, const std::string& units);
+  /// Integer (row-major) dataset, e.g. triangle corner indices.
+  void writeIntegers(const std::string& path, const Eigen::Ref<const Eigen::MatrixXi>& m, const std::string& units);
+  void writeStrings(const std::string& path, const std::vector<std::string>& values, const std::string& units = "");
+  void writeText(const std::string& path, const std::string& text);
+
+  /// Attributes on an object (group or dataset); groups are created as needed.
+  void attribute(const std::string& object, const std::string& name, const std::string& value);
+  void attribute(const std::string& object, const std::string& name, double value);
+  void attribute(const std::string& object, const std::string& name, long long value);
+
+  /// Closes the file and renames it to the requested name.
+  void commit();
+
+ private:
+  long long ensureGroup(const std::string& path);
+  // HDF5 ids and sizes passed as plain integers so this header needs no <hdf5.h>.
+  void writeArray(const std::string& path, long long file_type, long long memory_type, int rank,
+                  const unsigned long long* dims, const void* data, const std::string& units);
+  void addUnits(long long dataset, const std::string& units);
+
+  std::string final_path_;
+  std::string temp_path_;
+  long long file_ = -1;
+  bool committed_ = false;
+};
+
+}  // namespace radnet::cases

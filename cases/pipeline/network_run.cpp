@@ -1,0 +1,41 @@
+#include "cases/pipeline/network_run.hpp"
+
+#include "cases/config/errors.hpp"
+#include "cases/pipeline/radiative_network.hpp"
+#include "cases/pipeline/thermal_run.hpp"
+
+#include <ostream>
+
+namespace radnet::cases {
+
+NetworkRunResult runNetworkCase(const NetworkCase& c, std::ostream& progress) {
+  NetworkRunResult r;
+  StageTimer t_network(r.timings, Stage::Network);
+  r.radiative.network = std::make_unique<solver::Network>(c.buildNetwork());
+  const solver::Network& net = *r.radiative.network;
+  t_network.stop();
+  progress << "radnet: network of " << net.size() << " nodes (" << (net.isSparse() ? "sparse" : "dense")
+           << "), reciprocity correction moved a view factor by at most " << net.reciprocity().max_view_factor_change
+           << "\n";
+
+  // One eigendecomposition serves both bands.
+  Eigen::VectorXd rho_max = c.reflectance;
+  if (c.emissivity) rho_max = rho_max.cwiseMax(Eigen::VectorXd::Ones(net.size()) - *c.emissivity);
+  r.radiative.pairs = decomposeNetwork(net, rho_max, c.solver, r.timings);
+  progress << "radnet: " << r.radiative.pairs.rank() << " eigenpairs (" << solver::toString(r.radiative.pairs.method)
+           << "), largest |λ| " << std::abs(r.radiative.pairs.values[0]) << " m², largest dropped ≤ "
+           << r.radiative.pairs.dropped_bound << " m²\n";
+
+  StageTimer t_band(r.timings, Stage::BandSolves);
+  const solver::LowRankBandSolver band(net, r.radiative.pairs, c.reflectance);
+  r.solution = band.solve(c.initial_exitance, c.solver.refineTolerance());
+  t_band.stop();
+  if (r.solution.status != solver::Status::Converged)
+    throw NumericalError(std::string("band solve ") + solver::toString(r.solution.status) + ": " + r.solution.message);
+
+  if (c.emissivity) r.radiative.exchange = exchangeFactors(r.radiative, *c.emissivity, c.solver, r.timings);
+  if (c.thermal) r.thermal = runThermal(*c.thermal, *r.radiative.exchange, nullptr, r.timings, progress);
+  return r;
+}
+
+}  // namespace radnet::cases

@@ -1,0 +1,15 @@
+#pragma once
+// The pipeline of a network-form case: network → one eigendecomposition → band solve of
+// the initial exitance (+ exchange factors and steady temperatures when emissivities
+// are given).
+#include "cases/config/network_case.hpp"
+#include "cases/pipeline/results.hpp"
+
+#include <iosfwd>
+
+namespace radnet::cases {
+
+/// Runs the case. @throws NumericalError (exit 3) on a failed eigensolve or band solve
+NetworkRunResult runNetworkCase(const NetworkCase& c, std::ostream& progress);
+
+}  // namespace radnet::cases

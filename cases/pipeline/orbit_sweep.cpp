@@ -1,0 +1,122 @@
+#include "cases/pipeline/orbit_sweep.hpp"
+
+#include "cases/config/errors.hpp"
+#include "cases/pipeline/progress.hpp"
+
+#include <ostream>
+
+namespace radnet::cases {
+namespace {
+
+// One band for all positions at once: M_o = ρ ∘ E (n×cols); returns the solution and
+// the absorbed power (1 − ρ) A (E + H), W.
+solver::BandSolution solveBand(const solver::Network& net, const solver::EigenPairs& pairs, const Eigen::VectorXd& rho,
+                               const Eigen::MatrixXd& irradiance, double refine_tol, const char* band,
+                               Eigen::MatrixXd& absorbed) {
+  const solver::LowRankBandSolver solver(net, pairs, rho);
+  solver::BandSolution sol = solver.solve(rho.asDiagonal() * irradiance, refine_tol);
+  if (sol.status != solver::Status::Converged)
+    throw NumericalError(std::string(band) + " band solve " + solver::toString(sol.status) + ": " + sol.message);
+  const Eigen::VectorXd absorptance = Eigen::VectorXd::Ones(net.size()) - rho;
+  absorbed = absorptance.cwiseProduct(net.area()).asDiagonal() * (irradiance + sol.irradiance);
+  return sol;
+}
+
+// Sweeps and loads each orbit case (an epoch × beta combination) on its own, then joins
+// the positions of all cases into one (n × P) set of irradiances.
+void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings, bool show_progress,
+                  std::ostream& progress) {
+  const OrbitSettings& o = in.orbit;
+  const Eigen::VectorXd& area = in.radiative.network->area();
+  const Eigen::Index n = area.size();
+  std::vector<orbits::EnvironmentLoads> parts;
+  for (size_t k = 0; k < o.cases.size(); ++k) {
+    const orbits::Orbit& orbit = *o.cases[k].orbit;
+    StageTimer t_orbit(timings, Stage::Orbit);
+    const std::vector<orbits::SweepPosition> positions = orbits::sweepOrbit(orbit, o.attitude, o.sweep);
+    t_orbit.stop();
+    int events = 0;
+    for (const auto& p : positions) events += p.event;
+    progress << "radnet: orbit " << k + 1 << "/" << o.cases.size() << " (" << o.description << ", "
+             << o.cases[k].label << "), period " << orbit.period() << " s, " << positions.size() << " positions ("
+             << events << " eclipse entries/exits inserted)\n";
+    StageTimer t_loads(timings, Stage::EnvironmentLoads);
+    orbits::EnvironmentOptions env = o.environment;
+    if (show_progress) env.progress = progressBar(progress, "orbit loads", "positions");
+    parts.push_back(orbits::environmentLoads(in.caster, area, positions, orbits::earthFixedInBody(o.attitude),
+                                             orbit.earth().equatorial_radius_m, env));
+    sw.case_start.push_back(static_cast<int>(sw.positions.size()));
+    sw.case_labels.push_back(o.cases[k].label);
+    sw.case_sweep_s.push_back(orbit.period() * o.sweep.orbits);
+    sw.positions.insert(sw.positions.end(), positions.begin(), positions.end());
+  }
+  const int P = static_cast<int>(sw.positions.size());
+  sw.case_start.push_back(P);
+  auto join = [&](auto member) {
+    Eigen::MatrixXd all(n, P);
+    for (size_t k = 0; k < parts.size(); ++k)
+      all.middleCols(sw.case_start[k], sw.case_start[k + 1] - sw.case_start[k]) = parts[k].*member;
+    return all;
+  };
+  sw.irradiance.direct = join(&orbits::EnvironmentLoads::direct);
+  sw.irradiance.albedo = join(&orbits::EnvironmentLoads::albedo);
+  sw.irradiance.earth_ir = join(&orbits::EnvironmentLoads::earth_ir);
+  sw.irradiance.earth_view_factor = join(&orbits::EnvironmentLoads::earth_view_factor);
+  for (const auto& part : parts) {
+    sw.irradiance.planet_casts += part.planet_casts;
+    sw.irradiance.shadow_rays += part.shadow_rays;
+    sw.irradiance.seconds += part.seconds;
+  }
+  progress << "radnet: loads: planet rays cast " << sw.irradiance.planet_casts << " time(s) for " << P << " positions\n";
+}
+
+// Energy balance of the solar band: what arrives = what is absorbed + what leaves to
+// space or to inactive sides; the largest relative error over the positions.
+double solarEnergyBalanceError(const solver::Network& net, const SweepResult& sw) {
+  const Eigen::VectorXd& area = net.area();
+  const Eigen::VectorXd lost = area.cwiseProduct(net.spaceViewFactor() + net.blockedFraction());
+  double worst = 0.0;
+  for (Eigen::Index p = 0; p < sw.absorbed_solar.cols(); ++p) {
+    const double in = area.dot(sw.irradiance.direct.col(p) + sw.irradiance.albedo.col(p));
+    if (in <= 0) continue;
+    const double out =
+        sw.absorbed_solar.col(p).sum() + sw.absorbed_albedo.col(p).sum() + lost.dot(sw.exitance_solar.col(p));
+    worst = std::max(worst, std::abs(in - out) / in);
+  }
+  return worst;
+}
+
+}  // namespace
+
+SweepResult runSweep(const SweepInputs& in, StageTimings& timings, bool show_progress, std::ostream& progress) {
+  SweepResult sw;
+  sweepAndLoad(in, sw, timings, show_progress, progress);
+  const int P = static_cast<int>(sw.positions.size());
+  const solver::Network& net = *in.radiative.network;
+  const int n = net.size();
+  StageTimer t_bands(timings, Stage::BandSolves);
+  const double tol = in.solver.refineTolerance();
+  // Solar band (ρ = 1 − α): direct and albedo as 2P right-hand sides of one solve.
+  Eigen::MatrixXd ext(n, 2 * P);
+  ext << sw.irradiance.direct, sw.irradiance.albedo;
+  Eigen::MatrixXd absorbed;
+  const Eigen::VectorXd rho_solar = Eigen::VectorXd::Ones(n) - in.absorptivity;
+  const solver::BandSolution solar = solveBand(net, in.radiative.pairs, rho_solar, ext, tol, "solar", absorbed);
+  sw.absorbed_solar = absorbed.leftCols(P);
+  sw.absorbed_albedo = absorbed.rightCols(P);
+  sw.exitance_solar = solar.exitance.leftCols(P) + solar.exitance.rightCols(P);
+  sw.solar_residual = solar.max_residual;
+  sw.solar_refine_iterations = solar.refine_iterations;
+  sw.energy_balance_error = solarEnergyBalanceError(net, sw);
+  // IR band (ρ = 1 − ε): the planet's IR, interreflected.
+  const solver::BandSolution ir = solveBand(net, in.radiative.pairs, Eigen::VectorXd::Ones(n) - in.emissivity,
+                                            sw.irradiance.earth_ir, tol, "IR", absorbed);
+  sw.absorbed_earth_ir = absorbed;
+  sw.ir_residual = ir.max_residual;
+  sw.ir_refine_iterations = ir.refine_iterations;
+  t_bands.stop();
+  sw.absorbed_total = sw.absorbed_solar + sw.absorbed_albedo + sw.absorbed_earth_ir;
+  return sw;
+}
+
+}  // namespace radnet::cases

@@ -1,0 +1,20 @@
+#pragma once
+// The stages both case forms share once they have a network: the one eigendecomposition
+// of G and the exchange factors, by the solver policy (solver/policy.hpp).
+#include "cases/pipeline/results.hpp"
+#include "solver/settings.hpp"
+
+#include <iosfwd>
+
+namespace radnet::cases {
+
+/// The eigenpairs serving both bands; `max_reflectance` per node is the larger of the
+/// two bands' ρ. @throws NumericalError when the eigensolver fails
+solver::EigenPairs decomposeNetwork(const solver::Network& net, const Eigen::VectorXd& max_reflectance,
+                                    const solver::SolverSettings& settings, StageTimings& timings);
+
+/// GR and GR to space. @throws NumericalError when they cannot be formed (e.g. a lossless closed cavity)
+solver::ExchangeFactors exchangeFactors(const RadiativeNetwork& radiative, const Eigen::VectorXd& emissivity,
+                                        const solver::SolverSettings& settings, StageTimings& timings);
+
+}  // namespace radnet::cases

@@ -1,0 +1,71 @@
+#pragma once
+// What a run computes, as the output writers and `radnet check` read it. Derived
+// quantities (total absorbed power, the triangle → node map) are computed once here by
+// the pipeline, never re-summed by a writer.
+#include "cases/pipeline/stages.hpp"
+#include "geometry/reciprocity.hpp"
+#include "orbits/loads.hpp"
+#include "orbits/sweep.hpp"
+#include "solver/eigenpairs.hpp"
+#include "solver/exchange.hpp"
+#include "solver/low_rank_solver.hpp"
+#include "solver/network.hpp"
+#include "solver/thermal.hpp"
+
+#include <Eigen/Dense>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace radnet::cases {
+
+/// The radiative network of a run, its one eigendecomposition and its exchange factors;
+/// the same for both case forms.
+struct RadiativeNetwork {
+  std::unique_ptr<solver::Network> network;
+  solver::EigenPairs pairs;
+  std::optional<solver::ExchangeFactors> exchange;  ///< GR, when the nodes' emissivities are known
+};
+
+/// An orbit sweep: the positions of every orbit case, their loads and band solves.
+struct SweepResult {
+  std::vector<orbits::SweepPosition> positions;  ///< of every orbit case, one after another
+  std::vector<int> case_start;                   ///< first position of each case, then P
+  std::vector<std::string> case_labels;
+  std::vector<double> case_sweep_s;     ///< time each case's sweep spans (orbit period × orbits), s
+  orbits::EnvironmentLoads irradiance;  ///< external irradiances, W/m² (n×P)
+  Eigen::MatrixXd absorbed_solar, absorbed_albedo, absorbed_earth_ir;  ///< after interreflection, W (n×P)
+  Eigen::MatrixXd absorbed_total;  ///< solar + albedo + Earth IR, W (n×P)
+  Eigen::MatrixXd exitance_solar;  ///< solar-band exitance (direct + albedo), W/m² (n×P)
+  double solar_residual = 0.0, ir_residual = 0.0;  ///< band-solve residuals with the full G
+  int solar_refine_iterations = 0, ir_refine_iterations = 0;
+  double energy_balance_error = 0.0;  ///< max over positions of |in − absorbed − lost| / in, solar band
+  int caseCount() const { return static_cast<int>(case_start.size()) - 1; }
+};
+
+/// A network-form run: the band solve of the case's initial exitance.
+struct NetworkRunResult {
+  RadiativeNetwork radiative;
+  solver::BandSolution solution;                 ///< one column, W/m²
+  std::optional<solver::ThermalResult> thermal;  ///< steady state (n×1), K, with `thermal:`
+  StageTimings timings;
+};
+
+/// A geometry-form run.
+struct GeometryRunResult {
+  Eigen::MatrixXd raw_view_factors;    ///< before the correction, –
+  Eigen::MatrixXd view_factor_stderr;  ///< σ (Monte Carlo) or quadrature error estimate (contour), –
+  geometry::ReciprocityCorrection correction;
+  std::int64_t total_rays = 0;
+  double rays_per_second = 0.0;
+  Eigen::VectorXi triangle_node;  ///< node of each triangle: its front side's, else its back side's
+  RadiativeNetwork radiative;
+  std::optional<SweepResult> sweep;              ///< when the case has an orbit
+  std::optional<solver::ThermalResult> thermal;  ///< n×P (P = 1 without an orbit), K, with `thermal:`
+  StageTimings timings;
+};
+
+}  // namespace radnet::cases

@@ -1,0 +1,53 @@
+#pragma once
+// The stages of a run, named once: the pipeline times them, /report records them as
+// `time_<name>_s` attributes and the summary prints them (docs/hdf5-layout.md).
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace radnet::cases {
+
+enum class Stage {
+  AabbTree,            ///< building the ray-casting tree
+  ViewFactors,         ///< ray casting or contour integration, and the reciprocity correction
+  Network,             ///< validating the network and forming G
+  Eigendecomposition,  ///< the one decomposition of G
+  BandSolves,          ///< every band solve of the run (all positions at once)
+  ExchangeFactors,     ///< GR and GR to space
+  Orbit,               ///< propagating the orbit(s) and finding eclipse events
+  EnvironmentLoads,    ///< direct solar, albedo and Earth-IR irradiance per node and position
+  Thermal,             ///< temperatures (steady or transient)
+};
+
+/// Snake-case name of a stage, e.g. "band_solves".
+std::string_view stageName(Stage stage);
+
+/// Wall time per stage, s; a stage timed several times (one per orbit case) accumulates.
+class StageTimings {
+ public:
+  void add(Stage stage, double seconds);
+  /// (stage, seconds) in the order the stages first ran.
+  const std::vector<std::pair<Stage, double>>& entries() const { return entries_; }
+
+ private:
+  std::vector<std::pair<Stage, double>> entries_;
+};
+
+/// Times one stage from construction to stop() (or destruction).
+class StageTimer {
+ public:
+  StageTimer(StageTimings& timings, Stage stage);
+  ~StageTimer();
+  StageTimer(const StageTimer&) = delete;
+  StageTimer& operator=(const StageTimer&) = delete;
+  /// Records the time so far (once).
+  void stop();
+
+ private:
+  StageTimings& timings_;
+  Stage stage_;
+  double start_s_;
+  bool stopped_ = false;
+};
+
+}  // namespace radnet::cases

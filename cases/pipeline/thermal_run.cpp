@@ -1,0 +1,69 @@
+#include "cases/pipeline/thermal_run.hpp"
+
+#include "cases/config/errors.hpp"
+
+#include <ostream>
+
+namespace radnet::cases {
+namespace {
+
+// One transient per orbit case, each periodic over its own swept orbit(s).
+solver::ThermalResult transientPerCase(const ThermalSettings& ts, const solver::ThermalNetwork& net,
+                                       const SweepResult& sw) {
+  const Eigen::Index n = net.gr.rows();
+  solver::ThermalResult result;
+  result.temperature.resize(n, sw.absorbed_total.cols());
+  for (int k = 0; k < sw.caseCount(); ++k) {
+    const int begin = sw.case_start[static_cast<size_t>(k)];
+    const int count = sw.case_start[static_cast<size_t>(k) + 1] - begin;
+    std::vector<double> times;
+    for (int p = begin; p < begin + count; ++p) times.push_back(sw.positions[static_cast<size_t>(p)].t_s);
+    solver::ThermalResult part = solver::transient(net, times, sw.absorbed_total.middleCols(begin, count),
+                                                   sw.case_sweep_s[static_cast<size_t>(k)], *ts.transient_orbits,
+                                                   Eigen::VectorXd::Constant(n, ts.initial_temperature), ts.options);
+    result.newton_iterations += part.newton_iterations;
+    result.max_residual_w = std::max(result.max_residual_w, part.max_residual_w);
+    if (part.status != solver::Status::Converged) {
+      result.status = part.status;
+      result.message = part.message + " (orbit case " + std::to_string(k + 1) + ")";
+      break;
+    }
+    result.temperature.middleCols(begin, count) = part.temperature;
+  }
+  return result;
+}
+
+}  // namespace
+
+solver::ThermalNetwork thermalNetwork(const ThermalSettings& ts, const solver::ExchangeFactors& exchange) {
+  const Eigen::Index n = exchange.gr.rows();
+  solver::ThermalNetwork net;
+  net.gr = exchange.gr;
+  net.gr_space = exchange.gr_space;
+  net.conductors.resize(n, n);
+  net.conductors.setFromTriplets(ts.conductors.begin(), ts.conductors.end());
+  net.capacitance = ts.capacitance;
+  net.dissipation = ts.dissipation;
+  net.fixed_temperature = ts.fixed_temperature;
+  net.space_temperature = ts.space_temperature;
+  return net;
+}
+
+solver::ThermalResult runThermal(const ThermalSettings& ts, const solver::ExchangeFactors& exchange,
+                                 const SweepResult* sweep, StageTimings& timings, std::ostream& progress) {
+  const solver::ThermalNetwork net = thermalNetwork(ts, exchange);
+  StageTimer timer(timings, Stage::Thermal);
+  solver::ThermalResult result;
+  if (ts.transient_orbits) result = transientPerCase(ts, net, *sweep);
+  else if (sweep) result = solver::steadyStates(net, sweep->absorbed_total, ts.options);
+  else result = solver::steadyStates(net, Eigen::MatrixXd::Zero(net.gr.rows(), 1), ts.options);
+  timer.stop();
+  if (result.status != solver::Status::Converged)
+    throw NumericalError(std::string("temperatures ") + solver::toString(result.status) + ": " + result.message);
+  progress << "radnet: temperatures (" << (ts.transient_orbits ? "transient" : "steady state per position") << "), "
+           << result.newton_iterations << " Newton iterations, largest heat-balance residual " << result.max_residual_w
+           << " W\n";
+  return result;
+}
+
+}  // namespace radnet::cases
