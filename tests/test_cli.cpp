@@ -1,4 +1,4 @@
-// The command-line contract (DESIGN.md §3) through the real executable: exit codes,
+// The command-line contract (docs/design.md, "Contracts") through the real executable: exit codes,
 // located error messages, atomic output, and the HDF5 layout read back with the HDF5 API.
 #include "temp_dir.hpp"
 

@@ -1,4 +1,4 @@
-// Numerically hard networks (DESIGN.md §4): every path either answers correctly or
+// Numerically hard networks (docs/design.md, "Numerics"): every path either answers correctly or
 // reports a status; none returns NaN.
 #include "solver/exchange.hpp"
 #include "solver/reference_solvers.hpp"
