@@ -27,7 +27,10 @@ namespace {
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 Network boxRoom(int m, double lx, double ly, double lz) {
-  struct Patch { Eigen::Vector3d c, nrm; double a; };
+  struct Patch {
+    Eigen::Vector3d c, nrm;
+    double a;
+  };
   std::vector<Patch> patches;
   // Six faces, inward normals.
   auto face = [&](Eigen::Vector3d o, Eigen::Vector3d u, Eigen::Vector3d v, Eigen::Vector3d nrm) {
@@ -148,8 +151,7 @@ int main(int argc, char** argv) {
         const double rsolve = since(t0);
         auto [e2, r2] = score(ref.exitance);
         rows.push_back({"low-rank k = " + std::to_string(k) + " + refinement to 1e-10", setup, rsolve, e2, r2,
-                        std::to_string(ref.refine_iterations) + " batched PCG iterations, " +
-                            toString(ref.status)});
+                        std::to_string(ref.refine_iterations) + " batched PCG iterations, " + toString(ref.status)});
       }
     }
     // Lanczos for 32 pairs, for comparison with the full dense eigensolve.
@@ -197,11 +199,13 @@ int main(int argc, char** argv) {
 
     md << "## m = " << m << ": n = " << n << " nodes\n\n"
        << "Eigendecomposition of G (once per network, shared by both bands): "
-       << (large ? "Lanczos, 128 pairs " : "dense, all pairs ") << std::setprecision(3) << eig_all << " s; Lanczos (Spectra, 32 pairs) " << eig_lanczos << " s ("
+       << (large ? "Lanczos, 128 pairs " : "dense, all pairs ") << std::setprecision(3) << eig_all
+       << " s; Lanczos (Spectra, 32 pairs) " << eig_lanczos << " s ("
        << (lz.status == Status::Converged ? "converged" : "NOT converged") << ").\n"
        << "Memory: dense G " << 8.0 * n * n / 1048576 << " MiB; V for k = 32: " << 8.0 * n * 32 / 1048576
        << " MiB; right-hand sides " << 8.0 * n * P / 1048576 << " MiB.\n\n"
-       << "| method | setup per reflectance set (s) | solve " << P << " RHS (s) | speed-up vs LU (setup + solve) | max rel. error vs LU | max residual | note |\n"
+       << "| method | setup per reflectance set (s) | solve " << P
+       << " RHS (s) | speed-up vs LU (setup + solve) | max rel. error vs LU | max residual | note |\n"
        << "|---|---|---|---|---|---|---|\n";
     const double base = lu_setup + lu_solve;
     for (const Row& r : rows) {

@@ -9,7 +9,9 @@ namespace radnet::geometry {
 namespace {
 
 // Dunavant (1985) degree-5 rule on a triangle: barycentric points and weights (sum 1).
-struct QuadPoint { double l0, l1, l2, w; };
+struct QuadPoint {
+  double l0, l1, l2, w;
+};
 const std::array<QuadPoint, 7> kRule = {{
     {1.0 / 3, 1.0 / 3, 1.0 / 3, 0.225},
     {0.059715871789770, 0.470142064105115, 0.470142064105115, 0.132394152788506},
@@ -21,10 +23,14 @@ const std::array<QuadPoint, 7> kRule = {{
 }};
 
 // Shadow-ray targets on a receiving triangle (barycentric), centroid first.
-const std::array<std::array<double, 3>, 4> kTargets = {{
-    {1.0 / 3, 1.0 / 3, 1.0 / 3}, {2.0 / 3, 1.0 / 6, 1.0 / 6}, {1.0 / 6, 2.0 / 3, 1.0 / 6}, {1.0 / 6, 1.0 / 6, 2.0 / 3}}};
+const std::array<std::array<double, 3>, 4> kTargets = {{{1.0 / 3, 1.0 / 3, 1.0 / 3},
+                                                        {2.0 / 3, 1.0 / 6, 1.0 / 6},
+                                                        {1.0 / 6, 2.0 / 3, 1.0 / 6},
+                                                        {1.0 / 6, 1.0 / 6, 2.0 / 3}}};
 
-struct Tri { Vec3 a, b, c; };
+struct Tri {
+  Vec3 a, b, c;
+};
 
 class Integrator {
  public:
@@ -68,7 +74,8 @@ class Integrator {
       err += (fine - coarse).cwiseAbs();
       return;
     }
-    for (int k = 0; k < 4; ++k) adapt(kids[static_cast<size_t>(k)], parts[static_cast<size_t>(k)], 0.25 * tol, depth + 1, sum, err);
+    for (int k = 0; k < 4; ++k)
+      adapt(kids[static_cast<size_t>(k)], parts[static_cast<size_t>(k)], 0.25 * tol, depth + 1, sum, err);
   }
 
   // Form factors from the point to every receiving node (dimensionless), occlusion sampled.

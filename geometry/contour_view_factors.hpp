@@ -14,15 +14,15 @@
 namespace radnet::geometry {
 
 struct ContourOptions {
-  double tolerance = 1e-7;   ///< absolute error target per emitter triangle and receiver, view-factor units
-  int max_depth = 10;        ///< deepest 4-way split of an emitter triangle
-  int visibility_rays = 4;   ///< shadow rays per (point, receiving triangle); 0: assume nothing occludes
+  double tolerance = 1e-7;  ///< absolute error target per emitter triangle and receiver, view-factor units
+  int max_depth = 10;       ///< deepest 4-way split of an emitter triangle
+  int visibility_rays = 4;  ///< shadow rays per (point, receiving triangle); 0: assume nothing occludes
 };
 
 struct ContourResult {
-  Eigen::MatrixXd view_factors;  ///< F (n×n), –
+  Eigen::MatrixXd view_factors;    ///< F (n×n), –
   Eigen::MatrixXd error_estimate;  ///< |fine − coarse| of the accepted quadrature, summed, –
-  Eigen::VectorXd space;         ///< 1 − Σ_j F_ij (assumes no inactive sides), –
+  Eigen::VectorXd space;           ///< 1 − Σ_j F_ij (assumes no inactive sides), –
   long long point_evaluations = 0;
   double seconds = 0.0;
 };

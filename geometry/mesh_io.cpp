@@ -41,8 +41,8 @@ void checkPlyHeader(const std::string& path) {
   const double file_bytes = static_cast<double>(std::filesystem::file_size(path));
   double min_bytes = 0.0;  // every property of every element takes at least one byte
   long long count = 0;
-  static const std::vector<std::string> types = {"char",  "uchar",  "short",   "ushort",  "int",    "uint",
-                                                 "float", "double", "int8",    "uint8",   "int16",  "uint16",
+  static const std::vector<std::string> types = {"char",  "uchar",  "short",   "ushort", "int",   "uint",
+                                                 "float", "double", "int8",    "uint8",  "int16", "uint16",
                                                  "int32", "uint32", "float32", "float64"};
   auto isType = [&](const std::string& t) { return std::find(types.begin(), types.end(), t) != types.end(); };
   while (std::getline(in, line)) {
@@ -55,14 +55,16 @@ void checkPlyHeader(const std::string& path) {
       if (!format) fail("no 'format' line");
       if (!element) fail("no 'element' line");
       if (min_bytes > file_bytes)
-        fail("its elements need at least " + std::to_string(static_cast<long long>(min_bytes)) + " bytes but the file has " +
-             std::to_string(static_cast<long long>(file_bytes)) + " (truncated, or a wrong count)");
+        fail("its elements need at least " + std::to_string(static_cast<long long>(min_bytes)) +
+             " bytes but the file has " + std::to_string(static_cast<long long>(file_bytes)) +
+             " (truncated, or a wrong count)");
       return;
     }
     if (word == "comment" || word == "obj_info") continue;
     if (word == "format") {
       std::string kind, version;
-      if (!(ls >> kind >> version) || (kind != "ascii" && kind != "binary_little_endian" && kind != "binary_big_endian"))
+      if (!(ls >> kind >> version) ||
+          (kind != "ascii" && kind != "binary_little_endian" && kind != "binary_big_endian"))
         fail("'format' must be ascii, binary_little_endian or binary_big_endian");
       format = true;
     } else if (word == "element") {
@@ -117,9 +119,10 @@ void checkOffCounts(const std::string& path) {
   const double have = static_cast<double>(std::filesystem::file_size(path));
   if (need > have)
     throw GeometryError(path + ": the OFF header promises " + std::to_string(static_cast<long long>(numbers[0])) +
-                        " vertices and " + std::to_string(static_cast<long long>(numbers[1])) + " faces, which need at least " +
-                        std::to_string(static_cast<long long>(need)) + " bytes; the file has " +
-                        std::to_string(static_cast<long long>(have)) + " (truncated, or a wrong count)");
+                        " vertices and " + std::to_string(static_cast<long long>(numbers[1])) +
+                        " faces, which need at least " + std::to_string(static_cast<long long>(need)) +
+                        " bytes; the file has " + std::to_string(static_cast<long long>(have)) +
+                        " (truncated, or a wrong count)");
 }
 
 void checkScale(double scale, const std::string& path) {

@@ -9,7 +9,6 @@
 namespace radnet::geometry {
 namespace {
 
-
 void requireCount(int n, const char* what) {
   if (n < 1 || n > 100000) throw GeometryError(std::string(what) + ": subdivisions must be in [1, 100000]");
 }
@@ -292,7 +291,7 @@ TriangleSoup sphere(const Vec3& center, double radius, const Vec3& axis_in, doub
 std::array<TriangleSoup, 6> boxFaces(const Vec3& o, const Vec3& size, int n) {
   for (int k = 0; k < 3; ++k) requirePositive(size[k], "box size");
   const Vec3 X(size.x(), 0, 0), Y(0, size.y(), 0), Z(0, 0, size.z());
-  return {rectangle(o + X, Y, Z, n, n), rectangle(o, Z, Y, n, n), rectangle(o + Y, Z, X, n, n),
+  return {rectangle(o + X, Y, Z, n, n), rectangle(o, Z, Y, n, n),     rectangle(o + Y, Z, X, n, n),
           rectangle(o, X, Z, n, n),     rectangle(o + Z, X, Y, n, n), rectangle(o, Y, X, n, n)};
 }
 

@@ -41,8 +41,8 @@ TriangleSoup cylinder(const Vec3& base_center, const Vec3& axis, double radius, 
                       int angular);
 
 /// Cone or frustum wall: radius base_radius at base_center, top_radius at base_center + axis; outward front.
-TriangleSoup cone(const Vec3& base_center, const Vec3& axis, double base_radius, double top_radius,
-                  const Sweep& sweep, int axial, int angular);
+TriangleSoup cone(const Vec3& base_center, const Vec3& axis, double base_radius, double top_radius, const Sweep& sweep,
+                  int axial, int angular);
 
 /// Sphere or spherical patch: polar angle θ ∈ [theta_min, theta_max] from `axis`, azimuth in `sweep`; outward front.
 TriangleSoup sphere(const Vec3& center, double radius, const Vec3& axis, double theta_min_deg, double theta_max_deg,

@@ -35,8 +35,9 @@ LitArea litArea(const RayCaster& caster, const Vec3& toward_source, int samples,
   for (int i = 0; i < n; ++i) {
     const Node& node = scene.nodes()[static_cast<size_t>(i)];
     double facing = 0.0;  // ∫ max(0, n·d) dA without shadows
-    for (int f : node.faces) facing += scene.faces()[static_cast<size_t>(f)].area_m2 *
-                                       std::max(0.0, node.side * scene.faces()[static_cast<size_t>(f)].normal.dot(d));
+    for (int f : node.faces)
+      facing += scene.faces()[static_cast<size_t>(f)].area_m2 *
+                std::max(0.0, node.side * scene.faces()[static_cast<size_t>(f)].normal.dot(d));
     if (facing <= 0) continue;  // faces away: no rays
     const NodeSampler sampler(scene, i);
     Sobol4 sobol(mixSeed(seed, static_cast<std::uint64_t>(i), 0x5a17));
@@ -90,7 +91,8 @@ std::vector<PlanetRays> planetRays(const RayCaster& caster, const Vec3& center, 
     }
     pr.rays = per_replica * replicas;
     pr.view_factor = sum / replicas;
-    pr.standard_error = std::sqrt(std::max(0.0, (sum2 - replicas * pr.view_factor * pr.view_factor) / (replicas - 1)) / replicas);
+    pr.standard_error =
+        std::sqrt(std::max(0.0, (sum2 - replicas * pr.view_factor * pr.view_factor) / (replicas - 1)) / replicas);
   }
   return out;
 }

@@ -25,7 +25,7 @@ LitArea litArea(const RayCaster& caster, const Vec3& toward_source, int samples,
 
 /// Rays from one node that reach a sphere (the planet) unobstructed by the spacecraft.
 struct PlanetRays {
-  double view_factor = 0.0;   ///< fraction of the node's cosine-weighted rays reaching the sphere, –
+  double view_factor = 0.0;  ///< fraction of the node's cosine-weighted rays reaching the sphere, –
   double standard_error = 0.0;
   std::vector<Vec3> hit_points;  ///< where those rays meet the sphere, body frame, m
   std::vector<Vec3> directions;  ///< their unit directions

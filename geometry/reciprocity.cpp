@@ -1,7 +1,7 @@
 #include "geometry/reciprocity.hpp"
 
-#include <Eigen/SparseCholesky>
 #include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCholesky>
 
 #include <algorithm>
 #include <cmath>
@@ -11,9 +11,9 @@ namespace radnet::geometry {
 namespace {
 
 struct Pair {
-  int i, j;        // i <= j
-  double g_hat;    // combined estimate of g_ij, m²
-  double var;      // its variance, m⁴
+  int i, j;      // i <= j
+  double g_hat;  // combined estimate of g_ij, m²
+  double var;    // its variance, m⁴
   bool pinned = false;
 };
 

@@ -17,10 +17,10 @@ namespace radnet::geometry {
 
 struct ReciprocityCorrection {
   Eigen::SparseMatrix<double, Eigen::RowMajor> view_factors;  ///< corrected F: A F symmetric, rows closed
-  Eigen::VectorXd space;    ///< corrected F_space
-  Eigen::VectorXd blocked;  ///< corrected F_blocked
-  double max_change = 0.0;        ///< largest |ΔF_ij|, view-factor units
-  double max_change_sigma = 0.0;  ///< largest |ΔF_ij| / σ_ij (how many standard errors)
+  Eigen::VectorXd space;                                      ///< corrected F_space
+  Eigen::VectorXd blocked;                                    ///< corrected F_blocked
+  double max_change = 0.0;                                    ///< largest |ΔF_ij|, view-factor units
+  double max_change_sigma = 0.0;                              ///< largest |ΔF_ij| / σ_ij (how many standard errors)
   int worst_from = -1, worst_to = -1;
   double max_closure_error = 0.0;  ///< max_i |Σ_j F_ij + F_space,i + F_blocked,i − 1| after correction
 };
@@ -30,7 +30,7 @@ struct ReciprocityCorrection {
 struct ViewFactorEstimate {
   Eigen::SparseMatrix<double, Eigen::RowMajor> view_factors;    ///< F (n×n), row = from, –
   Eigen::SparseMatrix<double, Eigen::RowMajor> standard_error;  ///< σ of each F_ij, –
-  Eigen::VectorXd space, space_error;      ///< F_space,i and its σ, –
+  Eigen::VectorXd space, space_error;                           ///< F_space,i and its σ, –
   Eigen::VectorXd blocked, blocked_error;  ///< F_blocked,i (rays stopped by inactive sides) and σ, –
 };
 

@@ -12,7 +12,11 @@ namespace {
 std::array<std::array<std::uint32_t, 32>, 4> makeDirections() {
   std::array<std::array<std::uint32_t, 32>, 4> v{};
   for (int k = 0; k < 32; ++k) v[0][k] = 1u << (31 - k);
-  struct Poly { int s; unsigned a; std::array<unsigned, 3> m; };
+  struct Poly {
+    int s;
+    unsigned a;
+    std::array<unsigned, 3> m;
+  };
   const Poly polys[3] = {{1, 0, {1, 0, 0}}, {2, 1, {1, 3, 0}}, {3, 1, {1, 3, 1}}};
   for (int d = 0; d < 3; ++d) {
     const Poly& p = polys[d];

@@ -47,8 +47,8 @@ std::vector<Face> checkedFaces(const TriangleSoup& soup, const std::string& labe
         << ") is degenerate (area " << 0.5 * twice_area << " m²)";
       throw GeometryError(s.str());
     }
-    const double longest2 = std::max({(f.v[1] - f.v[0]).squaredNorm(), (f.v[2] - f.v[1]).squaredNorm(),
-                                      (f.v[0] - f.v[2]).squaredNorm()});
+    const double longest2 =
+        std::max({(f.v[1] - f.v[0]).squaredNorm(), (f.v[2] - f.v[1]).squaredNorm(), (f.v[0] - f.v[2]).squaredNorm()});
     if (longest2 / twice_area > 1e4 && slivers++ == 0) first_sliver = static_cast<int>(t);
     f.normal = cross / twice_area;
     f.area_m2 = 0.5 * twice_area;

@@ -42,7 +42,7 @@ struct Node {
 /// What the scene knows of one triangle, flat for the ray-casting hot loops.
 struct Face {
   std::array<Vec3, 3> v;
-  Vec3 normal;          ///< unit, towards the front side ((v1 − v0) × (v2 − v0))
+  Vec3 normal;  ///< unit, towards the front side ((v1 − v0) × (v2 − v0))
   double area_m2 = 0.0;
   int front_node = -1;  ///< node of the front side, −1: inactive
   int back_node = -1;   ///< node of the back side, −1: inactive

@@ -64,11 +64,14 @@ void computeViewFactorRow(const RayCaster& caster, int node, const ViewFactorOpt
   std::vector<Random4> random;
   for (int r = 0; r < replicas; ++r) {
     const std::uint64_t s = mixSeed(opt.seed, static_cast<std::uint64_t>(node), static_cast<std::uint64_t>(r));
-    if (opt.sampling == Sampling::Sobol) sobol.emplace_back(s);
-    else random.emplace_back(s);
+    if (opt.sampling == Sampling::Sobol)
+      sobol.emplace_back(s);
+    else
+      random.emplace_back(s);
   }
   const std::int64_t cap = std::max<std::int64_t>(1, opt.rays_per_node / replicas);
-  std::int64_t per_replica = opt.target_error > 0 ? std::min(cap, std::max<std::int64_t>(1, opt.min_rays_per_node / replicas)) : cap;
+  std::int64_t per_replica =
+      opt.target_error > 0 ? std::min(cap, std::max<std::int64_t>(1, opt.min_rays_per_node / replicas)) : cap;
   std::int64_t done = 0;
   for (;;) {
     for (int r = 0; r < replicas; ++r) {
@@ -96,9 +99,13 @@ void computeViewFactorRow(const RayCaster& caster, int node, const ViewFactorOpt
   space[0] = space[1] = blocked[0] = blocked[1] = 0.0;
   for (int target : targetsOf(tallies)) {
     const auto [mean, err] = replicaStats(tallies, target, double(per_replica));
-    if (target == kSpace) { space[0] = mean; space[1] = err; }
-    else if (target == kBlocked) { blocked[0] = mean; blocked[1] = err; }
-    else {
+    if (target == kSpace) {
+      space[0] = mean;
+      space[1] = err;
+    } else if (target == kBlocked) {
+      blocked[0] = mean;
+      blocked[1] = err;
+    } else {
       row.emplace_back(target, mean);
       row_error.emplace_back(target, err);
     }

@@ -16,8 +16,8 @@
 namespace radnet::geometry {
 
 enum class Sampling {
-  Sobol,   ///< randomised QMC: R digitally shifted Sobol sequences per node
-  Random   ///< plain pseudo-random points, R independent streams per node
+  Sobol,  ///< randomised QMC: R digitally shifted Sobol sequences per node
+  Random  ///< plain pseudo-random points, R independent streams per node
 };
 
 struct ViewFactorOptions {
@@ -41,7 +41,7 @@ struct ViewFactorOptions {
 
 /// The estimate (F, F_space, F_blocked and their standard errors) and how it was made.
 struct ViewFactorResult : ViewFactorEstimate {
-  std::vector<std::int64_t> rays;          ///< rays cast per node
+  std::vector<std::int64_t> rays;  ///< rays cast per node
   std::int64_t total_rays = 0;
   double seconds = 0.0;
   /// Dense copies (for small networks and output).

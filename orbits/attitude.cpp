@@ -48,10 +48,8 @@ Eigen::Matrix3d bodyFromEci(const AttitudeSpec& spec, const Orbit& orbit, const 
       eciFromBody << x, y, z;
       return eciFromBody.transpose();
     }
-    case Mode::Sun:
-      return triad(Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitX(), sun, orbit.normal(t));
-    case Mode::Inertial:
-      return spec.body_from_eci.normalized().toRotationMatrix();
+    case Mode::Sun: return triad(Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitX(), sun, orbit.normal(t));
+    case Mode::Inertial: return spec.body_from_eci.normalized().toRotationMatrix();
     case Mode::Spin: {
       // The body turns by θ about its axis: v_body(t) = R(−θ) v_body(0).
       const double theta = units::degToRad(spec.spin_rate_deg_s) * t;

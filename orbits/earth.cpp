@@ -33,7 +33,8 @@ double julianDateFromIso(const std::string& iso) {
     throw std::invalid_argument("'" + iso + "' is not an ISO 8601 UTC time; expected YYYY-MM-DDThh:mm:ssZ");
   if (date_only) h = mi = 0, s = 0.0;
   if (mo < 1 || mo > 12 || d < 1 || d > 31 || h > 23 || mi > 59 || !(s >= 0 && s < 61) || y < 1900 || y > 2200)
-    throw std::invalid_argument("'" + iso + "' has a field out of range (year 1900–2200, month, day, hour, minute, second)");
+    throw std::invalid_argument("'" + iso +
+                                "' has a field out of range (year 1900–2200, month, day, hour, minute, second)");
   // Fliegel & Van Flandern (1968): Julian day number of a Gregorian date.
   const int a = (14 - mo) / 12, yy = y + 4800 - a, mm = mo + 12 * a - 3;
   const long jdn = d + (153 * mm + 2) / 5 + 365L * yy + yy / 4 - yy / 100 + yy / 400 - 32045;

@@ -7,16 +7,16 @@
 namespace radnet::orbits {
 
 struct EarthModel {
-  double gm_m3_s2;           ///< geocentric gravitational constant, m³/s²
+  double gm_m3_s2;  ///< geocentric gravitational constant, m³/s²
   double equatorial_radius_m;
-  double flattening;         ///< –
-  double j2;                 ///< dynamical form factor, –
-  double rotation_rad_s;     ///< Earth rotation rate, rad/s
+  double flattening;      ///< –
+  double j2;              ///< dynamical form factor, –
+  double rotation_rad_s;  ///< Earth rotation rate, rad/s
   static const EarthModel& wgs84();
 };
 
 inline constexpr double kAstronomicalUnit = 149597870700.0;  ///< m (IAU 2012, exact)
-inline constexpr double kSunRadius = 6.957e8;                 ///< nominal solar radius, m (IAU 2015)
+inline constexpr double kSunRadius = 6.957e8;                ///< nominal solar radius, m (IAU 2015)
 inline constexpr double kSecondsPerDay = 86400.0;
 inline constexpr double kJ2000 = 2451545.0;  ///< Julian date of J2000.0
 

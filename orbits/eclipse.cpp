@@ -31,15 +31,15 @@ Eigen::Vector3d sunEci(const Orbit& orbit, double t) {
 
 double sunlitFraction(const Eigen::Vector3d& sat, const Eigen::Vector3d& sun, double re) {
   const DiscGeometry g = discs(sat, sun, re);
-  if (g.c >= g.a + g.b) return 1.0;             // no overlap
-  if (g.c <= g.b - g.a) return 0.0;             // umbra: the Earth covers the Sun
+  if (g.c >= g.a + g.b) return 1.0;                              // no overlap
+  if (g.c <= g.b - g.a) return 0.0;                              // umbra: the Earth covers the Sun
   if (g.c <= g.a - g.b) return 1.0 - (g.b * g.b) / (g.a * g.a);  // annular (never in Earth orbit)
   // Partial overlap of two discs (planar approximation, radii ≪ 1 rad for the Sun).
   const double a2 = g.a * g.a, b2 = g.b * g.b, c = g.c;
   const double x = (c * c + a2 - b2) / (2 * c);
   const double y = std::sqrt(std::max(0.0, a2 - x * x));
-  const double overlap = a2 * std::acos(std::clamp(x / g.a, -1.0, 1.0)) +
-                         b2 * std::acos(std::clamp((c - x) / g.b, -1.0, 1.0)) - c * y;
+  const double overlap =
+      a2 * std::acos(std::clamp(x / g.a, -1.0, 1.0)) + b2 * std::acos(std::clamp((c - x) / g.b, -1.0, 1.0)) - c * y;
   return std::clamp(1.0 - overlap / (M_PI * a2), 0.0, 1.0);
 }
 
@@ -64,7 +64,12 @@ std::vector<EclipseEvent> eclipseEvents(const Orbit& orbit, double t0, double t1
         double lo = ta, hi = tb, flo = fa;
         while (hi - lo > 1e-3) {
           const double mid = 0.5 * (lo + hi), fm = f(mid);
-          if ((fm > 0) == (flo > 0)) { lo = mid; flo = fm; } else { hi = mid; }
+          if ((fm > 0) == (flo > 0)) {
+            lo = mid;
+            flo = fm;
+          } else {
+            hi = mid;
+          }
         }
         events.push_back({fa > 0 ? entry : exit, 0.5 * (lo + hi)});
       }

@@ -56,9 +56,10 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
         const Eigen::Vector3d normal = (hit - center) / re;  // outward, body frame
         const double cos_sun = normal.dot(pos.sun_body);
         if (cos_sun <= 0) continue;  // night side
-        const double a = opt.albedo_by_latitude.empty()
-                             ? opt.albedo
-                             : albedoAt(opt, units::radToDeg(std::asin(std::clamp((eciFromBody * normal).z(), -1.0, 1.0))));
+        const double a =
+            opt.albedo_by_latitude.empty()
+                ? opt.albedo
+                : albedoAt(opt, units::radToDeg(std::asin(std::clamp((eciFromBody * normal).z(), -1.0, 1.0))));
         sum += a * cos_sun;
       }
       // E = π ∫ L cos θ dω / π … with L = a S cos θ_s / π and rays drawn with pdf cos θ / π.

@@ -19,22 +19,23 @@
 namespace radnet::orbits {
 
 struct EnvironmentOptions {
-  double albedo = 0.30;  ///< Bond albedo, – (orbit-average Earth value; Gilmore, Spacecraft Thermal Control Handbook, ch. 2)
+  double albedo =
+      0.30;  ///< Bond albedo, – (orbit-average Earth value; Gilmore, Spacecraft Thermal Control Handbook, ch. 2)
   /// Optional latitude dependence: (|geocentric latitude| deg, albedo) pairs, linear in between.
   std::vector<std::pair<double, double>> albedo_by_latitude;
-  double earth_ir_w_m2 = 237.0;  ///< outgoing longwave radiation, W/m² (global mean; Gilmore, ch. 2)
-  int shadow_samples = 1024;     ///< points per node for direct-solar shadow rays
+  double earth_ir_w_m2 = 237.0;      ///< outgoing longwave radiation, W/m² (global mean; Gilmore, ch. 2)
+  int shadow_samples = 1024;         ///< points per node for direct-solar shadow rays
   std::int64_t planet_rays = 16384;  ///< cosine-weighted rays per node towards the planet
   std::uint64_t seed = 1;
   std::function<void(int, int)> progress;  ///< (positions done, positions total), optional
 };
 
 struct EnvironmentLoads {
-  Eigen::MatrixXd direct;   ///< (n×P) direct solar irradiance, W/m²
-  Eigen::MatrixXd albedo;   ///< (n×P) albedo irradiance, W/m²
-  Eigen::MatrixXd earth_ir;  ///< (n×P) Earth IR irradiance, W/m²
+  Eigen::MatrixXd direct;             ///< (n×P) direct solar irradiance, W/m²
+  Eigen::MatrixXd albedo;             ///< (n×P) albedo irradiance, W/m²
+  Eigen::MatrixXd earth_ir;           ///< (n×P) Earth IR irradiance, W/m²
   Eigen::MatrixXd earth_view_factor;  ///< (n×P) with self-shadowing, –
-  int planet_casts = 0;     ///< how many times the planet rays were cast (1 with reuse)
+  int planet_casts = 0;               ///< how many times the planet rays were cast (1 with reuse)
   std::int64_t shadow_rays = 0;
   double seconds = 0.0;
 };

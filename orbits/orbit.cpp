@@ -66,7 +66,7 @@ Orbit::Orbit(const KeplerElements& el, double epoch_jd, const EarthModel& earth)
   mean_motion_ = n0 * (1 + 0.5 * k * std::sqrt(1 - e * e) * (3 * ci * ci - 1));
   // Mean anomaly at the epoch from the true anomaly.
   const double ecc0 = 2 * std::atan2(std::sqrt(1 - e) * std::sin(el.true_anomaly_rad / 2),
-                                      std::sqrt(1 + e) * std::cos(el.true_anomaly_rad / 2));
+                                     std::sqrt(1 + e) * std::cos(el.true_anomaly_rad / 2));
   m0_ = ecc0 - e * std::sin(ecc0);
 }
 
@@ -155,7 +155,8 @@ double raanForLocalTimeDeg(double ltan_hours, double epoch_jd) {
 }
 
 KeplerElements betaElements(double altitude_m, double beta_deg, double epoch_jd, const EarthModel& earth) {
-  if (!(std::isfinite(beta_deg) && beta_deg >= -90 && beta_deg <= 90)) throw OrbitError("beta must be in [-90, 90] deg");
+  if (!(std::isfinite(beta_deg) && beta_deg >= -90 && beta_deg <= 90))
+    throw OrbitError("beta must be in [-90, 90] deg");
   const Eigen::Vector3d s = sunPosition(epoch_jd).direction_eci;
   // Orbit normal h = sin β s + cos β p, p ⟂ s in the plane of s and the pole, so that
   // asin(h·s) = β; with β = 0 the Sun lies in the orbit plane.

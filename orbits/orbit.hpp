@@ -20,9 +20,9 @@ struct KeplerElements {
   double semi_major_axis_m = 0.0;
   double eccentricity = 0.0;
   double inclination_rad = 0.0;
-  double raan_rad = 0.0;           ///< right ascension of the ascending node
+  double raan_rad = 0.0;  ///< right ascension of the ascending node
   double arg_perigee_rad = 0.0;
-  double true_anomaly_rad = 0.0;   ///< at the epoch
+  double true_anomaly_rad = 0.0;  ///< at the epoch
 };
 
 struct OrbitState {

@@ -20,7 +20,8 @@ std::vector<SweepPosition> sweepOrbit(const Orbit& orbit, const AttitudeSpec& at
     if (opt.spacing == SweepOptions::Spacing::Time) {
       times.emplace_back(k * period / opt.positions_per_orbit, false);
     } else {  // equal steps of true anomaly from the epoch's
-      const double nu = orbit.elements().true_anomaly_rad + 2 * M_PI * (k % opt.positions_per_orbit) / opt.positions_per_orbit;
+      const double nu =
+          orbit.elements().true_anomaly_rad + 2 * M_PI * (k % opt.positions_per_orbit) / opt.positions_per_orbit;
       times.emplace_back(orbit.timeOfTrueAnomaly(nu, k / opt.positions_per_orbit), false);
     }
   }

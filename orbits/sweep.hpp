@@ -20,14 +20,14 @@ struct SweepOptions {
 };
 
 struct SweepPosition {
-  double t_s = 0.0;                 ///< seconds after the epoch
-  Eigen::Vector3d sun_body;         ///< unit, body frame
-  Eigen::Vector3d earth_body;       ///< unit, towards the Earth's centre, body frame
-  double earth_distance_m = 0.0;    ///< to the Earth's centre
-  double sunlit_fraction = 1.0;     ///< 0 … 1
+  double t_s = 0.0;               ///< seconds after the epoch
+  Eigen::Vector3d sun_body;       ///< unit, body frame
+  Eigen::Vector3d earth_body;     ///< unit, towards the Earth's centre, body frame
+  double earth_distance_m = 0.0;  ///< to the Earth's centre
+  double sunlit_fraction = 1.0;   ///< 0 … 1
   double beta_rad = 0.0;
-  double solar_flux_w_m2 = 0.0;     ///< at the spacecraft's Sun distance, before the eclipse factor
-  bool event = false;               ///< an inserted eclipse entry/exit
+  double solar_flux_w_m2 = 0.0;  ///< at the spacecraft's Sun distance, before the eclipse factor
+  bool event = false;            ///< an inserted eclipse entry/exit
   Eigen::Matrix3d body_from_eci;
   Eigen::Vector3d position_eci_m;
 };

@@ -27,8 +27,7 @@ namespace {
 EigenPairs sortedByMagnitude(const Eigen::VectorXd& values, const Eigen::MatrixXd& vectors) {
   std::vector<int> order(static_cast<size_t>(values.size()));
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](int a, int b) { return std::abs(values[a]) > std::abs(values[b]); });
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return std::abs(values[a]) > std::abs(values[b]); });
   EigenPairs out;
   out.values.resize(values.size());
   out.vectors.resize(vectors.rows(), values.size());
@@ -137,7 +136,8 @@ EigenPairs decomposeConductance(const Network& net, const EigenRequest& req) {
   if (method == EigenMethod::Dense) {
     EigenPairs all = denseEigenPairs(net.denseConductance());
     if (all.status != Status::Converged) return all;
-    const int k = req.rank > 0 ? std::min(req.rank, n) : std::min(cap, rankForTolerance(all.values, req.tolerance, max_s));
+    const int k =
+        req.rank > 0 ? std::min(req.rank, n) : std::min(cap, rankForTolerance(all.values, req.tolerance, max_s));
     result = truncate(all, k);
   } else if (req.rank > 0) {
     result = lanczosOnNetwork(net, req.rank, req);

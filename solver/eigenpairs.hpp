@@ -12,9 +12,9 @@
 namespace radnet::solver {
 
 enum class EigenMethod {
-  Auto,     ///< dense for small n or when most pairs are needed, Lanczos otherwise
-  Dense,    ///< Eigen::SelfAdjointEigenSolver (tridiagonal QR; all n pairs)
-  Lanczos   ///< Spectra::SymEigsSolver, implicitly restarted Lanczos, largest |λ|
+  Auto,    ///< dense for small n or when most pairs are needed, Lanczos otherwise
+  Dense,   ///< Eigen::SelfAdjointEigenSolver (tridiagonal QR; all n pairs)
+  Lanczos  ///< Spectra::SymEigsSolver, implicitly restarted Lanczos, largest |λ|
 };
 
 const char* toString(EigenMethod m);

@@ -69,7 +69,8 @@ BandSolution LowRankBandSolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& m
   sol.exitance = mo + rho_.asDiagonal() * sol.irradiance;
   sol.residual = relativeResidual(net_.applyConductance(sol.exitance), net_.area(), rho_, mo, sol.exitance);
   sol.max_residual = sol.residual.size() ? sol.residual.maxCoeff() : 0.0;
-  if (refine_tolerance > 0 && sol.max_residual > refine_tolerance) refine(mo, sol, refine_tolerance, max_refine_iterations);
+  if (refine_tolerance > 0 && sol.max_residual > refine_tolerance)
+    refine(mo, sol, refine_tolerance, max_refine_iterations);
   if (!sol.exitance.allFinite() || !sol.irradiance.allFinite()) {
     sol.status = Status::NonFinite;
     sol.message = "band solution is not finite";

@@ -28,7 +28,7 @@ struct BandSolution {
   Eigen::MatrixXd irradiance;  ///< H = A⁻¹ G M (n×P), W/m²; with G'_k when not refined
   Eigen::VectorXd residual;    ///< per column, relative, with the full G (see relativeResidual)
   double max_residual = 0.0;
-  int refine_iterations = 0;   ///< preconditioned CG iterations (0: low-rank answer kept)
+  int refine_iterations = 0;  ///< preconditioned CG iterations (0: low-rank answer kept)
   bool refined = false;
   Status status = Status::Converged;
   std::string message;

@@ -25,8 +25,8 @@ void checkShape(Eigen::Index rows, Eigen::Index cols, int n) {
 void checkEntry(const std::vector<std::string>& names, int i, int j, double f) {
   if (!std::isfinite(f) || f < 0.0) {
     std::ostringstream s;
-    s << "view factor F[" << i << "][" << j << "] from " << nodeLabel(names, i) << " to "
-      << nodeLabel(names, j) << " is " << f << "; expected a finite value in [0, 1]";
+    s << "view factor F[" << i << "][" << j << "] from " << nodeLabel(names, i) << " to " << nodeLabel(names, j)
+      << " is " << f << "; expected a finite value in [0, 1]";
     throw NetworkError(s.str());
   }
 }
@@ -43,8 +43,8 @@ void checkRange(const Network& net, const Eigen::VectorXd& values, const char* w
     const double v = values[i];
     if (!(std::isfinite(v) && v >= lo && v <= hi)) {  // written so that NaN fails too
       std::ostringstream s;
-      s << what << " of " << nodeLabel(net.names(), i) << " is " << v << "; expected a value in [" << lo << ", "
-        << hi << "]";
+      s << what << " of " << nodeLabel(net.names(), i) << " is " << v << "; expected a value in [" << lo << ", " << hi
+        << "]";
       throw NetworkError(s.str());
     }
   }
@@ -190,7 +190,8 @@ double Network::spectralBound() const {
   if (sparse_) {
     Eigen::VectorXd rows = Eigen::VectorXd::Zero(size());
     for (int k = 0; k < g_sparse_.outerSize(); ++k)
-      for (Eigen::SparseMatrix<double>::InnerIterator it(g_sparse_, k); it; ++it) rows[it.row()] += std::abs(it.value());
+      for (Eigen::SparseMatrix<double>::InnerIterator it(g_sparse_, k); it; ++it)
+        rows[it.row()] += std::abs(it.value());
     return rows.maxCoeff();
   }
   return g_dense_.cwiseAbs().rowwise().sum().maxCoeff();

@@ -61,9 +61,8 @@ class Network {
           Eigen::VectorXd blocked = {}, NetworkTolerances tolerances = {});
 
   /// Sparse form: the same contract, for networks where most pairs cannot see each other.
-  Network(std::vector<std::string> names, Eigen::VectorXd area_m2,
-          const Eigen::SparseMatrix<double>& view_factors, Eigen::VectorXd blocked = {},
-          NetworkTolerances tolerances = {});
+  Network(std::vector<std::string> names, Eigen::VectorXd area_m2, const Eigen::SparseMatrix<double>& view_factors,
+          Eigen::VectorXd blocked = {}, NetworkTolerances tolerances = {});
 
   int size() const { return static_cast<int>(names_.size()); }
   const std::vector<std::string>& names() const { return names_; }

@@ -12,9 +12,7 @@ EigenMethod eigenMethod(EigenMethod requested, int n, int rank) {
   return n <= kDenseEigenMaxNodes || most_pairs ? EigenMethod::Dense : EigenMethod::Lanczos;
 }
 
-bool storeSparse(long long nonzeros, int n) {
-  return double(nonzeros) / (double(n) * n) < kSparseStorageMaxDensity;
-}
+bool storeSparse(long long nonzeros, int n) { return double(nonzeros) / (double(n) * n) < kSparseStorageMaxDensity; }
 
 EigenPairs decomposeForBands(const Network& net, const Eigen::VectorXd& max_reflectance,
                              const SolverSettings& settings) {

@@ -182,13 +182,13 @@ SolveResult solveEigenIteration(const EigenPairs& pairs, const Eigen::VectorXd& 
   const Eigen::VectorXd s = reflectance.cwiseQuotient(area);
   const Eigen::MatrixXd w = s.asDiagonal() * pairs.vectors;  // w_i = S v_i
   SolveResult res;
-  res.exitance = mo;         // M⁽⁰⁾ = M_o
+  res.exitance = mo;          // M⁽⁰⁾ = M_o
   Eigen::VectorXd kvec = mo;  // K⁽⁰⁾ = M_o, eq. 35
   Monitor mon(opt, mo.norm());
   for (;;) {
     const Eigen::VectorXd coeff = pairs.values.cwiseProduct(pairs.vectors.transpose() * kvec);  // (K·v_i) λ_i
-    kvec = w * coeff;                                                                             // eq. 36
-    res.exitance += kvec;                                                                         // eq. 37
+    kvec = w * coeff;                                                                           // eq. 36
+    res.exitance += kvec;                                                                       // eq. 37
     if (mon.step(res, kvec.norm(), res.exitance.norm())) return res;
   }
 }

@@ -38,7 +38,8 @@ struct SolveResult {
 SolveResult solveDenseLU(const BandSystem& sys, const Eigen::VectorXd& initial_exitance);
 
 /// Jacobi iteration, eq. 20: the physical bounces of light.
-SolveResult solveJacobi(const BandSystem& sys, const Eigen::VectorXd& initial_exitance, const IterativeOptions& opt = {});
+SolveResult solveJacobi(const BandSystem& sys, const Eigen::VectorXd& initial_exitance,
+                        const IterativeOptions& opt = {});
 
 /// Gauss–Seidel sweeps over the nodes in order.
 SolveResult solveGaussSeidel(const BandSystem& sys, const Eigen::VectorXd& initial_exitance,

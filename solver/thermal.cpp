@@ -104,8 +104,7 @@ Eigen::VectorXd startingGuess(const ThermalNetwork& net, const Eigen::VectorXd& 
 }
 
 // Loads at time t (s): linear between the given positions, periodic with the orbit.
-Eigen::VectorXd periodicLoad(const std::vector<double>& times, const Eigen::MatrixXd& q_env, double period,
-                             double t) {
+Eigen::VectorXd periodicLoad(const std::vector<double>& times, const Eigen::MatrixXd& q_env, double period, double t) {
   const size_t P = times.size();
   double tau = std::fmod(t, period);
   if (tau < times.front()) tau += period;
@@ -121,8 +120,10 @@ Eigen::VectorXd periodicLoad(const std::vector<double>& times, const Eigen::Matr
 // max_step/64, then each at most doubles up to max_step; no sliver of a last step.
 double nextStep(double h_prev, double max_step, double remaining) {
   double h = h_prev > 0 ? std::min(max_step, 2.0 * h_prev) : max_step / 64.0;
-  if (h >= remaining) h = remaining;
-  else if (remaining - h < 0.25 * h) h = 0.5 * remaining;
+  if (h >= remaining)
+    h = remaining;
+  else if (remaining - h < 0.25 * h)
+    h = 0.5 * remaining;
   return h;
 }
 
@@ -144,10 +145,9 @@ void ThermalNetwork::validate() const {
 
 Eigen::VectorXd heatBalance(const ThermalNetwork& net, const Eigen::VectorXd& t, const Eigen::VectorXd& q_env) {
   const Eigen::VectorXd t4 = t.array().square().square();
-  Eigen::VectorXd g = q_env + net.dissipation +
-                      kStefanBoltzmann * (net.gr * t4 - net.gr.rowwise().sum().cwiseProduct(t4)) -
-                      kStefanBoltzmann * net.gr_space.cwiseProduct(
-                                             (t4.array() - std::pow(net.space_temperature, 4)).matrix());
+  Eigen::VectorXd g =
+      q_env + net.dissipation + kStefanBoltzmann * (net.gr * t4 - net.gr.rowwise().sum().cwiseProduct(t4)) -
+      kStefanBoltzmann * net.gr_space.cwiseProduct((t4.array() - std::pow(net.space_temperature, 4)).matrix());
   const Eigen::VectorXd kt = net.conductors * t;
   const Eigen::VectorXd krow = net.conductors * Eigen::VectorXd::Ones(t.size());
   return g + kt - krow.cwiseProduct(t);
@@ -183,9 +183,12 @@ ThermalResult transient(const ThermalNetwork& net, const std::vector<double>& ti
   net.validate();
   const Eigen::Index n = q_env.rows();
   const size_t P = times.size();
-  if (P == 0 || static_cast<Eigen::Index>(P) != q_env.cols()) throw std::invalid_argument("transient: one load column per time");
-  if (!(period > 0 && orbits > 0 && opt.max_step_s > 0)) throw std::invalid_argument("transient: period, orbits and step must be > 0");
-  if (initial.size() != n || (initial.array() <= 0).any()) throw std::invalid_argument("transient: initial temperatures must be > 0 K");
+  if (P == 0 || static_cast<Eigen::Index>(P) != q_env.cols())
+    throw std::invalid_argument("transient: one load column per time");
+  if (!(period > 0 && orbits > 0 && opt.max_step_s > 0))
+    throw std::invalid_argument("transient: period, orbits and step must be > 0");
+  if (initial.size() != n || (initial.array() <= 0).any())
+    throw std::invalid_argument("transient: initial temperatures must be > 0 K");
   // Output times: the P positions of the last orbit.
   const double last = (std::ceil(orbits) - 1) * period;
   std::vector<double> marks;
@@ -215,8 +218,8 @@ ThermalResult transient(const ThermalNetwork& net, const std::vector<double>& ti
       const Eigen::VectorXd history = a * t_now - b * t_prev;
       Eigen::VectorXd guess = t_now;
       double residual = 0.0;
-      const Status s = newton(net, guess, periodicLoad(times, q_env, period, clock + h), net.capacitance, history, h * beta, opt,
-                              res.newton_iterations, residual, res.message);
+      const Status s = newton(net, guess, periodicLoad(times, q_env, period, clock + h), net.capacitance, history,
+                              h * beta, opt, res.newton_iterations, residual, res.message);
       if (s != Status::Converged) {
         res.status = s;
         res.message += " (transient step at t = " + std::to_string(clock + h) + " s)";

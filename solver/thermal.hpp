@@ -17,28 +17,28 @@
 namespace radnet::solver {
 
 struct ThermalNetwork {
-  Eigen::MatrixXd gr;                    ///< radiative exchange factors GR (n×n), m²
-  Eigen::VectorXd gr_space;              ///< GR to space, m²
+  Eigen::MatrixXd gr;                      ///< radiative exchange factors GR (n×n), m²
+  Eigen::VectorXd gr_space;                ///< GR to space, m²
   Eigen::SparseMatrix<double> conductors;  ///< K_ij (symmetric, zero diagonal), W/K
-  Eigen::VectorXd capacitance;           ///< C_i, J/K (0: arithmetic node)
-  Eigen::VectorXd dissipation;           ///< Q_int,i, W
-  Eigen::VectorXd fixed_temperature;     ///< K, NaN where the node is free (boundary nodes otherwise)
-  double space_temperature = 3.0;        ///< K
+  Eigen::VectorXd capacitance;             ///< C_i, J/K (0: arithmetic node)
+  Eigen::VectorXd dissipation;             ///< Q_int,i, W
+  Eigen::VectorXd fixed_temperature;       ///< K, NaN where the node is free (boundary nodes otherwise)
+  double space_temperature = 3.0;          ///< K
   /// @throws std::invalid_argument on inconsistent sizes or non-physical values
   void validate() const;
 };
 
 struct ThermalOptions {
-  double tolerance_w = 1e-9;   ///< Newton stops when every |G_i| ≤ tolerance_w · (1 + scale of node i's terms)
+  double tolerance_w = 1e-9;  ///< Newton stops when every |G_i| ≤ tolerance_w · (1 + scale of node i's terms)
   int max_newton_iterations = 100;
-  double max_step_s = 10.0;    ///< transient substep
+  double max_step_s = 10.0;  ///< transient substep
 };
 
 struct ThermalResult {
   Eigen::MatrixXd temperature;  ///< (n×P), K
   Status status = Status::Converged;
   std::string message;
-  int newton_iterations = 0;   ///< total
+  int newton_iterations = 0;    ///< total
   double max_residual_w = 0.0;  ///< largest |G_i| left, W
 };
 
@@ -53,7 +53,6 @@ ThermalResult steadyStates(const ThermalNetwork& net, const Eigen::MatrixXd& q_e
 /// at times_s (P, within one period, increasing) with values q_env (n×P, linear in between,
 /// wrapping at `period_s`). Returns the temperatures at the P times of the last orbit.
 ThermalResult transient(const ThermalNetwork& net, const std::vector<double>& times_s, const Eigen::MatrixXd& q_env,
-                        double period_s, double orbits, const Eigen::VectorXd& initial,
-                        const ThermalOptions& opt = {});
+                        double period_s, double orbits, const Eigen::VectorXd& initial, const ThermalOptions& opt = {});
 
 }  // namespace radnet::solver

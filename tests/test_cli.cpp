@@ -2,8 +2,8 @@
 // located error messages, atomic output, and the HDF5 layout read back with the HDF5 API.
 #include "temp_dir.hpp"
 
-#include <catch2/catch.hpp>
 #include <hdf5.h>
+#include <catch2/catch.hpp>
 
 #include <cstdlib>
 #include <filesystem>
@@ -134,7 +134,8 @@ TEST_CASE("cli: run the seed room writes the HDF5 layout with units, and the pap
   // G symmetric as stored (row-major on disk).
   const H5Data g = readDataset(file, "/network/conductance");
   for (int i = 0; i < 6; ++i)
-    for (int j = 0; j < 6; ++j) CHECK(g.values[static_cast<size_t>(i * 6 + j)] == g.values[static_cast<size_t>(j * 6 + i)]);
+    for (int j = 0; j < 6; ++j)
+      CHECK(g.values[static_cast<size_t>(i * 6 + j)] == g.values[static_cast<size_t>(j * 6 + i)]);
   CHECK(H5Aexists_by_name(file, "/report", "truncation_residual", H5P_DEFAULT) > 0);
   CHECK(H5Aexists_by_name(file, "/eigen", "rank", H5P_DEFAULT) > 0);
   CHECK(H5Aexists_by_name(file, "/meta", "created_utc", H5P_DEFAULT) > 0);
@@ -144,9 +145,9 @@ TEST_CASE("cli: run the seed room writes the HDF5 layout with units, and the pap
 TEST_CASE("cli: check passes the shipped examples and fails a wrong expectation with exit 1") {
   TempDir dir;
   const Run ok = runRadnet("check '" + source("cases/examples/seed-room.yaml") + "' '" +
-                            source("cases/examples/random-network.yaml") + "' '" +
-                            source("cases/examples/parallel-plates.yaml") + "'",
-                        dir);
+                               source("cases/examples/random-network.yaml") + "' '" +
+                               source("cases/examples/parallel-plates.yaml") + "'",
+                           dir);
   INFO(ok.out << ok.err);
   CHECK(ok.exit_code == 0);
   CHECK(ok.out.find("FAIL") == std::string::npos);
@@ -228,7 +229,7 @@ TEST_CASE("cli: a geometry case writes /geometry, view factors with errors, and 
   for (int i = 0; i < 6; ++i) {
     double row = 0.0;
     for (int j = 0; j < 6; ++j) row += f.values[static_cast<size_t>(6 * i + j)];
-    CHECK(std::abs(row - 1.0) < 1e-12);                        // closed after the correction
+    CHECK(std::abs(row - 1.0) < 1e-12);                          // closed after the correction
     CHECK(std::abs(grs.values[static_cast<size_t>(i)]) < 1e-9);  // nothing reaches space
     CHECK(e.values[static_cast<size_t>(6 * i + (i ^ 1))] > 0);   // errors reported
   }
@@ -393,7 +394,7 @@ TEST_CASE("cli: includes of materials and surfaces, errors located in the includ
   TempDir dir;
   fs::create_directories(dir.path / "lib" / "parts");
   std::ofstream(dir.path / "lib" / "materials.yaml") << "white: {emissivity: 0.88, absorptivity: 0.2}\n"
-                                                          "black: {emissivity: 1.0, absorptivity: 1.0}\n";
+                                                        "black: {emissivity: 1.0, absorptivity: 1.0}\n";
   std::ofstream(dir.path / "lib" / "panels.yaml")
       << "- rectangle: {name: a, origin: [0, 0, 0], u: [1, 0, 0], v: [0, 1, 0], front: white}\n"
          "- mesh: {name: m, file: parts/tri.off, front: black}\n";

@@ -68,7 +68,8 @@ TEST_CASE("open network: absorbed + lost to space = emitted, and GR sums to εA"
   }
   const solver::ExchangeFactors ex = solver::exchangeFactorsDense(net, eps);
   REQUIRE(ex.status == solver::Status::Converged);
-  CHECK(((ex.gr.rowwise().sum() + ex.gr_space) - eps.cwiseProduct(net.area())).cwiseAbs().maxCoeff() < 1e-13 * net.area().maxCoeff());
+  CHECK(((ex.gr.rowwise().sum() + ex.gr_space) - eps.cwiseProduct(net.area())).cwiseAbs().maxCoeff() <
+        1e-13 * net.area().maxCoeff());
   CHECK((ex.gr.array() >= -1e-15).all());
   CHECK((ex.gr_space.array() >= -1e-13).all());
 
@@ -83,8 +84,8 @@ TEST_CASE("open network: absorbed + lost to space = emitted, and GR sums to εA"
     const double emitted = eps.cwiseProduct(net.area()).dot(eb.col(p));
     CHECK(std::abs(power.col(p).sum() + lost) <= 1e-12 * emitted);
     // And the same per node through GR: Q_i = Σ_j σ GR_ij (T_j⁴ − T_i⁴) − σ GR_i,space T_i⁴.
-    const Eigen::VectorXd by_gr = ex.gr * eb.col(p) - ex.gr.rowwise().sum().cwiseProduct(eb.col(p)) -
-                                  ex.gr_space.cwiseProduct(eb.col(p));
+    const Eigen::VectorXd by_gr =
+        ex.gr * eb.col(p) - ex.gr.rowwise().sum().cwiseProduct(eb.col(p)) - ex.gr_space.cwiseProduct(eb.col(p));
     CHECK((by_gr - power.col(p)).cwiseAbs().maxCoeff() <= 1e-11 * emitted);
   }
 }

@@ -120,8 +120,9 @@ TEST_CASE("scene: nodes per side, areas, and clear errors naming the surface and
   s.addSurface("s", "sliver", sliver, "sliver", "");
   REQUIRE(s.warnings().size() == 1);
   CHECK_THAT(s.warnings()[0], Contains("sliver") && Contains("triangle 0"));
-  CHECK_THROWS_WITH(s.addSurface("y", "y", rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 1, 1), "panel.back", ""),
-                    Contains("front side and for a back side"));
+  CHECK_THROWS_WITH(
+      s.addSurface("y", "y", rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 1, 1), "panel.back", ""),
+      Contains("front side and for a back side"));
   TriangleSoup flipped;  // two triangles sharing an edge with clashing orientation
   flipped.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
   flipped.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 2, 1}};
@@ -167,9 +168,10 @@ TEST_CASE("mesh files: OFF, OBJ (with groups), STL, PLY read and scaled, bad fil
   CHECK(groups[0].name == "top");
   CHECK(groups[1].name == "side");
   CHECK(soupArea(groups[1].soup) == Approx(4.0));
-  const std::string stl = dir.write("t.stl",
-                                    "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 2 0 0\nvertex 0 2 0\n"
-                                    "endloop\nendfacet\nendsolid t\n");
+  const std::string stl =
+      dir.write("t.stl",
+                "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 2 0 0\nvertex 0 2 0\n"
+                "endloop\nendfacet\nendsolid t\n");
   CHECK(soupArea(readMesh(stl, 1.0)) == Approx(2.0));
   const std::string ply = dir.write("t.ply",
                                     "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
@@ -179,7 +181,8 @@ TEST_CASE("mesh files: OFF, OBJ (with groups), STL, PLY read and scaled, bad fil
 
   const std::string truncated = dir.write("cut.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n");
   CHECK_THROWS_WITH(readMesh(truncated, 1.0), Contains("cut.off") && Contains("truncated"));
-  CHECK_THROWS_WITH(readMesh((dir.path / "missing.stl").string(), 1.0), Contains("missing.stl") && Contains("not found"));
+  CHECK_THROWS_WITH(readMesh((dir.path / "missing.stl").string(), 1.0),
+                    Contains("missing.stl") && Contains("not found"));
   CHECK_THROWS_WITH(readMesh(dir.write("x.dae", "nothing"), 1.0), Contains("unknown mesh format"));
   CHECK_THROWS_WITH(readMesh(off, -1.0), Contains("scale"));
   const std::string bad_index = dir.write("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");

@@ -55,8 +55,10 @@ TEST_CASE("nearly closed cavity (spectral radius of S G > 0.999): converge or sa
                         solver::solveSouthwell(sys, mo, opt), solver::solveConjugateGradient(sys, mo, opt)}) {
     INFO(solver::toString(r.status) << " after " << r.iterations << ": " << r.message);
     CHECK(r.exitance.allFinite());
-    if (r.status == solver::Status::Converged) CHECK(test::relativeError(r.exitance, lu) < 1e-6);
-    else CHECK(r.status == solver::Status::NotConverged);
+    if (r.status == solver::Status::Converged)
+      CHECK(test::relativeError(r.exitance, lu) < 1e-6);
+    else
+      CHECK(r.status == solver::Status::NotConverged);
   }
   // Jacobi needs ~ln(1e-12)/ln(radius) ≈ 55 000 bounces here: it must say it did not converge.
   CHECK(solver::solveJacobi(sys, mo, opt).status == solver::Status::NotConverged);

@@ -53,8 +53,10 @@ double albedoSubsolar(double a, double S, double r) {
 TEST_CASE("direct solar: a plate facing the Sun gets the full flux, none in eclipse or behind another plate") {
   geometry::Scene s;
   s.addSurface("plate", "plate", geometry::rectangle(Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(1, 0, 0), 2, 2), "plate", "");
-  s.addSurface("shaded", "shaded", geometry::rectangle(Vec3(3, 0, 0), Vec3(0, 1, 0), Vec3(1, 0, 0), 1, 1), "shaded", "");
-  s.addSurface("roof", "roof", geometry::rectangle(Vec3(2.5, -0.5, -1), Vec3(0, 2, 0), Vec3(2, 0, 0), 1, 1), "", "roof.back");
+  s.addSurface("shaded", "shaded", geometry::rectangle(Vec3(3, 0, 0), Vec3(0, 1, 0), Vec3(1, 0, 0), 1, 1), "shaded",
+               "");
+  s.addSurface("roof", "roof", geometry::rectangle(Vec3(2.5, -0.5, -1), Vec3(0, 2, 0), Vec3(2, 0, 0), 1, 1), "",
+               "roof.back");
   geometry::RayCaster caster(s);
   orbits::EnvironmentOptions opt;
   opt.planet_rays = 1024;
@@ -63,17 +65,18 @@ TEST_CASE("direct solar: a plate facing the Sun gets the full flux, none in ecli
                                                  position(Vec3(0, 0, -1), kR + 500e3, 0.0),
                                                  position(Vec3(0, 0, -1), kR + 500e3, 0.4)};
   const orbits::EnvironmentLoads l = orbits::environmentLoads(caster, areas(s), ps, true, kR, opt);
-  CHECK(l.direct(0, 0) == Approx(1361.0).epsilon(1e-12));  // α S A once multiplied by α A
-  CHECK(l.direct(0, 1) == 0.0);                              // eclipse
+  CHECK(l.direct(0, 0) == Approx(1361.0).epsilon(1e-12));        // α S A once multiplied by α A
+  CHECK(l.direct(0, 1) == 0.0);                                  // eclipse
   CHECK(l.direct(0, 2) == Approx(0.4 * 1361.0).epsilon(1e-12));  // penumbra
-  CHECK(l.direct(1, 0) == 0.0);                              // under the roof
-  CHECK(l.planet_casts == 1);                                // Earth fixed: rays cast once, reused
+  CHECK(l.direct(1, 0) == 0.0);                                  // under the roof
+  CHECK(l.planet_casts == 1);                                    // Earth fixed: rays cast once, reused
 }
 
 TEST_CASE("Earth IR and albedo of a nadir plate against closed forms") {
   const double h = 500e3, r = kR + h;
   geometry::Scene s;
-  s.addSurface("plate", "plate", geometry::rectangle(Vec3(0, 0, 0), Vec3(0.1, 0, 0), Vec3(0, 0.1, 0), 1, 1), "plate", "");
+  s.addSurface("plate", "plate", geometry::rectangle(Vec3(0, 0, 0), Vec3(0.1, 0, 0), Vec3(0, 0.1, 0), 1, 1), "plate",
+               "");
   geometry::RayCaster caster(s);
   orbits::EnvironmentOptions opt;
   opt.planet_rays = 65536;

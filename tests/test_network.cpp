@@ -12,8 +12,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-solver::Network twoNodes(double f01, double f10, double a0 = 1.0, double a1 = 1.0,
-                         solver::NetworkTolerances tol = {}) {
+solver::Network twoNodes(double f01, double f10, double a0 = 1.0, double a1 = 1.0, solver::NetworkTolerances tol = {}) {
   Eigen::MatrixXd f(2, 2);
   f << 0.0, f01, f10, 0.0;
   Eigen::VectorXd a(2);

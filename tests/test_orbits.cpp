@@ -42,8 +42,10 @@ TEST_CASE("Sun declination at the 2026 equinoxes and solstices within 0.01° of 
   CHECK(std::abs(sunDeclinationDeg(julianDateFromIso("2026-09-23T00:05:00Z"))) < 0.01);
   CHECK(sunDeclinationDeg(julianDateFromIso("2026-12-21T20:50:00Z")) == Approx(-23.436).margin(0.01));
   // Distance: perihelion in early January 0.9833 AU, aphelion in early July 1.0167 AU.
-  CHECK(sunPosition(julianDateFromIso("2026-01-03T00:00:00Z")).distance_m / kAstronomicalUnit == Approx(0.9833).margin(2e-4));
-  CHECK(sunPosition(julianDateFromIso("2026-07-06T00:00:00Z")).distance_m / kAstronomicalUnit == Approx(1.0167).margin(2e-4));
+  CHECK(sunPosition(julianDateFromIso("2026-01-03T00:00:00Z")).distance_m / kAstronomicalUnit ==
+        Approx(0.9833).margin(2e-4));
+  CHECK(sunPosition(julianDateFromIso("2026-07-06T00:00:00Z")).distance_m / kAstronomicalUnit ==
+        Approx(1.0167).margin(2e-4));
   CHECK(solarFlux(1361.0, kAstronomicalUnit) == 1361.0);
   CHECK(solarFlux(1361.0, 0.5 * kAstronomicalUnit) == Approx(4 * 1361.0));
 }
@@ -144,16 +146,19 @@ TEST_CASE("eclipse fraction of circular orbits: (1/π) acos(√(h² + 2Rh) / ((R
       // the penumbra and umbra crossings at entry and at exit.
       double entry = -1, exit = -1;
       for (size_t k = 0; k + 1 < events.size(); ++k) {
-        if (events[k].kind == EclipseEvent::PenumbraEntry && events[k + 1].kind == EclipseEvent::UmbraEntry && entry < 0)
+        if (events[k].kind == EclipseEvent::PenumbraEntry && events[k + 1].kind == EclipseEvent::UmbraEntry &&
+            entry < 0)
           entry = 0.5 * (events[k].t_s + events[k + 1].t_s);
-        if (events[k].kind == EclipseEvent::UmbraExit && events[k + 1].kind == EclipseEvent::PenumbraExit && entry >= 0 && exit < 0)
+        if (events[k].kind == EclipseEvent::UmbraExit && events[k + 1].kind == EclipseEvent::PenumbraExit &&
+            entry >= 0 && exit < 0)
           exit = 0.5 * (events[k].t_s + events[k + 1].t_s);
       }
       REQUIRE(entry >= 0);
       REQUIRE(exit > entry);
       CHECK(std::abs((exit - entry) / T - expected) < 1e-3);
       // The sunlit fraction is 0 inside and 1 outside, with the penumbra between.
-      CHECK(sunlitFraction(orbit.state(0.5 * (entry + exit)).position_eci_m, sunEci(orbit, 0.5 * (entry + exit)), R) == 0.0);
+      CHECK(sunlitFraction(orbit.state(0.5 * (entry + exit)).position_eci_m, sunEci(orbit, 0.5 * (entry + exit)), R) ==
+            0.0);
       const double mid_pen = events.front().t_s + 1.0;
       const double f = sunlitFraction(orbit.state(mid_pen).position_eci_m, sunEci(orbit, mid_pen), R);
       CHECK(f > 0.0);
@@ -216,7 +221,8 @@ TEST_CASE("sweep: evenly spaced positions plus exact eclipse events; sunlit frac
     if (k) CHECK(sweep[k].t_s > sweep[k - 1].t_s);
     CHECK(sweep[k].sun_body.norm() == Approx(1.0));
     CHECK(sweep[k].earth_body.z() == Approx(1.0));  // nadir: the Earth along +z
-    CHECK(sweep[k].solar_flux_w_m2 == Approx(1361.0 * std::pow(kAstronomicalUnit / (sunPosition(kEpoch).distance_m), 2)).epsilon(2e-3));
+    CHECK(sweep[k].solar_flux_w_m2 ==
+          Approx(1361.0 * std::pow(kAstronomicalUnit / (sunPosition(kEpoch).distance_m), 2)).epsilon(2e-3));
   }
   CHECK(events == 4);  // penumbra and umbra, in and out
   CHECK(dark > 0);

@@ -14,7 +14,7 @@ TEST_CASE("lit area: a plate facing the source, tilted, behind another plate, ha
   RayCaster caster(s);
   const LitArea up = litArea(caster, Vec3(0, 0, 1), 256);
   CHECK(up.projected_m2[0] == Approx(2.0).epsilon(1e-12));  // fully lit, normal incidence
-  CHECK(up.projected_m2[1] == 0.0);                        // the back faces away: no rays
+  CHECK(up.projected_m2[1] == 0.0);                         // the back faces away: no rays
   const LitArea tilted = litArea(caster, Vec3(0, std::sin(0.5), std::cos(0.5)), 256);
   CHECK(tilted.projected_m2[0] == Approx(2.0 * std::cos(0.5)).epsilon(1e-12));
   CHECK(tilted.lit_fraction[0] == Approx(1.0));

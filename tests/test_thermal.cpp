@@ -86,7 +86,8 @@ TEST_CASE("transient: conduction to a boundary decays as exp(−K t / C) (BDF2, 
   REQUIRE(r.status == Status::Converged);
   // τ = C/K = 500 s; second-order BDF2 at h/τ = 0.02 is 5e-3 K off at most here
   // (measured; the O(h²) global error): allow 0.01 K.
-  for (int k = 0; k < 10; ++k) CHECK(r.temperature(0, k) == Approx(300.0 + 100.0 * std::exp(-times[k] / 500.0)).margin(0.01));
+  for (int k = 0; k < 10; ++k)
+    CHECK(r.temperature(0, k) == Approx(300.0 + 100.0 * std::exp(-times[k] / 500.0)).margin(0.01));
 }
 
 TEST_CASE("transient: many orbits of a constant load settle at the steady state") {

@@ -33,7 +33,8 @@ double perpendicularRectangles(double l, double w, double h) {
   const double b = W * W * (1 + W * W + H * H) / ((1 + W * W) * (W * W + H * H));
   const double c = H * H * (1 + H * H + W * W) / ((1 + H * H) * (H * H + W * W));
   return 1.0 / (M_PI * W) *
-         (W * std::atan(1 / W) + H * std::atan(1 / H) - std::sqrt(H * H + W * W) * std::atan(1 / std::sqrt(H * H + W * W)) +
+         (W * std::atan(1 / W) + H * std::atan(1 / H) -
+          std::sqrt(H * H + W * W) * std::atan(1 / std::sqrt(H * H + W * W)) +
           0.25 * std::log(a * std::pow(b, W * W) * std::pow(c, H * H)));
 }
 
@@ -105,17 +106,17 @@ TEST_CASE("interior of a closed cube: opposite 0.19982, adjacent 0.20004, closed
   const auto faces = boxFaces(Vec3(0, 0, 0), Vec3(1, 1, 1), 2);
   for (int k = 0; k < 6; ++k) s.addSurface(kBoxFaceNames[k], kBoxFaceNames[k], faces[k], "", kBoxFaceNames[k]);
   const ViewFactorResult r = cast(s, 100000);
-  CHECK(r.space.cwiseAbs().maxCoeff() == 0.0);  // nothing escapes a closed box
-  checkWithin3Sigma(r, 0, 1, parallelRectangles(1, 1, 1));      // +x → −x
+  CHECK(r.space.cwiseAbs().maxCoeff() == 0.0);                   // nothing escapes a closed box
+  checkWithin3Sigma(r, 0, 1, parallelRectangles(1, 1, 1));       // +x → −x
   checkWithin3Sigma(r, 0, 2, perpendicularRectangles(1, 1, 1));  // +x → +y
-  checkWithin3Sigma(r, 4, 5, parallelRectangles(1, 1, 1));      // +z → −z
+  checkWithin3Sigma(r, 4, 5, parallelRectangles(1, 1, 1));       // +z → −z
   Eigen::VectorXd area = Eigen::VectorXd::Ones(6), rays(6);
   for (int i = 0; i < 6; ++i) rays[i] = double(r.rays[static_cast<size_t>(i)]);
   const ReciprocityCorrection c = enforceReciprocity(area, r, rays);
   const Eigen::MatrixXd f = Eigen::MatrixXd(c.view_factors);
   CHECK((f.rowwise().sum().array() - 1.0).abs().maxCoeff() < 1e-12);
   CHECK((f - f.transpose()).cwiseAbs().maxCoeff() < 1e-15);  // equal areas: F symmetric
-  CHECK(c.max_change_sigma < 4.0);  // the correction stays within the noise
+  CHECK(c.max_change_sigma < 4.0);                           // the correction stays within the noise
   // The correction does not make the answers worse.
   CHECK(std::abs(f(0, 1) - parallelRectangles(1, 1, 1)) <= kThreeSigma * r.standard_error.coeff(0, 1));
 }
@@ -137,8 +138,8 @@ TEST_CASE("concentric spheres r = 1 and 2: F_outer→inner = 0.25, F_outer→out
 
 TEST_CASE("occlusion: a plate halfway between two squares changes F as the deterministic method predicts") {
   Scene s = parallelSquares();
-  s.addSurface("blocker", "blocker", rectangle(Vec3(0.25, 0.0, 0.5), Vec3(0, 0.5, 0), Vec3(0.5, 0, 0), 4, 4),
-               "blocker", "blocker.back");
+  s.addSurface("blocker", "blocker", rectangle(Vec3(0.25, 0.0, 0.5), Vec3(0, 0.5, 0), Vec3(0.5, 0, 0), 4, 4), "blocker",
+               "blocker.back");
   RayCaster caster(s);
   ViewFactorOptions opt;
   opt.rays_per_node = 400000;
@@ -209,8 +210,8 @@ TEST_CASE("standard errors are honest: coverage of ±2σ over 200 seeds") {
       covered += err <= 2 * sigma;
       mean_sigma += sigma / 200;
     }
-    INFO((sampling == Sampling::Sobol ? "Sobol" : "random") << ": coverage " << covered / 200.0 << ", mean σ "
-                                                            << mean_sigma);
+    INFO((sampling == Sampling::Sobol ? "Sobol" : "random")
+         << ": coverage " << covered / 200.0 << ", mean σ " << mean_sigma);
     CHECK(covered >= 176);
     CHECK(covered <= 198);
     if (sampling == Sampling::Random) {
@@ -256,9 +257,8 @@ TEST_CASE("deterministic contour method: exact for unoccluded analytic pairs") {
   // F = (1/2π)[A/√(1+A²) tan⁻¹(B/√(1+A²)) + B/√(1+B²) tan⁻¹(A/√(1+B²))] with A = B = 0.5.
   const double quadrant = (1.0 / (2 * M_PI)) * 2.0 * (0.5 / std::sqrt(1.25)) * std::atan(0.5 / std::sqrt(1.25));
   const double exact = 4.0 * quadrant;
-  const double f = pointToTriangle(Vec3(0.5, 0.5, 0), Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(1, 1, 1),
-                                   Vec3(0, 0, -1)) +
-                   pointToTriangle(Vec3(0.5, 0.5, 0), Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(1, 1, 1), Vec3(0, 1, 1),
-                                   Vec3(0, 0, -1));
+  const double f =
+      pointToTriangle(Vec3(0.5, 0.5, 0), Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(1, 1, 1), Vec3(0, 0, -1)) +
+      pointToTriangle(Vec3(0.5, 0.5, 0), Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(1, 1, 1), Vec3(0, 1, 1), Vec3(0, 0, -1));
   CHECK(f == Approx(exact).epsilon(1e-12));
 }

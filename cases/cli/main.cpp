@@ -10,10 +10,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include <unistd.h>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
-#include <unistd.h>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -117,10 +117,12 @@ int checkCase(const std::string& path, int& checked, int& failed_total) {
   int failed = 0;
   if (c.network) {
     const NetworkRunResult r = runNetworkCase(*c.network, sink);
-    failed = evaluateExpectations(c.expectations(), [&](const Expectation& x) { return lookupResult(r, x); }, std::cout);
+    failed = evaluateExpectations(
+        c.expectations(), [&](const Expectation& x) { return lookupResult(r, x); }, std::cout);
   } else {
     const GeometryRunResult r = runGeometryCase(*c.geometry, false, sink);
-    failed = evaluateExpectations(c.expectations(), [&](const Expectation& x) { return lookupResult(r, x); }, std::cout);
+    failed = evaluateExpectations(
+        c.expectations(), [&](const Expectation& x) { return lookupResult(r, x); }, std::cout);
   }
   failed_total += failed;
   return failed ? kExitCheckFailed : 0;
@@ -129,7 +131,8 @@ int checkCase(const std::string& path, int& checked, int& failed_total) {
 // Every case runs; the worst outcome decides the exit code.
 int checkCommand(const std::vector<std::string>& paths) {
   int worst = 0, failed_total = 0, checked = 0;
-  for (const auto& path : paths) worst = std::max(worst, guarded([&] { return checkCase(path, checked, failed_total); }));
+  for (const auto& path : paths)
+    worst = std::max(worst, guarded([&] { return checkCase(path, checked, failed_total); }));
   if (checked == 0 && worst == 0) {
     std::cerr << "radnet check: none of the cases has an 'expect:' block: nothing was checked\n";
     return kExitBadInput;

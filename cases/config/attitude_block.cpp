@@ -7,7 +7,8 @@ namespace {
 
 constexpr double kBig = std::numeric_limits<double>::max();
 
-orbits::Target target(const YamlDocument& doc, const YAML::Node& node, const std::string& what, Eigen::Vector3d& fixed) {
+orbits::Target target(const YamlDocument& doc, const YAML::Node& node, const std::string& what,
+                      Eigen::Vector3d& fixed) {
   if (node.IsSequence()) {
     fixed = doc.vector3(node, what, true);
     return orbits::Target::Inertial;
@@ -39,10 +40,9 @@ orbits::AttitudeSpec::Mode attitudeMode(const YamlDocument& doc, const YAML::Nod
 
 Eigen::Quaterniond quaternion(const YamlDocument& doc, const YAML::Node& q) {
   if (!q.IsSequence() || q.size() != 4) throw doc.error(q, "attitude.quaternion: expected [w, x, y, z] (bodyFromEci)");
-  Eigen::Quaterniond quat(doc.number(q[0], "attitude.quaternion[0]", -kBig, kBig),
-                          doc.number(q[1], "attitude.quaternion[1]", -kBig, kBig),
-                          doc.number(q[2], "attitude.quaternion[2]", -kBig, kBig),
-                          doc.number(q[3], "attitude.quaternion[3]", -kBig, kBig));
+  Eigen::Quaterniond quat(
+      doc.number(q[0], "attitude.quaternion[0]", -kBig, kBig), doc.number(q[1], "attitude.quaternion[1]", -kBig, kBig),
+      doc.number(q[2], "attitude.quaternion[2]", -kBig, kBig), doc.number(q[3], "attitude.quaternion[3]", -kBig, kBig));
   if (!(quat.norm() > 0)) throw doc.error(q, "attitude.quaternion: must not be zero");
   return quat.normalized();
 }

@@ -9,9 +9,12 @@ LoadedCase loadCase(const std::string& path) {
   LoadedCase c;
   if (isNetworkCase(doc) && isGeometryCase(doc))
     throw doc.error(doc.root()["geometry"], "case: give either 'network' or 'geometry', not both");
-  if (isNetworkCase(doc)) c.network = loadNetworkCase(doc);
-  else if (isGeometryCase(doc)) c.geometry = loadGeometryCase(doc);
-  else throw doc.error(doc.root(), "case: missing 'geometry' (surfaces and materials) or 'network' (view factors given)");
+  if (isNetworkCase(doc))
+    c.network = loadNetworkCase(doc);
+  else if (isGeometryCase(doc))
+    c.geometry = loadGeometryCase(doc);
+  else
+    throw doc.error(doc.root(), "case: missing 'geometry' (surfaces and materials) or 'network' (view factors given)");
   return c;
 }
 

@@ -26,8 +26,10 @@ void parseEnvironment(const YamlDocument& doc, const YAML::Node& e, orbits::Swee
   if (e["solar_constant"])
     sweep.solar_constant_w_m2 = doc.number(e["solar_constant"], "environment.solar_constant (W/m²)", 0, 1e5);
   if (const YAML::Node a = e["albedo"]) {
-    if (a.IsSequence()) parseAlbedoTable(doc, a, env);
-    else env.albedo = doc.number(a, "environment.albedo", 0, 1);
+    if (a.IsSequence())
+      parseAlbedoTable(doc, a, env);
+    else
+      env.albedo = doc.number(a, "environment.albedo", 0, 1);
   }
   if (e["earth_ir"]) env.earth_ir_w_m2 = doc.number(e["earth_ir"], "environment.earth_ir (W/m²)", 0, 1e4);
   if (e["shadow_samples"])

@@ -13,7 +13,9 @@ class InputError : public std::runtime_error {
  public:
   InputError(const std::string& file, int line, int column, const std::string& message)
       : std::runtime_error(file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " + message),
-        file_(file), line_(line), column_(column) {}
+        file_(file),
+        line_(line),
+        column_(column) {}
   const std::string& file() const { return file_; }
   int line() const { return line_; }
   int column() const { return column_; }

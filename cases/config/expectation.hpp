@@ -24,8 +24,8 @@ enum class ExpectQuantity {
 
 /// Case-file spelling of each quantity, in enum order.
 inline constexpr std::array<std::string_view, 10> kExpectQuantityNames = {
-    "exitance",    "irradiance",  "view_factor",         "space_view_factor",       "radiative_exchange",
-    "gr_space",    "eigenvalue",  "temperature",         "orbit_mean_absorbed",     "orbit_max_absorbed_solar"};
+    "exitance", "irradiance", "view_factor", "space_view_factor",   "radiative_exchange",
+    "gr_space", "eigenvalue", "temperature", "orbit_mean_absorbed", "orbit_max_absorbed_solar"};
 
 inline std::string_view toString(ExpectQuantity q) { return kExpectQuantityNames[static_cast<size_t>(q)]; }
 

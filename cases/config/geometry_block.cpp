@@ -128,8 +128,8 @@ bool isGeometryCase(const YamlDocument& doc) { return doc.root().IsMap() && doc.
 GeometryCase loadGeometryCase(const YamlDocument& doc) {
   const YAML::Node& root = doc.root();
   doc.expectMap(root, "case",
-                {"name", "description", "materials", "geometry", "solver", "expect", "orbit", "attitude",
-                 "environment", "thermal"});
+                {"name", "description", "materials", "geometry", "solver", "expect", "orbit", "attitude", "environment",
+                 "thermal"});
   GeometryCase c;
   c.file = doc.file();
   c.yaml_text = doc.text();

@@ -37,8 +37,7 @@ Eigen::SparseMatrix<double> parseEntries(const YamlDocument& doc, const YAML::No
   for (size_t k = 0; k < node.size(); ++k) {
     const YAML::Node e = node[k];
     const std::string what = "network.view_factor_entries[" + std::to_string(k) + "]";
-    if (!e.IsSequence() || e.size() != 3)
-      throw doc.error(e, what + ": expected [from_node, to_node, view_factor]");
+    if (!e.IsSequence() || e.size() != 3) throw doc.error(e, what + ": expected [from_node, to_node, view_factor]");
     int ij[2];
     for (int s = 0; s < 2; ++s) {
       const std::string name = doc.string(e[static_cast<size_t>(s)], what);
@@ -71,7 +70,8 @@ std::unordered_map<std::string, int> parseNodes(const YamlDocument& doc, const Y
     const std::string name = doc.string(doc.required(node, "name", what), what + ".name");
     if (!index.emplace(name, i).second) throw doc.error(node["name"], what + ".name: '" + name + "' is used twice");
     c.names.push_back(name);
-    c.area[i] = doc.number(doc.required(node, "area", what), what + ".area (m²)", std::numeric_limits<double>::min(), kHuge);
+    c.area[i] =
+        doc.number(doc.required(node, "area", what), what + ".area (m²)", std::numeric_limits<double>::min(), kHuge);
     if (node["emissivity"]) {
       emissivity[i] = doc.number(node["emissivity"], what + ".emissivity", 0.0, 1.0);
       ++with_emissivity;

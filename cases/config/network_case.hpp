@@ -21,12 +21,12 @@ struct NetworkCase {
   std::string file;
   std::string yaml_text;
   std::vector<std::string> names;
-  Eigen::VectorXd area;              ///< m²
-  Eigen::VectorXd reflectance;       ///< –
-  Eigen::VectorXd initial_exitance;  ///< W/m²
+  Eigen::VectorXd area;                       ///< m²
+  Eigen::VectorXd reflectance;                ///< –
+  Eigen::VectorXd initial_exitance;           ///< W/m²
   std::optional<Eigen::VectorXd> emissivity;  ///< – (all nodes or none): enables GR output
   bool sparse = false;
-  Eigen::MatrixXd view_factors;                  ///< dense form
+  Eigen::MatrixXd view_factors;                     ///< dense form
   Eigen::SparseMatrix<double> view_factors_sparse;  ///< `view_factor_entries` form
   solver::NetworkTolerances tolerances;
   solver::SolverSettings solver;

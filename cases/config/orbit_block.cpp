@@ -80,7 +80,8 @@ orbits::KeplerElements circularElements(const OrbitKeys& k, std::optional<double
   }
   if (o["ltan"] || o["sun_synchronous"]) {
     if (o["sun_synchronous"] && !doc.boolean(o["sun_synchronous"], "orbit.sun_synchronous"))
-      throw doc.error(o["sun_synchronous"], "orbit.sun_synchronous: false makes no orbit; remove it or give 'inclination'");
+      throw doc.error(o["sun_synchronous"],
+                      "orbit.sun_synchronous: false makes no orbit; remove it or give 'inclination'");
     if (o["inclination"])
       throw doc.error(o["inclination"],
                       "orbit.inclination: a sun-synchronous orbit's inclination follows from J2; remove it");
@@ -88,7 +89,8 @@ orbits::KeplerElements circularElements(const OrbitKeys& k, std::optional<double
     std::ostringstream d;
     d << "sun-synchronous, LTAN " << ltan << " h";
     description = d.str();
-    return orbits::circularElements(h, orbits::sunSynchronousInclinationDeg(h), orbits::raanForLocalTimeDeg(ltan, epoch));
+    return orbits::circularElements(h, orbits::sunSynchronousInclinationDeg(h),
+                                    orbits::raanForLocalTimeDeg(ltan, epoch));
   }
   description = "circular";
   return orbits::circularElements(h, k.num("inclination", "(deg)", 0, 180, 0), k.num("raan", "(deg)", -kBig, kBig, 0),
@@ -117,9 +119,9 @@ std::optional<OrbitSettings> parseOrbitSettings(const YamlDocument& doc) {
   }
   const YAML::Node o = root["orbit"];
   doc.expectMap(o, "orbit",
-                {"altitude", "beta", "inclination", "raan", "ltan", "sun_synchronous", "semi_major_axis", "eccentricity",
-                 "perigee_altitude", "apogee_altitude", "arg_perigee", "true_anomaly", "epoch", "positions", "orbits",
-                 "eclipse_events", "spacing"});
+                {"altitude", "beta", "inclination", "raan", "ltan", "sun_synchronous", "semi_major_axis",
+                 "eccentricity", "perigee_altitude", "apogee_altitude", "arg_perigee", "true_anomaly", "epoch",
+                 "positions", "orbits", "eclipse_events", "spacing"});
   OrbitSettings s;
   const OrbitKeys keys{doc, o};
   const auto epoch_list = epochs(doc, o);
@@ -130,8 +132,9 @@ std::optional<OrbitSettings> parseOrbitSettings(const YamlDocument& doc) {
   const bool kepler = o["semi_major_axis"] || o["perigee_altitude"];
   const int forms = (o["beta"] ? 1 : 0) + (o["ltan"] || o["sun_synchronous"] ? 1 : 0) + (kepler ? 1 : 0);
   if (forms > 1)
-    throw doc.error(o, "orbit: give one form: 'beta', or 'ltan'/'sun_synchronous', or Keplerian elements "
-                       "('semi_major_axis'/'perigee_altitude'), or 'altitude' with 'inclination' and 'raan'");
+    throw doc.error(o,
+                    "orbit: give one form: 'beta', or 'ltan'/'sun_synchronous', or Keplerian elements "
+                    "('semi_major_axis'/'perigee_altitude'), or 'altitude' with 'inclination' and 'raan'");
   if (!kepler && !o["altitude"]) throw doc.error(o, "orbit: missing 'altitude' (m)");
   for (const auto& [epoch, epoch_text] : epoch_list) {
     for (const auto& beta : betas) {

@@ -2,9 +2,9 @@
 
 #include "geometry/mesh_io.hpp"
 
+#include <unistd.h>
 #include <limits>
 #include <sstream>
-#include <unistd.h>
 
 namespace radnet::cases {
 namespace {
@@ -81,8 +81,8 @@ void buildTriangle(const PrimitiveInput& in) {
 
 void buildDisc(const PrimitiveInput& in) {
   const double r = length(in, "radius");
-  add(in, geometry::disc(point(in, "center"), point(in, "normal"), r, optionalLength(in, "inner_radius", 0.0), sweep(in),
-                         in.subdivisions.first, in.subdivisions.second));
+  add(in, geometry::disc(point(in, "center"), point(in, "normal"), r, optionalLength(in, "inner_radius", 0.0),
+                         sweep(in), in.subdivisions.first, in.subdivisions.second));
 }
 
 void buildCylinder(const PrimitiveInput& in) {
@@ -91,9 +91,9 @@ void buildCylinder(const PrimitiveInput& in) {
 }
 
 void buildCone(const PrimitiveInput& in) {
-  add(in, geometry::cone(point(in, "base"), point(in, "axis"), length(in, "base_radius"),
-                         optionalLength(in, "top_radius", 0.0), sweep(in), in.subdivisions.first,
-                         in.subdivisions.second));
+  add(in,
+      geometry::cone(point(in, "base"), point(in, "axis"), length(in, "base_radius"),
+                     optionalLength(in, "top_radius", 0.0), sweep(in), in.subdivisions.first, in.subdivisions.second));
 }
 
 void buildSphere(const PrimitiveInput& in) {
@@ -162,7 +162,7 @@ const PrimitiveSpec* findPrimitive(std::string_view kind) {
 }
 
 std::pair<int, int> parseCounts(const YamlDocument& doc, const YAML::Node& node, const std::string& what,
-                           std::pair<int, int> fallback) {
+                                std::pair<int, int> fallback) {
   if (!node) return fallback;
   if (node.IsScalar()) {
     const int n = static_cast<int>(doc.integer(node, what, 1, 10000));

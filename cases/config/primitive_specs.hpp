@@ -17,9 +17,9 @@ namespace radnet::cases {
 /// What a primitive's builder sees: its parameters, and how to add a surface.
 struct PrimitiveInput {
   const YamlDocument& doc;
-  const YAML::Node& params;      ///< the primitive's mapping
-  const std::string& what;       ///< e.g. "geometry[3].rectangle", for messages
-  const std::string& name;       ///< the primitive's `name`
+  const YAML::Node& params;  ///< the primitive's mapping
+  const std::string& what;   ///< e.g. "geometry[3].rectangle", for messages
+  const std::string& name;   ///< the primitive's `name`
   std::pair<int, int> subdivisions;
   int active_sides = 1;          ///< sides that name a material (node grids count nodes per side)
   size_t existing_nodes = 0;     ///< thermal nodes before this primitive (memory check)
@@ -32,8 +32,8 @@ struct PrimitiveInput {
 };
 
 struct PrimitiveSpec {
-  std::string_view kind;           ///< the case-file key, e.g. "rectangle"
-  std::vector<std::string> keys;   ///< its own keys, besides name, front, back and subdivisions
+  std::string_view kind;          ///< the case-file key, e.g. "rectangle"
+  std::vector<std::string> keys;  ///< its own keys, besides name, front, back and subdivisions
   std::pair<int, int> default_subdivisions;
   void (*build)(const PrimitiveInput& input);
 };

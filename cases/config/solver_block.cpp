@@ -18,7 +18,7 @@ solver::SolverSettings parseSolverSettings(const YamlDocument& doc, const YAML::
   if (node["max_rank"]) s.max_rank = static_cast<int>(doc.integer(node["max_rank"], "solver.max_rank", 1, 1 << 30));
   if (node["eigensolver"]) {
     const std::string m = doc.choice(node["eigensolver"], "solver.eigensolver", {"auto", "dense", "lanczos"});
-    s.method = m == "auto" ? solver::EigenMethod::Auto
+    s.method = m == "auto"    ? solver::EigenMethod::Auto
                : m == "dense" ? solver::EigenMethod::Dense
                               : solver::EigenMethod::Lanczos;
   }

@@ -8,7 +8,8 @@ std::optional<ThermalSettings> parseThermalSettings(const YamlDocument& doc, con
                                                     bool has_orbit) {
   const YAML::Node t = doc.root()["thermal"];
   if (!t) return std::nullopt;
-  doc.expectMap(t, "thermal", {"nodes", "conductors", "initial_temperature", "space_temperature", "transient", "tolerance"});
+  doc.expectMap(t, "thermal",
+                {"nodes", "conductors", "initial_temperature", "space_temperature", "transient", "tolerance"});
   const Eigen::Index n = static_cast<Eigen::Index>(names.size());
   ThermalSettings s;
   s.capacitance = Eigen::VectorXd::Zero(n);
@@ -21,10 +22,13 @@ std::optional<ThermalSettings> parseThermalSettings(const YamlDocument& doc, con
       const int i = doc.nodeIndex(kv.first, "thermal.nodes", names);
       const std::string what = "thermal.nodes." + names[static_cast<size_t>(i)];
       doc.expectMap(kv.second, what, {"capacitance", "dissipation", "temperature"});
-      if (kv.second["capacitance"]) s.capacitance[i] = doc.number(kv.second["capacitance"], what + ".capacitance (J/K)", 0, kBig);
-      if (kv.second["dissipation"]) s.dissipation[i] = doc.number(kv.second["dissipation"], what + ".dissipation (W)", -kBig, kBig);
+      if (kv.second["capacitance"])
+        s.capacitance[i] = doc.number(kv.second["capacitance"], what + ".capacitance (J/K)", 0, kBig);
+      if (kv.second["dissipation"])
+        s.dissipation[i] = doc.number(kv.second["dissipation"], what + ".dissipation (W)", -kBig, kBig);
       if (kv.second["temperature"])
-        s.fixed_temperature[i] = doc.number(kv.second["temperature"], what + ".temperature (K, boundary node)", 1e-3, 1e5);
+        s.fixed_temperature[i] =
+            doc.number(kv.second["temperature"], what + ".temperature (K, boundary node)", 1e-3, 1e5);
     }
   }
   if (const YAML::Node cs = t["conductors"]) {
@@ -39,14 +43,18 @@ std::optional<ThermalSettings> parseThermalSettings(const YamlDocument& doc, con
       s.conductors.emplace_back(j, i, g);
     }
   }
-  if (t["initial_temperature"]) s.initial_temperature = doc.number(t["initial_temperature"], "thermal.initial_temperature (K)", 1e-3, 1e5);
-  if (t["space_temperature"]) s.space_temperature = doc.number(t["space_temperature"], "thermal.space_temperature (K)", 0, 1e4);
+  if (t["initial_temperature"])
+    s.initial_temperature = doc.number(t["initial_temperature"], "thermal.initial_temperature (K)", 1e-3, 1e5);
+  if (t["space_temperature"])
+    s.space_temperature = doc.number(t["space_temperature"], "thermal.space_temperature (K)", 0, 1e4);
   if (t["tolerance"]) s.options.tolerance_w = doc.number(t["tolerance"], "thermal.tolerance (relative)", 1e-15, 1e-2);
   if (const YAML::Node tr = t["transient"]) {
     doc.expectMap(tr, "thermal.transient", {"orbits", "time_step"});
-    if (!has_orbit) throw doc.error(tr, "thermal.transient: a transient follows an orbit; add 'orbit:' or remove 'transient'");
+    if (!has_orbit)
+      throw doc.error(tr, "thermal.transient: a transient follows an orbit; add 'orbit:' or remove 'transient'");
     s.transient_orbits = tr["orbits"] ? doc.number(tr["orbits"], "thermal.transient.orbits", 1e-3, 1e4) : 1.0;
-    if (tr["time_step"]) s.options.max_step_s = doc.number(tr["time_step"], "thermal.transient.time_step (s)", 1e-3, 1e5);
+    if (tr["time_step"])
+      s.options.max_step_s = doc.number(tr["time_step"], "thermal.transient.time_step (s)", 1e-3, 1e5);
   }
   return s;
 }

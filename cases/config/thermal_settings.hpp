@@ -13,13 +13,13 @@
 namespace radnet::cases {
 
 struct ThermalSettings {
-  Eigen::VectorXd capacitance;        ///< J/K per node (0 when not given: arithmetic node)
-  Eigen::VectorXd dissipation;        ///< W
-  Eigen::VectorXd fixed_temperature;  ///< K, NaN for free nodes
+  Eigen::VectorXd capacitance;                     ///< J/K per node (0 when not given: arithmetic node)
+  Eigen::VectorXd dissipation;                     ///< W
+  Eigen::VectorXd fixed_temperature;               ///< K, NaN for free nodes
   std::vector<Eigen::Triplet<double>> conductors;  ///< (i, j, W/K), both directions
-  double initial_temperature = 293.15;  ///< K
-  double space_temperature = 3.0;       ///< K (cosmic background 2.7 K, rounded as ESATAN users do)
-  std::optional<double> transient_orbits;  ///< absent: steady state per position
+  double initial_temperature = 293.15;             ///< K
+  double space_temperature = 3.0;                  ///< K (cosmic background 2.7 K, rounded as ESATAN users do)
+  std::optional<double> transient_orbits;          ///< absent: steady state per position
   solver::ThermalOptions options;
 };
 

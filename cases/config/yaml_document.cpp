@@ -118,10 +118,14 @@ double YamlDocument::number(const YAML::Node& node, const std::string& what, dou
     s << what << ": " << value << " is out of range; expected ";
     // Bounds at the ends of double's range read as open-ended ranges, not as 1.8e308.
     const double big = std::numeric_limits<double>::max();
-    if (lo == std::numeric_limits<double>::min() && hi == big) s << "a value > 0";
-    else if (hi == big) s << "a value >= " << lo;
-    else if (lo == -big) s << "a value <= " << hi;
-    else s << "a value in [" << lo << ", " << hi << "]";
+    if (lo == std::numeric_limits<double>::min() && hi == big)
+      s << "a value > 0";
+    else if (hi == big)
+      s << "a value >= " << lo;
+    else if (lo == -big)
+      s << "a value <= " << hi;
+    else
+      s << "a value in [" << lo << ", " << hi << "]";
     throw error(node, s.str());
   }
   return value;

@@ -10,8 +10,8 @@ namespace {
 using Q = ExpectQuantity;
 
 // Quantities both case forms have: view factors, exchange factors, eigenvalues, temperatures.
-std::optional<double> lookupShared(const RadiativeNetwork& radiative, const std::optional<solver::ThermalResult>& thermal,
-                                   const Expectation& x) {
+std::optional<double> lookupShared(const RadiativeNetwork& radiative,
+                                   const std::optional<solver::ThermalResult>& thermal, const Expectation& x) {
   const solver::Network& net = *radiative.network;
   const int i = x.node.empty() ? -1 : net.indexOf(x.node);
   const int j = x.to.empty() ? -1 : net.indexOf(x.to);
@@ -54,8 +54,7 @@ std::optional<double> lookupResult(const GeometryRunResult& r, const Expectation
   return lookupShared(r.radiative, r.thermal, x);
 }
 
-int evaluateExpectations(const std::vector<Expectation>& expectations, const ResultLookup& lookup,
-                         std::ostream& out) {
+int evaluateExpectations(const std::vector<Expectation>& expectations, const ResultLookup& lookup, std::ostream& out) {
   int failed = 0;
   for (const auto& x : expectations) {
     const std::optional<double> got = lookup(x);
@@ -67,8 +66,10 @@ int evaluateExpectations(const std::vector<Expectation>& expectations, const Res
     if (!ok) ++failed;
     out << (ok ? "PASS " : "FAIL ") << std::left << std::setw(40) << label << " expected " << std::setprecision(10)
         << x.value << " ± " << x.tolerance << ", got ";
-    if (got) out << *got << " (error " << std::abs(*got - x.value) << ")";
-    else out << "nothing (the run has no such result)";
+    if (got)
+      out << *got << " (error " << std::abs(*got - x.value) << ")";
+    else
+      out << "nothing (the run has no such result)";
     out << "  [" << x.where << "]\n";
   }
   return failed;

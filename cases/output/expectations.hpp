@@ -17,7 +17,6 @@ std::optional<double> lookupResult(const GeometryRunResult& r, const Expectation
 using ResultLookup = std::function<std::optional<double>(const Expectation&)>;
 
 /// Prints one line per expectation; returns the number that failed.
-int evaluateExpectations(const std::vector<Expectation>& expectations, const ResultLookup& lookup,
-                         std::ostream& out);
+int evaluateExpectations(const std::vector<Expectation>& expectations, const ResultLookup& lookup, std::ostream& out);
 
 }  // namespace radnet::cases

@@ -94,8 +94,9 @@ void writeOrbit(Hdf5Writer& h5, const SweepResult& sw) {
   h5.writeVector("/orbit/eclipse_event", event, "1");
   Eigen::VectorXi case_of(P);
   for (int k = 0; k < sw.caseCount(); ++k)
-    case_of.segment(sw.case_start[static_cast<size_t>(k)],
-                    sw.case_start[static_cast<size_t>(k) + 1] - sw.case_start[static_cast<size_t>(k)])
+    case_of
+        .segment(sw.case_start[static_cast<size_t>(k)],
+                 sw.case_start[static_cast<size_t>(k) + 1] - sw.case_start[static_cast<size_t>(k)])
         .setConstant(k);
   h5.writeIntegers("/orbit/case", case_of, "1");
   h5.writeStrings("/orbit/case_label", sw.case_labels);

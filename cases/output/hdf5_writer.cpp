@@ -2,9 +2,9 @@
 
 #include <hdf5.h>
 
+#include <unistd.h>
 #include <cstdio>
 #include <stdexcept>
-#include <unistd.h>
 
 namespace radnet::cases {
 namespace {
@@ -101,14 +101,16 @@ void Hdf5Writer::writeMatrix(const std::string& path, const Eigen::Ref<const Eig
                              const std::string& units) {
   // HDF5 is row-major: (rows, cols) as a reader indexes it.
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> data = m;
-  const unsigned long long dims[2] = {static_cast<unsigned long long>(m.rows()), static_cast<unsigned long long>(m.cols())};
+  const unsigned long long dims[2] = {static_cast<unsigned long long>(m.rows()),
+                                      static_cast<unsigned long long>(m.cols())};
   writeArray(path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, dims, data.data(), units);
 }
 
 void Hdf5Writer::writeIntegers(const std::string& path, const Eigen::Ref<const Eigen::MatrixXi>& m,
                                const std::string& units) {
   const Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> data = m;
-  const unsigned long long dims[2] = {static_cast<unsigned long long>(m.rows()), static_cast<unsigned long long>(m.cols())};
+  const unsigned long long dims[2] = {static_cast<unsigned long long>(m.rows()),
+                                      static_cast<unsigned long long>(m.cols())};
   writeArray(path, H5T_STD_I32LE, H5T_NATIVE_INT, m.cols() == 1 ? 1 : 2, dims, data.data(), units);
 }
 
@@ -130,10 +132,10 @@ void Hdf5Writer::writeStrings(const std::string& path, const std::vector<std::st
   const hsize_t dims[1] = {values.size()};
   Handle space{checkId(H5Screate_simple(1, dims, nullptr), "dataspace"), H5Sclose};
   Handle lcpl{createLinkProps(), H5Pclose};
-  Handle ds{checkId(H5Dcreate2(static_cast<hid_t>(file_), path.c_str(), type.id, space.id, lcpl.id, H5P_DEFAULT,
-                               H5P_DEFAULT),
-                    "create dataset " + path),
-            H5Dclose};
+  Handle ds{
+      checkId(H5Dcreate2(static_cast<hid_t>(file_), path.c_str(), type.id, space.id, lcpl.id, H5P_DEFAULT, H5P_DEFAULT),
+              "create dataset " + path),
+      H5Dclose};
   if (!values.empty()) check(H5Dwrite(ds.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, ptrs.data()), "write " + path);
   addUnits(ds.id, units);
 }
@@ -144,10 +146,10 @@ void Hdf5Writer::writeText(const std::string& path, const std::string& text) {
   check(H5Tset_cset(type.id, H5T_CSET_UTF8), "string charset");
   Handle space{checkId(H5Screate(H5S_SCALAR), "scalar space"), H5Sclose};
   Handle lcpl{createLinkProps(), H5Pclose};
-  Handle ds{checkId(H5Dcreate2(static_cast<hid_t>(file_), path.c_str(), type.id, space.id, lcpl.id, H5P_DEFAULT,
-                               H5P_DEFAULT),
-                    "create dataset " + path),
-            H5Dclose};
+  Handle ds{
+      checkId(H5Dcreate2(static_cast<hid_t>(file_), path.c_str(), type.id, space.id, lcpl.id, H5P_DEFAULT, H5P_DEFAULT),
+              "create dataset " + path),
+      H5Dclose};
   const char* ptr = text.c_str();
   check(H5Dwrite(ds.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, &ptr), "write " + path);
   addUnits(ds.id, "");

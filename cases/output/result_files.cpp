@@ -41,9 +41,9 @@ void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, cons
   std::vector<double> times;
   if (r.sweep)
     for (const auto& p : r.sweep->positions) times.push_back(p.t_s);
-  const std::string text = xdmfText(std::filesystem::path(path).filename().string(),
-                                    static_cast<long>(c.scene.vertexMatrix().rows()),
-                                    static_cast<long>(c.scene.faces().size()), times, cell_values);
+  const std::string text =
+      xdmfText(std::filesystem::path(path).filename().string(), static_cast<long>(c.scene.vertexMatrix().rows()),
+               static_cast<long>(c.scene.faces().size()), times, cell_values);
   h5.commit();
   writeTextAtomically(xdmfPathFor(path), text);
 }

@@ -16,7 +16,8 @@ void printTimings(const StageTimings& timings, std::ostream& out) {
 // Node min/mean/max of a (n × P) table, one row per node.
 void printNodeTemperatures(const std::vector<std::string>& names, const Eigen::MatrixXd& t, std::ostream& out) {
   out << std::left << std::setw(20) << "node" << std::right << std::setw(10) << "min" << std::setw(10) << "mean"
-      << std::setw(10) << "max" << "\n";
+      << std::setw(10) << "max"
+      << "\n";
   for (size_t i = 0; i < names.size(); ++i) {
     const auto row = t.row(static_cast<Eigen::Index>(i));
     out << std::left << std::setw(20) << names[i] << std::right << std::fixed << std::setprecision(2) << std::setw(10)
@@ -30,14 +31,14 @@ void printSweepSummary(const std::vector<std::string>& names, const SweepResult&
       << "(solar + albedo + Earth IR):\n";
   out << std::left << std::setw(20) << "node" << std::right << std::setw(12) << "min" << std::setw(12) << "mean"
       << std::setw(12) << "max" << std::setw(12) << "solar max" << std::setw(12) << "albedo max" << std::setw(12)
-      << "IR mean" << "\n";
+      << "IR mean"
+      << "\n";
   for (size_t k = 0; k < names.size(); ++k) {
     const auto i = static_cast<Eigen::Index>(k);
     out << std::left << std::setw(20) << names[k] << std::right << std::setprecision(5) << std::setw(12)
         << sw.absorbed_total.row(i).minCoeff() << std::setw(12) << sw.absorbed_total.row(i).mean() << std::setw(12)
-        << sw.absorbed_total.row(i).maxCoeff() << std::setw(12) << sw.absorbed_solar.row(i).maxCoeff()
-        << std::setw(12) << sw.absorbed_albedo.row(i).maxCoeff() << std::setw(12)
-        << sw.absorbed_earth_ir.row(i).mean() << "\n";
+        << sw.absorbed_total.row(i).maxCoeff() << std::setw(12) << sw.absorbed_solar.row(i).maxCoeff() << std::setw(12)
+        << sw.absorbed_albedo.row(i).maxCoeff() << std::setw(12) << sw.absorbed_earth_ir.row(i).mean() << "\n";
   }
   out << "band residuals: solar " << sw.solar_residual << ", IR " << sw.ir_residual << "; solar energy balance error "
       << sw.energy_balance_error << "\n";
@@ -56,13 +57,16 @@ void printNetworkSummary(const NetworkCase& c, const NetworkRunResult& r, std::o
   const solver::EigenPairs& pairs = r.radiative.pairs;
   out << "case " << c.name << ": " << net.size() << " nodes\n";
   out << std::left << std::setw(16) << "node" << std::right << std::setw(12) << "area m²" << std::setw(10) << "ρ"
-      << std::setw(10) << "ε" << std::setw(14) << "M_o W/m²" << std::setw(14) << "M W/m²" << std::setw(14)
-      << "H W/m²" << std::setw(12) << "F_space" << "\n";
+      << std::setw(10) << "ε" << std::setw(14) << "M_o W/m²" << std::setw(14) << "M W/m²" << std::setw(14) << "H W/m²"
+      << std::setw(12) << "F_space"
+      << "\n";
   for (int i = 0; i < net.size(); ++i) {
     out << std::left << std::setw(16) << net.names()[static_cast<size_t>(i)] << std::right << std::setprecision(5)
         << std::setw(12) << net.area()[i] << std::setw(10) << c.reflectance[i] << std::setw(10);
-    if (c.emissivity) out << (*c.emissivity)[i];
-    else out << "-";
+    if (c.emissivity)
+      out << (*c.emissivity)[i];
+    else
+      out << "-";
     out << std::setw(14) << c.initial_exitance[i] << std::setw(14) << r.solution.exitance(i, 0) << std::setw(14)
         << r.solution.irradiance(i, 0) << std::setw(12) << net.spaceViewFactor()[i] << "\n";
   }
@@ -84,8 +88,8 @@ void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std
   const solver::ExchangeFactors& ex = *r.radiative.exchange;
   out << "case " << c.name << ": " << c.scene.faces().size() << " triangles, " << net.size() << " nodes\n";
   out << std::left << std::setw(20) << "node" << std::right << std::setw(12) << "area m²" << std::setw(8) << "ε"
-      << std::setw(8) << "α" << std::setw(12) << "F_space" << std::setw(12) << "GR_space" << std::setw(12)
-      << "max σ(F)" << "\n";
+      << std::setw(8) << "α" << std::setw(12) << "F_space" << std::setw(12) << "GR_space" << std::setw(12) << "max σ(F)"
+      << "\n";
   for (int i = 0; i < net.size(); ++i) {
     out << std::left << std::setw(20) << net.names()[static_cast<size_t>(i)] << std::right << std::setprecision(5)
         << std::setw(12) << net.area()[i] << std::setw(8) << c.emissivity[i] << std::setw(8) << c.absorptivity[i]

@@ -1,11 +1,11 @@
 #include "cases/output/xdmf.hpp"
 
+#include <unistd.h>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
-#include <unistd.h>
 
 namespace radnet::cases {
 

@@ -37,9 +37,9 @@ void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings,
     t_orbit.stop();
     int events = 0;
     for (const auto& p : positions) events += p.event;
-    progress << "radnet: orbit " << k + 1 << "/" << o.cases.size() << " (" << o.description << ", "
-             << o.cases[k].label << "), period " << orbit.period() << " s, " << positions.size() << " positions ("
-             << events << " eclipse entries/exits inserted)\n";
+    progress << "radnet: orbit " << k + 1 << "/" << o.cases.size() << " (" << o.description << ", " << o.cases[k].label
+             << "), period " << orbit.period() << " s, " << positions.size() << " positions (" << events
+             << " eclipse entries/exits inserted)\n";
     StageTimer t_loads(timings, Stage::EnvironmentLoads);
     orbits::EnvironmentOptions env = o.environment;
     if (show_progress) env.progress = progressBar(progress, "orbit loads", "positions");
@@ -67,7 +67,8 @@ void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings,
     sw.irradiance.shadow_rays += part.shadow_rays;
     sw.irradiance.seconds += part.seconds;
   }
-  progress << "radnet: loads: planet rays cast " << sw.irradiance.planet_casts << " time(s) for " << P << " positions\n";
+  progress << "radnet: loads: planet rays cast " << sw.irradiance.planet_casts << " time(s) for " << P
+           << " positions\n";
 }
 
 // Energy balance of the solar band: what arrives = what is absorbed + what leaves to

@@ -19,7 +19,8 @@ solver::EigenPairs decomposeNetwork(const solver::Network& net, const Eigen::Vec
 solver::ExchangeFactors exchangeFactors(const RadiativeNetwork& radiative, const Eigen::VectorXd& emissivity,
                                         const solver::SolverSettings& settings, StageTimings& timings) {
   StageTimer timer(timings, Stage::ExchangeFactors);
-  solver::ExchangeFactors ex = solver::policy::exchangeFactors(*radiative.network, radiative.pairs, emissivity, settings);
+  solver::ExchangeFactors ex =
+      solver::policy::exchangeFactors(*radiative.network, radiative.pairs, emissivity, settings);
   timer.stop();
   if (ex.status != solver::Status::Converged)
     throw NumericalError(std::string("exchange factors ") + solver::toString(ex.status) + ": " + ex.message);

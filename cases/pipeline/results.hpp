@@ -38,8 +38,8 @@ struct SweepResult {
   std::vector<double> case_sweep_s;     ///< time each case's sweep spans (orbit period × orbits), s
   orbits::EnvironmentLoads irradiance;  ///< external irradiances, W/m² (n×P)
   Eigen::MatrixXd absorbed_solar, absorbed_albedo, absorbed_earth_ir;  ///< after interreflection, W (n×P)
-  Eigen::MatrixXd absorbed_total;  ///< solar + albedo + Earth IR, W (n×P)
-  Eigen::MatrixXd exitance_solar;  ///< solar-band exitance (direct + albedo), W/m² (n×P)
+  Eigen::MatrixXd absorbed_total;                                      ///< solar + albedo + Earth IR, W (n×P)
+  Eigen::MatrixXd exitance_solar;                  ///< solar-band exitance (direct + albedo), W/m² (n×P)
   double solar_residual = 0.0, ir_residual = 0.0;  ///< band-solve residuals with the full G
   int solar_refine_iterations = 0, ir_refine_iterations = 0;
   double energy_balance_error = 0.0;  ///< max over positions of |in − absorbed − lost| / in, solar band

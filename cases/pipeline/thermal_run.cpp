@@ -54,9 +54,12 @@ solver::ThermalResult runThermal(const ThermalSettings& ts, const solver::Exchan
   const solver::ThermalNetwork net = thermalNetwork(ts, exchange);
   StageTimer timer(timings, Stage::Thermal);
   solver::ThermalResult result;
-  if (ts.transient_orbits) result = transientPerCase(ts, net, *sweep);
-  else if (sweep) result = solver::steadyStates(net, sweep->absorbed_total, ts.options);
-  else result = solver::steadyStates(net, Eigen::MatrixXd::Zero(net.gr.rows(), 1), ts.options);
+  if (ts.transient_orbits)
+    result = transientPerCase(ts, net, *sweep);
+  else if (sweep)
+    result = solver::steadyStates(net, sweep->absorbed_total, ts.options);
+  else
+    result = solver::steadyStates(net, Eigen::MatrixXd::Zero(net.gr.rows(), 1), ts.options);
   timer.stop();
   if (result.status != solver::Status::Converged)
     throw NumericalError(std::string("temperatures ") + solver::toString(result.status) + ": " + result.message);
