@@ -53,7 +53,7 @@ std::string isoFromJulianDate(double jd) {
   const int month = static_cast<int>(e < 14 ? e - 1 : e - 13);
   const int year = static_cast<int>(month > 2 ? c - 4716 : c - 4715);
   long secs = std::lround(frac * 86400.0);
-  char buf[32];
+  char buf[64];  // room for any int year and long fields, so nothing is ever cut
   std::snprintf(buf, sizeof buf, "%04d-%02d-%02dT%02ld:%02ld:%02ldZ", year, month, day, secs / 3600, (secs / 60) % 60,
                 secs % 60);
   return buf;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <tuple>
 
 namespace radnet::solver {
 namespace {
@@ -127,6 +128,14 @@ double nextStep(double h_prev, double max_step, double remaining) {
   return h;
 }
 
+// Variable-step BDF2: y⁺ − a y + b y⁻ = h β f(y⁺), as (a, b, β) for the step ratio
+// w = h / h_prev; the first step (h_prev = 0) is backward Euler (1, 0, 1).
+std::tuple<double, double, double> bdf2Coefficients(double h, double h_prev) {
+  if (!(h_prev > 0)) return {1.0, 0.0, 1.0};
+  const double w = h / h_prev;
+  return {(1 + w) * (1 + w) / (1 + 2 * w), w * w / (1 + 2 * w), (1 + w) / (1 + 2 * w)};
+}
+
 }  // namespace
 
 void ThermalNetwork::validate() const {
@@ -207,14 +216,7 @@ ThermalResult transient(const ThermalNetwork& net, const std::vector<double>& ti
     const double target = marks[next_mark];
     while (target - clock > 1e-9 * std::max(1.0, std::abs(target))) {
       const double h = nextStep(h_prev, opt.max_step_s, target - clock);
-      // Variable-step BDF2: y⁺ − a y + b y⁻ = h β f(y⁺); the first step is backward Euler.
-      double a = 1.0, b = 0.0, beta = 1.0;
-      if (h_prev > 0) {
-        const double w = h / h_prev;
-        a = (1 + w) * (1 + w) / (1 + 2 * w);
-        b = w * w / (1 + 2 * w);
-        beta = (1 + w) / (1 + 2 * w);
-      }
+      const auto [a, b, beta] = bdf2Coefficients(h, h_prev);
       const Eigen::VectorXd history = a * t_now - b * t_prev;
       Eigen::VectorXd guess = t_now;
       double residual = 0.0;
