@@ -161,26 +161,30 @@ void Hdf5Writer::attribute(const std::string& object, const std::string& name, c
 }
 
 void Hdf5Writer::attribute(const std::string& object, const std::string& name, double value) {
-  Handle obj{static_cast<hid_t>(ensureGroup(object)), H5Oclose};
-  Handle space{checkId(H5Screate(H5S_SCALAR), "scalar space"), H5Sclose};
-  if (H5Aexists(obj.id, name.c_str()) > 0) H5Adelete(obj.id, name.c_str());
-  Handle attr{checkId(H5Acreate2(obj.id, name.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, H5P_DEFAULT), name),
-              H5Aclose};
-  check(H5Awrite(attr.id, H5T_NATIVE_DOUBLE, &value), "write attribute " + name);
+  writeScalarAttribute(object, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &value);
 }
 
 void Hdf5Writer::attribute(const std::string& object, const std::string& name, long long value) {
+  writeScalarAttribute(object, name, H5T_STD_I64LE, H5T_NATIVE_LLONG, &value);
+}
+
+void Hdf5Writer::writeScalarAttribute(const std::string& object, const std::string& name, long long file_type,
+                                      long long memory_type, const void* value) {
   Handle obj{static_cast<hid_t>(ensureGroup(object)), H5Oclose};
   Handle space{checkId(H5Screate(H5S_SCALAR), "scalar space"), H5Sclose};
   if (H5Aexists(obj.id, name.c_str()) > 0) H5Adelete(obj.id, name.c_str());
-  Handle attr{checkId(H5Acreate2(obj.id, name.c_str(), H5T_STD_I64LE, space.id, H5P_DEFAULT, H5P_DEFAULT), name),
-              H5Aclose};
-  check(H5Awrite(attr.id, H5T_NATIVE_LLONG, &value), "write attribute " + name);
+  Handle attr{
+      checkId(H5Acreate2(obj.id, name.c_str(), static_cast<hid_t>(file_type), space.id, H5P_DEFAULT, H5P_DEFAULT),
+              name),
+      H5Aclose};
+  check(H5Awrite(attr.id, static_cast<hid_t>(memory_type), value), "write attribute " + name);
 }
 
 void Hdf5Writer::commit() {
-  if (H5Fclose(static_cast<hid_t>(file_)) < 0) throw std::runtime_error("HDF5: closing '" + temp_path_ + "' failed");
+  // The id is released whether or not the close succeeds: the destructor must not close it again.
+  const herr_t closed = H5Fclose(static_cast<hid_t>(file_));
   file_ = -1;
+  if (closed < 0) throw std::runtime_error("HDF5: closing '" + temp_path_ + "' failed");
   if (std::rename(temp_path_.c_str(), final_path_.c_str()) != 0)
     throw std::runtime_error("cannot rename '" + temp_path_ + "' to '" + final_path_ + "'");
   committed_ = true;

@@ -40,6 +40,8 @@ class Hdf5Writer {
   void writeArray(const std::string& path, long long file_type, long long memory_type, int rank,
                   const unsigned long long* dims, const void* data, const std::string& units);
   void addUnits(long long dataset, const std::string& units);
+  void writeScalarAttribute(const std::string& object, const std::string& name, long long file_type,
+                            long long memory_type, const void* value);
 
   std::string final_path_;
   std::string temp_path_;
