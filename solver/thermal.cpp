@@ -162,11 +162,38 @@ Eigen::VectorXd heatBalance(const ThermalNetwork& net, const Eigen::VectorXd& t,
   return g + kt - krow.cwiseProduct(t);
 }
 
+HeatFlows heatFlows(const ThermalNetwork& net, const ThermalResult& solution, const Eigen::MatrixXd& q_env) {
+  const Eigen::MatrixXd& t = solution.temperature;
+  const Eigen::Index n = t.rows(), P = t.cols();
+  if (q_env.rows() != n || q_env.cols() != P || solution.temperature_rate.rows() != n ||
+      solution.temperature_rate.cols() != P || net.gr.rows() != n)
+    throw std::invalid_argument("heat flows: temperatures, rates and loads need (n × P) entries");
+  const Eigen::MatrixXd t4 = t.array().square().square().matrix();
+  const Eigen::VectorXd gr_row = net.gr.rowwise().sum();
+  const Eigen::VectorXd k_row = net.conductors * Eigen::VectorXd::Ones(n);
+  HeatFlows f;
+  f.emitted =
+      -kStefanBoltzmann * (net.gr_space.asDiagonal() * (t4.array() - std::pow(net.space_temperature, 4)).matrix());
+  f.radiative = kStefanBoltzmann * (net.gr * t4 - gr_row.asDiagonal() * t4);
+  f.conducted = net.conductors * t - k_row.asDiagonal() * t;
+  f.dissipation = net.dissipation.replicate(1, P);
+  f.stored = -(net.capacitance.asDiagonal() * solution.temperature_rate);
+  f.boundary = Eigen::MatrixXd::Zero(n, P);
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (isFixed(net, i)) {  // its temperature does not move: it stores nothing, the boundary supplies the rest
+      f.stored.row(i).setZero();
+      f.boundary.row(i) =
+          -(q_env.row(i) + f.emitted.row(i) + f.radiative.row(i) + f.conducted.row(i) + f.dissipation.row(i));
+    }
+  return f;
+}
+
 ThermalResult steadyStates(const ThermalNetwork& net, const Eigen::MatrixXd& q_env, const ThermalOptions& opt) {
   net.validate();
   ThermalResult res;
   const Eigen::Index n = q_env.rows();
   res.temperature.resize(n, q_env.cols());
+  res.temperature_rate = Eigen::MatrixXd::Zero(n, q_env.cols());
   Eigen::VectorXd t = startingGuess(net, q_env.col(0));
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
   for (Eigen::Index p = 0; p < q_env.cols(); ++p) {
@@ -204,7 +231,8 @@ ThermalResult transient(const ThermalNetwork& net, const std::vector<double>& ti
   for (double t : times) marks.push_back(last + t);
   ThermalResult res;
   res.temperature.resize(n, static_cast<Eigen::Index>(P));
-  Eigen::VectorXd t_prev = initial, t_now = initial;
+  res.temperature_rate = Eigen::MatrixXd::Zero(n, static_cast<Eigen::Index>(P));
+  Eigen::VectorXd t_prev = initial, t_now = initial, rate = Eigen::VectorXd::Zero(n);
   for (Eigen::Index i = 0; i < n; ++i)
     if (!std::isnan(net.fixed_temperature[i])) t_now[i] = t_prev[i] = net.fixed_temperature[i];
   double clock = 0.0, h_prev = 0.0;
@@ -228,12 +256,14 @@ ThermalResult transient(const ThermalNetwork& net, const std::vector<double>& ti
         return res;
       }
       res.max_residual_w = std::max(res.max_residual_w, residual);
+      rate = (guess - history) / (h * beta);  // the BDF2 derivative at the new time
       t_prev = t_now;
       t_now = guess;
       clock += h;
       h_prev = h;
     }
     res.temperature.col(static_cast<Eigen::Index>(next_mark)) = t_now;
+    res.temperature_rate.col(static_cast<Eigen::Index>(next_mark)) = rate;
     ++next_mark;
   }
   if (!res.temperature.allFinite()) {

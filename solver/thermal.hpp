@@ -35,7 +35,8 @@ struct ThermalOptions {
 };
 
 struct ThermalResult {
-  Eigen::MatrixXd temperature;  ///< (n×P), K
+  Eigen::MatrixXd temperature;       ///< (n×P), K
+  Eigen::MatrixXd temperature_rate;  ///< dT/dt at the same times (n×P), K/s; zero for steady states
   Status status = Status::Converged;
   std::string message;
   int newton_iterations = 0;    ///< total
@@ -45,6 +46,22 @@ struct ThermalResult {
 /// Heat balance G(T) of every node for environmental loads q_env (n), W.
 Eigen::VectorXd heatBalance(const ThermalNetwork& net, const Eigen::VectorXd& temperature,
                             const Eigen::VectorXd& q_env);
+
+/// Each node's heat balance split by kind, per node and position (n×P), W, positive into
+/// the node. With the absorbed environmental loads (kept by the caller), they sum to zero
+/// at every free node: what the Newton solve left is the imbalance.
+struct HeatFlows {
+  Eigen::MatrixXd emitted;      ///< IR exchange with space, σ GR_space (T_space⁴ − T⁴) (≤ 0 above T_space)
+  Eigen::MatrixXd radiative;    ///< net IR exchange with the other nodes, σ Σ_j GR_ij (T_j⁴ − T_i⁴)
+  Eigen::MatrixXd conducted;    ///< net conduction, Σ_j K_ij (T_j − T_i)
+  Eigen::MatrixXd dissipation;  ///< internal dissipation Q_int
+  Eigen::MatrixXd stored;       ///< −C dT/dt (zero in a steady state)
+  Eigen::MatrixXd boundary;     ///< what a boundary condition supplies to hold a fixed node; 0 at free nodes
+};
+
+/// The heat flows of a solution: temperatures and rates from steadyStates or transient,
+/// q_env (n×P, W) the absorbed environmental loads at the same times.
+HeatFlows heatFlows(const ThermalNetwork& net, const ThermalResult& solution, const Eigen::MatrixXd& q_env);
 
 /// Steady state at every column of q_env (n×P, W). Each solve starts from the previous answer.
 ThermalResult steadyStates(const ThermalNetwork& net, const Eigen::MatrixXd& q_env, const ThermalOptions& opt = {});

@@ -428,3 +428,34 @@ TEST_CASE("cli: validate accepts the shipped examples") {
     CHECK(r.exit_code == 0);
   }
 }
+
+TEST_CASE("cli: heat flows per node and position close the balance on every case with temperatures") {
+  // The CubeSat's transient (stored heat), the sunlit plate's steady state (environment
+  // loads) and the plates between boundary nodes (boundary supply), both case forms.
+  for (const char* c :
+       {"examples/cubesat-3u", "analytic/sunlit-plate-temperature", "analytic/parallel-plates-temperature"}) {
+    INFO(c);
+    TempDir dir;
+    const Run r = runRadnet("run '" + source(std::string("cases/") + c + ".yaml") + "' -o out.h5 -q", dir);
+    REQUIRE(r.exit_code == 0);
+    hid_t file = H5Fopen((dir.path / "out.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    REQUIRE(file >= 0);
+    const H5Data temperature = readDataset(file, "/solution/temperature");
+    std::vector<double> sum(temperature.values.size(), 0.0), largest(temperature.values.size(), 0.0);
+    for (const char* kind : {"solar", "albedo", "earth_ir", "emitted", "radiative", "conducted", "dissipation",
+                             "heater", "stored", "boundary"}) {
+      const H5Data d = readDataset(file, std::string("/solution/heat/") + kind);
+      CHECK(d.dims == temperature.dims);  // (P, n)
+      CHECK(d.units == "W");
+      for (size_t k = 0; k < d.values.size() && k < sum.size(); ++k) {
+        sum[k] += d.values[k];
+        largest[k] = std::max(largest[k], std::abs(d.values[k]));
+      }
+    }
+    // Issue 10's contract: every node and position balances to 1e-6 of its largest term
+    // (Newton's tolerance is 1e-9 of the node's scale, so this has three digits to spare).
+    for (size_t k = 0; k < sum.size(); ++k) CHECK(std::abs(sum[k]) <= 1e-6 * largest[k] + 1e-12);
+    CHECK(readDoubleAttribute(file, "/report", "heat_balance_max_relative_imbalance") <= 1e-6);
+    H5Fclose(file);
+  }
+}

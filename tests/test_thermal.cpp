@@ -113,3 +113,48 @@ TEST_CASE("thermal: a node with no link at all is reported, never NaN") {
   CHECK(r.status != Status::Converged);
   CHECK_FALSE(r.message.empty());
 }
+
+TEST_CASE("heat flows: a node cooling through a conductor stores −C dT/dt = K (T − T_b); the boundary supplies it") {
+  ThermalNetwork net = emptyNetwork(2);
+  net.capacitance << 1000.0, 0.0;
+  link(net, 0, 1, 2.0);
+  net.fixed_temperature[1] = 300.0;
+  std::vector<double> times;
+  for (int k = 0; k < 10; ++k) times.push_back(100.0 * k);
+  Eigen::VectorXd initial(2);
+  initial << 400.0, 300.0;
+  const Eigen::MatrixXd q = Eigen::MatrixXd::Zero(2, 10);
+  const ThermalResult r = transient(net, times, q, 1000.0, 1.0, initial);
+  REQUIRE(r.status == Status::Converged);
+  const HeatFlows f = heatFlows(net, r, q);
+  for (int k = 1; k < 10; ++k) {
+    // Analytic: T = 300 + 100 e^{−t/τ}, τ = 500 s, so −C dT/dt = 2 · 100 e^{−t/τ} W flows out of
+    // storage into the conductor. The BDF2 derivative carries the scheme's O(h²) error: the
+    // temperatures are within 5e-3 K (test above), i.e. 0.01 W of conducted power; allow 0.05 W.
+    const double exact = 200.0 * std::exp(-times[static_cast<size_t>(k)] / 500.0);
+    CHECK(f.stored(0, k) == Approx(exact).margin(0.05));
+    CHECK(f.conducted(0, k) == Approx(-exact).margin(0.05));
+    // Node 0 balances to Newton's tolerance; node 1 (fixed) gets what the conductor brings.
+    CHECK(std::abs(f.stored(0, k) + f.conducted(0, k)) < 1e-6);
+    CHECK(f.boundary(1, k) == Approx(-f.conducted(1, k)).margin(1e-12));
+    CHECK(f.conducted(1, k) == Approx(-f.conducted(0, k)).margin(1e-9));
+    CHECK(f.stored(1, k) == 0.0);
+  }
+}
+
+TEST_CASE("heat flows: a sunlit plate in a steady state emits what it absorbs, σ GR_space (T⁴ − T_space⁴)") {
+  ThermalNetwork net = emptyNetwork(1);
+  const double eps = 0.8, area = 0.5, absorbed = 300.0;
+  net.gr_space << eps * area;
+  net.dissipation << 20.0;
+  const Eigen::MatrixXd q = Eigen::MatrixXd::Constant(1, 1, absorbed);
+  const ThermalResult r = steadyStates(net, q);
+  REQUIRE(r.status == Status::Converged);
+  const HeatFlows f = heatFlows(net, r, q);
+  const double t = r.temperature(0, 0);
+  CHECK(f.emitted(0, 0) == Approx(-kStefanBoltzmann * eps * area * (std::pow(t, 4) - std::pow(3.0, 4))).epsilon(1e-14));
+  CHECK(f.emitted(0, 0) == Approx(-(absorbed + 20.0)).epsilon(1e-9));  // Newton's relative tolerance
+  CHECK(f.dissipation(0, 0) == 20.0);
+  CHECK(f.stored(0, 0) == 0.0);
+  CHECK(f.radiative(0, 0) == 0.0);
+}

@@ -122,12 +122,28 @@ void writeSweep(Hdf5Writer& h5, const SweepResult& sw) {
   h5.attribute("/report", "planet_ray_casts", static_cast<long long>(sw.irradiance.planet_casts));
 }
 
-void writeTemperatures(Hdf5Writer& h5, const solver::ThermalResult& thermal, const ThermalSettings& settings) {
+void writeTemperatures(Hdf5Writer& h5, const solver::ThermalResult& thermal, const HeatBalance& heat,
+                       const ThermalSettings& settings, const SweepResult* sweep) {
   h5.writeMatrix("/solution/temperature", thermal.temperature.transpose(), "K");
   h5.attribute("/solution/temperature", "mode", std::string(settings.transient_orbits ? "transient" : "steady"));
   h5.attribute("/report", "thermal_max_residual_w", thermal.max_residual_w);
   h5.writeVector("/nodes/capacitance", settings.capacitance, "J/K");
   h5.writeVector("/nodes/dissipation", settings.dissipation, "W");
+  const solver::HeatFlows& f = heat.flows;
+  const Eigen::MatrixXd none = Eigen::MatrixXd::Zero(f.stored.rows(), f.stored.cols());
+  // Positions × nodes (P, n), positive into the node.
+  h5.writeMatrix("/solution/heat/solar", (sweep ? sweep->absorbed_solar : none).transpose(), "W");
+  h5.writeMatrix("/solution/heat/albedo", (sweep ? sweep->absorbed_albedo : none).transpose(), "W");
+  h5.writeMatrix("/solution/heat/earth_ir", (sweep ? sweep->absorbed_earth_ir : none).transpose(), "W");
+  h5.writeMatrix("/solution/heat/emitted", f.emitted.transpose(), "W");
+  h5.writeMatrix("/solution/heat/radiative", f.radiative.transpose(), "W");
+  h5.writeMatrix("/solution/heat/conducted", f.conducted.transpose(), "W");
+  h5.writeMatrix("/solution/heat/dissipation", f.dissipation.transpose(), "W");
+  h5.writeMatrix("/solution/heat/heater", none.transpose(), "W");  // no heater model yet: nothing supplied
+  h5.writeMatrix("/solution/heat/stored", f.stored.transpose(), "W");
+  h5.writeMatrix("/solution/heat/boundary", f.boundary.transpose(), "W");
+  h5.attribute("/report", "heat_balance_max_imbalance_w", heat.max_imbalance_w);
+  h5.attribute("/report", "heat_balance_max_relative_imbalance", heat.max_relative_imbalance);
 }
 
 void writeTimings(Hdf5Writer& h5, const StageTimings& timings) {

@@ -21,8 +21,11 @@ void writeGeometry(Hdf5Writer& h5, const geometry::Scene& scene, const Eigen::Ve
 void writeViewFactorEstimate(Hdf5Writer& h5, const GeometryRunResult& r, ViewFactorMethod method);
 /// /orbit, /loads and /solution/exitance_solar of a sweep, its residuals in /report.
 void writeSweep(Hdf5Writer& h5, const SweepResult& sweep);
-/// /solution/temperature (P, n) K with its mode, /nodes/{capacitance, dissipation}.
-void writeTemperatures(Hdf5Writer& h5, const solver::ThermalResult& thermal, const ThermalSettings& settings);
+/// /solution/temperature (P, n) K with its mode, /nodes/{capacitance, dissipation}, and
+/// /solution/heat/* (P, n) W: every node's heat flows by kind (the environment's from the
+/// sweep, zero without one), with the largest imbalance in /report.
+void writeTemperatures(Hdf5Writer& h5, const solver::ThermalResult& thermal, const HeatBalance& heat,
+                       const ThermalSettings& settings, const SweepResult* sweep);
 /// /report time_<stage>_s attributes.
 void writeTimings(Hdf5Writer& h5, const StageTimings& timings);
 

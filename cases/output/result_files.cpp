@@ -16,7 +16,7 @@ void writeNetworkResult(const NetworkCase& c, const NetworkRunResult& r, const s
   if (c.emissivity) h5.writeVector("/nodes/emissivity", *c.emissivity, "1");
   h5.writeVector("/solution/exitance", r.solution.exitance.col(0), "W/m^2");
   h5.writeVector("/solution/irradiance", r.solution.irradiance.col(0), "W/m^2");
-  if (r.thermal) writeTemperatures(h5, *r.thermal, *c.thermal);
+  if (r.thermal) writeTemperatures(h5, *r.thermal, *r.heat, *c.thermal, nullptr);
   writeTimings(h5, r.timings);
   h5.attribute("/report", "truncation_residual", r.solution.max_residual);
   h5.attribute("/report", "refined", static_cast<long long>(r.solution.refined));
@@ -35,7 +35,7 @@ void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, cons
   writeGeometry(h5, c.scene, r.triangle_node);
   writeViewFactorEstimate(h5, r, c.view_factors.method);
   if (r.sweep) writeSweep(h5, *r.sweep);
-  if (r.thermal) writeTemperatures(h5, *r.thermal, *c.thermal);
+  if (r.thermal) writeTemperatures(h5, *r.thermal, *r.heat, *c.thermal, r.sweep ? &*r.sweep : nullptr);
   const std::vector<XdmfAttribute> cell_values = writeXdmfCellValues(h5, r);
   writeTimings(h5, r.timings);
   std::vector<double> times;

@@ -44,6 +44,30 @@ void printSweepSummary(const std::vector<std::string>& names, const SweepResult&
       << sw.energy_balance_error << "\n";
 }
 
+// Orbit means of each node's heat flows, W, positive into the node.
+void printHeatBalance(const std::vector<std::string>& names, const HeatBalance& heat, const SweepResult* sweep,
+                      std::ostream& out) {
+  const solver::HeatFlows& f = heat.flows;
+  const Eigen::Index P = f.stored.cols();
+  const Eigen::VectorXd none = Eigen::VectorXd::Zero(f.stored.rows());
+  const Eigen::VectorXd environment = sweep ? Eigen::VectorXd(sweep->absorbed_total.rowwise().mean()) : none;
+  out << "heat flows, W (mean over " << P << " position(s); + into the node):\n"
+      << std::left << std::setw(20) << "node" << std::right;
+  for (const char* h : {"environment", "emitted", "radiative", "conducted", "dissipation", "stored", "boundary"})
+    out << std::setw(12) << h;
+  out << "\n";
+  for (size_t k = 0; k < names.size(); ++k) {
+    const auto i = static_cast<Eigen::Index>(k);
+    out << std::left << std::setw(20) << names[k] << std::right << std::setprecision(5);
+    for (double v : {environment[i], f.emitted.row(i).mean(), f.radiative.row(i).mean(), f.conducted.row(i).mean(),
+                     f.dissipation.row(i).mean(), f.stored.row(i).mean(), f.boundary.row(i).mean()})
+      out << std::setw(12) << (v == 0.0 ? 0.0 : v);  // no "-0"
+    out << "\n";
+  }
+  out << "heat balance: largest imbalance " << heat.max_imbalance_w << " W (" << heat.max_relative_imbalance
+      << " of the largest term)\n";
+}
+
 std::string refinementNote(const solver::BandSolution& s, const solver::SolverSettings& settings, int rank) {
   if (s.refined) return " (refined, " + std::to_string(s.refine_iterations) + " CG iterations)";
   if (settings.refineEnabled()) return " (rank-" + std::to_string(rank) + " solve already within the tolerance)";
@@ -78,6 +102,7 @@ void printNetworkSummary(const NetworkCase& c, const NetworkRunResult& r, std::o
     for (int i = 0; i < net.size(); ++i)
       out << "temperature " << net.names()[static_cast<size_t>(i)] << ": " << std::fixed << std::setprecision(3)
           << r.thermal->temperature(i, 0) << std::defaultfloat << " K\n";
+  if (r.heat) printHeatBalance(net.names(), *r.heat, nullptr, out);
   if (const auto& ex = r.radiative.exchange)
     out << "exchange factors GR (" << ex->method << "), Σ GR_space = " << ex->gr_space.sum() << " m²\n";
   printTimings(r.timings, out);
@@ -101,6 +126,7 @@ void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std
     out << "temperatures, K (" << (c.thermal->transient_orbits ? "transient, last orbit" : "steady state per position")
         << "):\n";
     printNodeTemperatures(net.names(), r.thermal->temperature, out);
+    printHeatBalance(net.names(), *r.heat, r.sweep ? &*r.sweep : nullptr, out);
   }
   out << "view factors: " << r.total_rays << " rays, correction ≤ " << r.correction.max_change << " ("
       << r.correction.max_change_sigma << " σ); closure error " << r.correction.max_closure_error << "\n";

@@ -46,11 +46,19 @@ struct SweepResult {
   int caseCount() const { return static_cast<int>(case_start.size()) - 1; }
 };
 
+/// Where each node's heat comes from and goes to, per position, and how well it balances.
+struct HeatBalance {
+  solver::HeatFlows flows;              ///< (n×P) W, positive into the node; environment loads are in the sweep
+  double max_imbalance_w = 0.0;         ///< largest |Σ of all terms| over nodes and positions, W
+  double max_relative_imbalance = 0.0;  ///< the same, each relative to the largest |term| of its node and position
+};
+
 /// A network-form run: the band solve of the case's initial exitance.
 struct NetworkRunResult {
   RadiativeNetwork radiative;
   solver::BandSolution solution;                 ///< one column, W/m²
   std::optional<solver::ThermalResult> thermal;  ///< steady state (n×1), K, with `thermal:`
+  std::optional<HeatBalance> heat;               ///< with `thermal:`
   StageTimings timings;
 };
 
@@ -65,6 +73,7 @@ struct GeometryRunResult {
   RadiativeNetwork radiative;
   std::optional<SweepResult> sweep;              ///< when the case has an orbit
   std::optional<solver::ThermalResult> thermal;  ///< n×P (P = 1 without an orbit), K, with `thermal:`
+  std::optional<HeatBalance> heat;               ///< with `thermal:`
   StageTimings timings;
 };
 

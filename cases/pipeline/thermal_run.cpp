@@ -2,6 +2,8 @@
 
 #include "cases/config/errors.hpp"
 
+#include <array>
+#include <cmath>
 #include <ostream>
 
 namespace radnet::cases {
@@ -13,6 +15,7 @@ solver::ThermalResult transientPerCase(const ThermalSettings& ts, const solver::
   const Eigen::Index n = net.gr.rows();
   solver::ThermalResult result;
   result.temperature.resize(n, sw.absorbed_total.cols());
+  result.temperature_rate.resize(n, sw.absorbed_total.cols());
   for (int k = 0; k < sw.caseCount(); ++k) {
     const int begin = sw.case_start[static_cast<size_t>(k)];
     const int count = sw.case_start[static_cast<size_t>(k) + 1] - begin;
@@ -29,6 +32,7 @@ solver::ThermalResult transientPerCase(const ThermalSettings& ts, const solver::
       break;
     }
     result.temperature.middleCols(begin, count) = part.temperature;
+    result.temperature_rate.middleCols(begin, count) = part.temperature_rate;
   }
   return result;
 }
@@ -49,24 +53,45 @@ solver::ThermalNetwork thermalNetwork(const ThermalSettings& ts, const solver::E
   return net;
 }
 
-solver::ThermalResult runThermal(const ThermalSettings& ts, const solver::ExchangeFactors& exchange,
-                                 const SweepResult* sweep, StageTimings& timings, std::ostream& progress) {
+HeatBalance heatBalance(const solver::ThermalNetwork& net, const solver::ThermalResult& solution,
+                        const Eigen::MatrixXd& q_env) {
+  HeatBalance b;
+  b.flows = solver::heatFlows(net, solution, q_env);
+  const solver::HeatFlows& f = b.flows;
+  const std::array<const Eigen::MatrixXd*, 7> terms = {&q_env,         &f.emitted, &f.radiative, &f.conducted,
+                                                       &f.dissipation, &f.stored,  &f.boundary};
+  for (Eigen::Index p = 0; p < q_env.cols(); ++p)
+    for (Eigen::Index i = 0; i < q_env.rows(); ++i) {
+      double sum = 0.0, largest = 0.0;
+      for (const Eigen::MatrixXd* m : terms) {
+        sum += (*m)(i, p);
+        largest = std::max(largest, std::abs((*m)(i, p)));
+      }
+      b.max_imbalance_w = std::max(b.max_imbalance_w, std::abs(sum));
+      if (largest > 0) b.max_relative_imbalance = std::max(b.max_relative_imbalance, std::abs(sum) / largest);
+    }
+  return b;
+}
+
+void runThermal(const ThermalSettings& ts, const solver::ExchangeFactors& exchange, const SweepResult* sweep,
+                StageTimings& timings, std::ostream& progress, std::optional<solver::ThermalResult>& temperatures,
+                std::optional<HeatBalance>& heat) {
   const solver::ThermalNetwork net = thermalNetwork(ts, exchange);
+  const Eigen::MatrixXd q_env = sweep ? sweep->absorbed_total : Eigen::MatrixXd::Zero(net.gr.rows(), 1);
   StageTimer timer(timings, Stage::Thermal);
   solver::ThermalResult result;
   if (ts.transient_orbits)
     result = transientPerCase(ts, net, *sweep);
-  else if (sweep)
-    result = solver::steadyStates(net, sweep->absorbed_total, ts.options);
   else
-    result = solver::steadyStates(net, Eigen::MatrixXd::Zero(net.gr.rows(), 1), ts.options);
+    result = solver::steadyStates(net, q_env, ts.options);
   timer.stop();
   if (result.status != solver::Status::Converged)
     throw NumericalError(std::string("temperatures ") + solver::toString(result.status) + ": " + result.message);
+  heat = heatBalance(net, result, q_env);
   progress << "radnet: temperatures (" << (ts.transient_orbits ? "transient" : "steady state per position") << "), "
            << result.newton_iterations << " Newton iterations, largest heat-balance residual " << result.max_residual_w
-           << " W\n";
-  return result;
+           << " W; heat flows balance to " << heat->max_relative_imbalance << " of the largest term\n";
+  temperatures = std::move(result);
 }
 
 }  // namespace radnet::cases

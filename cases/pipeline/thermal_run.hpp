@@ -11,9 +11,14 @@ namespace radnet::cases {
 /// The solver's thermal network from the settings and a run's exchange factors (m²).
 solver::ThermalNetwork thermalNetwork(const ThermalSettings& settings, const solver::ExchangeFactors& exchange);
 
-/// Temperatures (n×P; P = 1 without a sweep), K, with the sweep's absorbed loads.
-/// @throws NumericalError when the heat balance does not converge
-solver::ThermalResult runThermal(const ThermalSettings& settings, const solver::ExchangeFactors& exchange,
-                                 const SweepResult* sweep, StageTimings& timings, std::ostream& progress);
+/// Temperatures (n×P; P = 1 without a sweep), K, with the sweep's absorbed loads, and the
+/// heat flows of every node. @throws NumericalError when the heat balance does not converge
+void runThermal(const ThermalSettings& settings, const solver::ExchangeFactors& exchange, const SweepResult* sweep,
+                StageTimings& timings, std::ostream& progress, std::optional<solver::ThermalResult>& temperatures,
+                std::optional<HeatBalance>& heat);
+
+/// The heat flows of a solution and their imbalance; q_env (n×P, W) the absorbed loads.
+HeatBalance heatBalance(const solver::ThermalNetwork& net, const solver::ThermalResult& solution,
+                        const Eigen::MatrixXd& q_env);
 
 }  // namespace radnet::cases
