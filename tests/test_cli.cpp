@@ -62,6 +62,14 @@ H5Data readDataset(hid_t file, const std::string& name) {
     for (auto x : d.dims) count *= x;
     d.values.resize(count);
     H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, d.values.data());
+  } else if (H5Tget_class(type) == H5T_ENUM && H5Tget_size(type) == 1) {  // booleans: enum {FALSE, TRUE} of int8
+    hsize_t count = 1;
+    for (auto x : d.dims) count *= x;
+    std::vector<signed char> raw(count);
+    hid_t native = H5Tget_native_type(type, H5T_DIR_ASCEND);
+    H5Dread(ds, native, H5S_ALL, H5S_ALL, H5P_DEFAULT, raw.data());
+    H5Tclose(native);
+    d.values.assign(raw.begin(), raw.end());
   }
   if (H5Aexists(ds, "units") > 0) {
     hid_t attr = H5Aopen(ds, "units", H5P_DEFAULT);
@@ -301,17 +309,23 @@ TEST_CASE("cli: the 3U CubeSat example runs end to end with every orbit dataset"
   const H5Data t = readDataset(file, "/orbit/time");
   const size_t P = t.dims[0];
   CHECK(P == 72 + 4);
+  // 11 surface nodes and 2 lumped ones (electronics, battery), which absorb nothing.
+  const H5Data lumped = readDataset(file, "/nodes/lumped");
+  REQUIRE(lumped.values.size() == 13);
+  for (size_t i = 0; i < 13; ++i) CHECK(lumped.values[i] == (i >= 11 ? 1.0 : 0.0));
   for (const char* name : {"/loads/solar", "/loads/albedo", "/loads/earth_ir", "/solution/exitance_solar"}) {
     INFO(name);
     const H5Data d = readDataset(file, name);
-    CHECK(d.dims == std::vector<hsize_t>{P, 11});
+    CHECK(d.dims == std::vector<hsize_t>{P, 13});
+    for (size_t k = 0; k < d.values.size(); ++k)
+      if (k % 13 >= 11) CHECK(d.values[k] == 0.0);
     for (double v : d.values) CHECK(std::isfinite(v));
     for (double v : d.values) CHECK(v >= -1e-9);
   }
   CHECK(readDataset(file, "/orbit/sun_body").dims == std::vector<hsize_t>{P, 3});
   CHECK(readDataset(file, "/orbit/beta").units == "deg");
   const H5Data temp = readDataset(file, "/solution/temperature");  // transient, last of 3 orbits
-  CHECK(temp.dims == std::vector<hsize_t>{P, 11});
+  CHECK(temp.dims == std::vector<hsize_t>{P, 13});
   CHECK(temp.units == "K");
   for (double v : temp.values) {
     CHECK(v > 150.0);  // a 3U CubeSat in LEO stays between about −120 °C and +130 °C

@@ -4,7 +4,8 @@ namespace radnet::cases {
 namespace {
 
 Expectation parseExpectation(const YamlDocument& doc, const YAML::Node& e, const std::string& what,
-                             const std::vector<std::string>& names) {
+                             const std::vector<std::string>& radiative_names,
+                             const std::vector<std::string>& thermal_names) {
   doc.expectMap(e, what, {"quantity", "node", "to", "index", "value", "tolerance"});
   Expectation x;
   const YAML::Mark mark = e.Mark();
@@ -19,6 +20,7 @@ Expectation parseExpectation(const YamlDocument& doc, const YAML::Node& e, const
     throw doc.error(q, msg);
   }
   x.quantity = *quantity;
+  const std::vector<std::string>& names = x.quantity == ExpectQuantity::Temperature ? thermal_names : radiative_names;
   auto nodeName = [&](const char* key) {
     const YAML::Node n = doc.required(e, key, what);
     return names[static_cast<size_t>(doc.nodeIndex(n, what + "." + key, names))];
@@ -38,11 +40,12 @@ Expectation parseExpectation(const YamlDocument& doc, const YAML::Node& e, const
 }  // namespace
 
 std::vector<Expectation> parseExpectations(const YamlDocument& doc, const YAML::Node& node,
-                                           const std::vector<std::string>& names) {
+                                           const std::vector<std::string>& radiative_names,
+                                           const std::vector<std::string>& thermal_names) {
   doc.expectSequence(node, "expect");
   std::vector<Expectation> out;
   for (size_t i = 0; i < node.size(); ++i)
-    out.push_back(parseExpectation(doc, node[i], "expect[" + std::to_string(i) + "]", names));
+    out.push_back(parseExpectation(doc, node[i], "expect[" + std::to_string(i) + "]", radiative_names, thermal_names));
   return out;
 }
 

@@ -9,8 +9,10 @@
 namespace radnet::cases {
 
 /// Parses `expect:` (a sequence of {quantity, node, to, index, value, tolerance}) against
-/// the case's node names. @throws InputError with file:line:column
+/// the case's node names: radiative quantities name radiative nodes, temperatures any
+/// thermal node (lumped ones too). @throws InputError with file:line:column
 std::vector<Expectation> parseExpectations(const YamlDocument& doc, const YAML::Node& node,
-                                           const std::vector<std::string>& node_names);
+                                           const std::vector<std::string>& radiative_names,
+                                           const std::vector<std::string>& thermal_names);
 
 }  // namespace radnet::cases

@@ -153,8 +153,12 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
   c.solver = parseSolverSettings(doc, root["solver"]);
   if (root["solver"]) c.view_factors = parseViewFactorSettings(doc, root["solver"]["view_factors"]);
   c.orbit = parseOrbitSettings(doc);
-  c.thermal = parseThermalSettings(doc, c.node_names, c.orbit.has_value());
-  if (root["expect"]) c.expectations = parseExpectations(doc, root["expect"], c.node_names);
+  Eigen::VectorXd area(c.scene.nodes().size());
+  for (size_t i = 0; i < c.scene.nodes().size(); ++i) area[static_cast<Eigen::Index>(i)] = c.scene.nodes()[i].area_m2;
+  c.thermal = parseThermalSettings(doc, c.node_names, area, c.orbit.has_value());
+  if (root["expect"])
+    c.expectations =
+        parseExpectations(doc, root["expect"], c.node_names, c.thermal ? c.thermal->node_names : c.node_names);
   return c;
 }
 

@@ -133,10 +133,11 @@ NetworkCase loadNetworkCase(const YamlDocument& doc) {
   if (root["solver"] && root["solver"]["view_factors"])
     throw doc.error(root["solver"]["view_factors"],
                     "solver.view_factors: only for geometry cases; this case gives the view factors");
-  c.thermal = parseThermalSettings(doc, c.names, false);
+  c.thermal = parseThermalSettings(doc, c.names, c.area, false);
   if (c.thermal && !c.emissivity)
     throw doc.error(root["thermal"], "thermal: temperatures need the nodes' 'emissivity' (for the exchange factors)");
-  if (root["expect"]) c.expectations = parseExpectations(doc, root["expect"], c.names);
+  if (root["expect"])
+    c.expectations = parseExpectations(doc, root["expect"], c.names, c.thermal ? c.thermal->node_names : c.names);
   // Validate the network now, so that `radnet validate` catches what `run` would.
   (void)c.buildNetwork();
   return c;

@@ -1,5 +1,6 @@
 #include "cases/output/expectations.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <ostream>
@@ -10,8 +11,8 @@ namespace {
 using Q = ExpectQuantity;
 
 // Quantities both case forms have: view factors, exchange factors, eigenvalues, temperatures.
-std::optional<double> lookupShared(const RadiativeNetwork& radiative,
-                                   const std::optional<solver::ThermalResult>& thermal, const Expectation& x) {
+std::optional<double> lookupShared(const RadiativeNetwork& radiative, const std::optional<ThermalSolution>& thermal,
+                                   const Expectation& x) {
   const solver::Network& net = *radiative.network;
   const int i = x.node.empty() ? -1 : net.indexOf(x.node);
   const int j = x.to.empty() ? -1 : net.indexOf(x.to);
@@ -27,10 +28,13 @@ std::optional<double> lookupShared(const RadiativeNetwork& radiative,
     case Q::GrSpace:
       if (!radiative.exchange) return std::nullopt;
       return radiative.exchange->gr_space[i];
-    case Q::Temperature: {
+    case Q::Temperature: {  // any thermal node, lumped ones too
       const int p = std::max(0, x.index);
-      if (!thermal || p >= thermal->temperature.cols()) return std::nullopt;
-      return thermal->temperature(i, p);
+      if (!thermal || p >= thermal->temperature().cols()) return std::nullopt;
+      const auto& names = thermal->node_names;
+      const auto it = std::find(names.begin(), names.end(), x.node);
+      if (it == names.end()) return std::nullopt;
+      return thermal->temperature()(it - names.begin(), p);
     }
     default: return std::nullopt;
   }

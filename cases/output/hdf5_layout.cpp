@@ -23,10 +23,29 @@ void writeMeta(Hdf5Writer& h5, const std::string& case_name, const std::string& 
   }
 }
 
+Eigen::Index nodeCount(const RadiativeNetwork& radiative, const std::optional<ThermalSolution>& thermal) {
+  return thermal ? static_cast<Eigen::Index>(thermal->node_names.size()) : radiative.network->size();
+}
+
+Eigen::MatrixXd padNodes(const Eigen::MatrixXd& values, Eigen::Index rows) {
+  if (values.rows() == rows) return values;
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(rows, values.cols());
+  out.topRows(values.rows()) = values;
+  return out;
+}
+
+void writeNodes(Hdf5Writer& h5, const RadiativeNetwork& radiative, const std::optional<ThermalSolution>& thermal) {
+  const solver::Network& net = *radiative.network;
+  const Eigen::Index n = nodeCount(radiative, thermal);
+  h5.writeStrings("/nodes/name", thermal ? thermal->node_names : net.names());
+  h5.writeVector("/nodes/area", padNodes(net.area(), n).col(0), "m^2");
+  std::vector<bool> lumped(static_cast<size_t>(n), false);
+  for (Eigen::Index i = net.size(); i < n; ++i) lumped[static_cast<size_t>(i)] = true;
+  h5.writeBooleans("/nodes/lumped", lumped);
+}
+
 void writeRadiativeNetwork(Hdf5Writer& h5, const RadiativeNetwork& radiative) {
   const solver::Network& net = *radiative.network;
-  h5.writeStrings("/nodes/name", net.names());
-  h5.writeVector("/nodes/area", net.area(), "m^2");
   h5.writeMatrix("/network/view_factors", net.viewFactors(), "1");
   h5.writeVector("/network/space_view_factor", net.spaceViewFactor(), "1");
   h5.writeMatrix("/network/conductance", net.denseConductance(), "m^2");
@@ -104,17 +123,17 @@ void writeOrbit(Hdf5Writer& h5, const SweepResult& sw) {
 
 }  // namespace
 
-void writeSweep(Hdf5Writer& h5, const SweepResult& sw) {
+void writeSweep(Hdf5Writer& h5, const SweepResult& sw, Eigen::Index n) {
   writeOrbit(h5, sw);
   // Positions × nodes (P, n), as docs/hdf5-layout.md lays them out.
-  h5.writeMatrix("/loads/solar", sw.absorbed_solar.transpose(), "W");
-  h5.writeMatrix("/loads/albedo", sw.absorbed_albedo.transpose(), "W");
-  h5.writeMatrix("/loads/earth_ir", sw.absorbed_earth_ir.transpose(), "W");
-  h5.writeMatrix("/loads/earth_view_factor", sw.irradiance.earth_view_factor.transpose(), "1");
-  h5.writeMatrix("/loads/incident_solar", sw.irradiance.direct.transpose(), "W/m^2");
-  h5.writeMatrix("/loads/incident_albedo", sw.irradiance.albedo.transpose(), "W/m^2");
-  h5.writeMatrix("/loads/incident_earth_ir", sw.irradiance.earth_ir.transpose(), "W/m^2");
-  h5.writeMatrix("/solution/exitance_solar", sw.exitance_solar.transpose(), "W/m^2");
+  h5.writeMatrix("/loads/solar", padNodes(sw.absorbed_solar, n).transpose(), "W");
+  h5.writeMatrix("/loads/albedo", padNodes(sw.absorbed_albedo, n).transpose(), "W");
+  h5.writeMatrix("/loads/earth_ir", padNodes(sw.absorbed_earth_ir, n).transpose(), "W");
+  h5.writeMatrix("/loads/earth_view_factor", padNodes(sw.irradiance.earth_view_factor, n).transpose(), "1");
+  h5.writeMatrix("/loads/incident_solar", padNodes(sw.irradiance.direct, n).transpose(), "W/m^2");
+  h5.writeMatrix("/loads/incident_albedo", padNodes(sw.irradiance.albedo, n).transpose(), "W/m^2");
+  h5.writeMatrix("/loads/incident_earth_ir", padNodes(sw.irradiance.earth_ir, n).transpose(), "W/m^2");
+  h5.writeMatrix("/solution/exitance_solar", padNodes(sw.exitance_solar, n).transpose(), "W/m^2");
   h5.attribute("/report", "solar_band_residual", sw.solar_residual);
   h5.attribute("/report", "truncation_residual", std::max(sw.solar_residual, sw.ir_residual));
   h5.attribute("/report", "ir_band_residual", sw.ir_residual);
@@ -122,19 +141,21 @@ void writeSweep(Hdf5Writer& h5, const SweepResult& sw) {
   h5.attribute("/report", "planet_ray_casts", static_cast<long long>(sw.irradiance.planet_casts));
 }
 
-void writeTemperatures(Hdf5Writer& h5, const solver::ThermalResult& thermal, const HeatBalance& heat,
-                       const ThermalSettings& settings, const SweepResult* sweep) {
-  h5.writeMatrix("/solution/temperature", thermal.temperature.transpose(), "K");
+void writeTemperatures(Hdf5Writer& h5, const ThermalSolution& thermal, const ThermalSettings& settings,
+                       const SweepResult* sweep) {
+  h5.writeMatrix("/solution/temperature", thermal.temperature().transpose(), "K");
   h5.attribute("/solution/temperature", "mode", std::string(settings.transient_orbits ? "transient" : "steady"));
-  h5.attribute("/report", "thermal_max_residual_w", thermal.max_residual_w);
+  h5.attribute("/report", "thermal_max_residual_w", thermal.solve.max_residual_w);
   h5.writeVector("/nodes/capacitance", settings.capacitance, "J/K");
   h5.writeVector("/nodes/dissipation", settings.dissipation, "W");
+  const HeatBalance& heat = thermal.heat;
   const solver::HeatFlows& f = heat.flows;
   const Eigen::MatrixXd none = Eigen::MatrixXd::Zero(f.stored.rows(), f.stored.cols());
   // Positions × nodes (P, n), positive into the node.
-  h5.writeMatrix("/solution/heat/solar", (sweep ? sweep->absorbed_solar : none).transpose(), "W");
-  h5.writeMatrix("/solution/heat/albedo", (sweep ? sweep->absorbed_albedo : none).transpose(), "W");
-  h5.writeMatrix("/solution/heat/earth_ir", (sweep ? sweep->absorbed_earth_ir : none).transpose(), "W");
+  const Eigen::Index n = none.rows();
+  h5.writeMatrix("/solution/heat/solar", (sweep ? padNodes(sweep->absorbed_solar, n) : none).transpose(), "W");
+  h5.writeMatrix("/solution/heat/albedo", (sweep ? padNodes(sweep->absorbed_albedo, n) : none).transpose(), "W");
+  h5.writeMatrix("/solution/heat/earth_ir", (sweep ? padNodes(sweep->absorbed_earth_ir, n) : none).transpose(), "W");
   h5.writeMatrix("/solution/heat/emitted", f.emitted.transpose(), "W");
   h5.writeMatrix("/solution/heat/radiative", f.radiative.transpose(), "W");
   h5.writeMatrix("/solution/heat/conducted", f.conducted.transpose(), "W");

@@ -5,6 +5,7 @@
 #include "cases/output/hdf5_writer.hpp"
 #include "cases/pipeline/results.hpp"
 
+#include <optional>
 #include <string>
 
 namespace radnet::cases {
@@ -12,20 +13,28 @@ namespace radnet::cases {
 /// /meta: program, version, case name, creation time, the case file and its includes.
 void writeMeta(Hdf5Writer& h5, const std::string& case_name, const std::string& case_yaml,
                const IncludedFiles& included = {});
-/// /nodes/{name, area}, /network/{view_factors, space_view_factor, conductance},
-/// /network/{radiative_exchange, gr_space} when known, /eigen/{values, vectors}.
+/// /nodes/{name, area, lumped}: every node of the case, the radiative ones first, then the
+/// lumped nodes of the thermal model (area 0).
+void writeNodes(Hdf5Writer& h5, const RadiativeNetwork& radiative, const std::optional<ThermalSolution>& thermal);
+/// /network/{view_factors, space_view_factor, conductance}, /network/{radiative_exchange,
+/// gr_space} when known, /eigen/{values, vectors}: the radiative nodes only.
 void writeRadiativeNetwork(Hdf5Writer& h5, const RadiativeNetwork& radiative);
+/// The node count of the written file: radiative plus lumped nodes.
+Eigen::Index nodeCount(const RadiativeNetwork& radiative, const std::optional<ThermalSolution>& thermal);
+/// `values` (rows: the radiative nodes) with zero rows for the lumped nodes up to `rows`.
+Eigen::MatrixXd padNodes(const Eigen::MatrixXd& values, Eigen::Index rows);
 /// /geometry/{vertices, triangles, triangle_node, triangle_front_node, triangle_back_node}.
 void writeGeometry(Hdf5Writer& h5, const geometry::Scene& scene, const Eigen::VectorXi& triangle_node);
 /// /network/{view_factor_stderr, view_factors_raw, blocked_view_factor} and how F was made.
 void writeViewFactorEstimate(Hdf5Writer& h5, const GeometryRunResult& r, ViewFactorMethod method);
-/// /orbit, /loads and /solution/exitance_solar of a sweep, its residuals in /report.
-void writeSweep(Hdf5Writer& h5, const SweepResult& sweep);
+/// /orbit, /loads and /solution/exitance_solar of a sweep (zero for lumped nodes, up to
+/// `nodes` columns), its residuals in /report.
+void writeSweep(Hdf5Writer& h5, const SweepResult& sweep, Eigen::Index nodes);
 /// /solution/temperature (P, n) K with its mode, /nodes/{capacitance, dissipation}, and
 /// /solution/heat/* (P, n) W: every node's heat flows by kind (the environment's from the
 /// sweep, zero without one), with the largest imbalance in /report.
-void writeTemperatures(Hdf5Writer& h5, const solver::ThermalResult& thermal, const HeatBalance& heat,
-                       const ThermalSettings& settings, const SweepResult* sweep);
+void writeTemperatures(Hdf5Writer& h5, const ThermalSolution& thermal, const ThermalSettings& settings,
+                       const SweepResult* sweep);
 /// /report time_<stage>_s attributes.
 void writeTimings(Hdf5Writer& h5, const StageTimings& timings);
 

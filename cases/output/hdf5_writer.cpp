@@ -121,6 +121,16 @@ void Hdf5Writer::writeVector(const std::string& path, const Eigen::Ref<const Eig
   writeArray(path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, dims, data.data(), units);
 }
 
+void Hdf5Writer::writeBooleans(const std::string& path, const std::vector<bool>& values) {
+  Handle type{checkId(H5Tenum_create(H5T_NATIVE_INT8), "boolean type"), H5Tclose};
+  const signed char no = 0, yes = 1;
+  check(H5Tenum_insert(type.id, "FALSE", &no), "boolean FALSE");
+  check(H5Tenum_insert(type.id, "TRUE", &yes), "boolean TRUE");
+  std::vector<signed char> data(values.begin(), values.end());
+  const unsigned long long dims[1] = {static_cast<unsigned long long>(values.size())};
+  writeArray(path, type.id, type.id, 1, dims, data.data(), "1");
+}
+
 void Hdf5Writer::writeStrings(const std::string& path, const std::vector<std::string>& values,
                               const std::string& units) {
   // Variable-length UTF-8 strings: h5py reads them as str/bytes without padding.

@@ -23,6 +23,8 @@ class Hdf5Writer {
   void writeVector(const std::string& path, const Eigen::Ref<const Eigen::VectorXd>& v, const std::string& units);
   /// Integer (row-major) dataset, e.g. triangle corner indices.
   void writeIntegers(const std::string& path, const Eigen::Ref<const Eigen::MatrixXi>& m, const std::string& units);
+  /// Booleans as HDF5's enum {FALSE = 0, TRUE = 1} of int8, which h5py reads as numpy bool.
+  void writeBooleans(const std::string& path, const std::vector<bool>& values);
   void writeStrings(const std::string& path, const std::vector<std::string>& values, const std::string& units = "");
   void writeText(const std::string& path, const std::string& text);
 

@@ -10,13 +10,15 @@ namespace radnet::cases {
 void writeNetworkResult(const NetworkCase& c, const NetworkRunResult& r, const std::string& path) {
   Hdf5Writer h5(path);
   writeMeta(h5, c.name, c.yaml_text);
+  writeNodes(h5, r.radiative, r.thermal);
   writeRadiativeNetwork(h5, r.radiative);
-  h5.writeVector("/nodes/reflectance", c.reflectance, "1");
-  h5.writeVector("/nodes/initial_exitance", c.initial_exitance, "W/m^2");
-  if (c.emissivity) h5.writeVector("/nodes/emissivity", *c.emissivity, "1");
+  const Eigen::Index n = nodeCount(r.radiative, r.thermal);
+  h5.writeVector("/nodes/reflectance", padNodes(c.reflectance, n).col(0), "1");
+  h5.writeVector("/nodes/initial_exitance", padNodes(c.initial_exitance, n).col(0), "W/m^2");
+  if (c.emissivity) h5.writeVector("/nodes/emissivity", padNodes(*c.emissivity, n).col(0), "1");
   h5.writeVector("/solution/exitance", r.solution.exitance.col(0), "W/m^2");
   h5.writeVector("/solution/irradiance", r.solution.irradiance.col(0), "W/m^2");
-  if (r.thermal) writeTemperatures(h5, *r.thermal, *r.heat, *c.thermal, nullptr);
+  if (r.thermal) writeTemperatures(h5, *r.thermal, *c.thermal, nullptr);
   writeTimings(h5, r.timings);
   h5.attribute("/report", "truncation_residual", r.solution.max_residual);
   h5.attribute("/report", "refined", static_cast<long long>(r.solution.refined));
@@ -28,14 +30,18 @@ void writeNetworkResult(const NetworkCase& c, const NetworkRunResult& r, const s
 void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, const std::string& path) {
   Hdf5Writer h5(path);
   writeMeta(h5, c.name, c.yaml_text, c.included);
+  writeNodes(h5, r.radiative, r.thermal);
   writeRadiativeNetwork(h5, r.radiative);
-  h5.writeVector("/nodes/emissivity", c.emissivity, "1");
-  h5.writeVector("/nodes/absorptivity", c.absorptivity, "1");
-  h5.writeStrings("/nodes/material", c.node_material);
+  const Eigen::Index n = nodeCount(r.radiative, r.thermal);
+  h5.writeVector("/nodes/emissivity", padNodes(c.emissivity, n).col(0), "1");
+  h5.writeVector("/nodes/absorptivity", padNodes(c.absorptivity, n).col(0), "1");
+  std::vector<std::string> material = c.node_material;
+  material.resize(static_cast<size_t>(n));  // lumped nodes: no surface, no material
+  h5.writeStrings("/nodes/material", material);
   writeGeometry(h5, c.scene, r.triangle_node);
   writeViewFactorEstimate(h5, r, c.view_factors.method);
-  if (r.sweep) writeSweep(h5, *r.sweep);
-  if (r.thermal) writeTemperatures(h5, *r.thermal, *r.heat, *c.thermal, r.sweep ? &*r.sweep : nullptr);
+  if (r.sweep) writeSweep(h5, *r.sweep, n);
+  if (r.thermal) writeTemperatures(h5, *r.thermal, *c.thermal, r.sweep ? &*r.sweep : nullptr);
   const std::vector<XdmfAttribute> cell_values = writeXdmfCellValues(h5, r);
   writeTimings(h5, r.timings);
   std::vector<double> times;

@@ -50,7 +50,8 @@ void printHeatBalance(const std::vector<std::string>& names, const HeatBalance& 
   const solver::HeatFlows& f = heat.flows;
   const Eigen::Index P = f.stored.cols();
   const Eigen::VectorXd none = Eigen::VectorXd::Zero(f.stored.rows());
-  const Eigen::VectorXd environment = sweep ? Eigen::VectorXd(sweep->absorbed_total.rowwise().mean()) : none;
+  Eigen::VectorXd environment = none;  // lumped nodes absorb nothing
+  if (sweep) environment.head(sweep->absorbed_total.rows()) = sweep->absorbed_total.rowwise().mean();
   out << "heat flows, W (mean over " << P << " position(s); + into the node):\n"
       << std::left << std::setw(20) << "node" << std::right;
   for (const char* h : {"environment", "emitted", "radiative", "conducted", "dissipation", "stored", "boundary"})
@@ -98,11 +99,13 @@ void printNetworkSummary(const NetworkCase& c, const NetworkRunResult& r, std::o
       << "), largest dropped |λ| ≤ " << pairs.dropped_bound << " m²\n";
   out << "residual ‖M_o − (I − S G) M‖/‖M_o‖ with the full G: " << std::scientific << std::setprecision(3)
       << r.solution.max_residual << std::defaultfloat << refinementNote(r.solution, c.solver, pairs.rank()) << "\n";
-  if (r.thermal)
-    for (int i = 0; i < net.size(); ++i)
-      out << "temperature " << net.names()[static_cast<size_t>(i)] << ": " << std::fixed << std::setprecision(3)
-          << r.thermal->temperature(i, 0) << std::defaultfloat << " K\n";
-  if (r.heat) printHeatBalance(net.names(), *r.heat, nullptr, out);
+  if (r.thermal) {
+    const auto& names = r.thermal->node_names;
+    for (size_t i = 0; i < names.size(); ++i)
+      out << "temperature " << names[i] << ": " << std::fixed << std::setprecision(3)
+          << r.thermal->temperature()(static_cast<Eigen::Index>(i), 0) << std::defaultfloat << " K\n";
+    printHeatBalance(names, r.thermal->heat, nullptr, out);
+  }
   if (const auto& ex = r.radiative.exchange)
     out << "exchange factors GR (" << ex->method << "), Σ GR_space = " << ex->gr_space.sum() << " m²\n";
   printTimings(r.timings, out);
@@ -125,8 +128,8 @@ void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std
   if (r.thermal) {
     out << "temperatures, K (" << (c.thermal->transient_orbits ? "transient, last orbit" : "steady state per position")
         << "):\n";
-    printNodeTemperatures(net.names(), r.thermal->temperature, out);
-    printHeatBalance(net.names(), *r.heat, r.sweep ? &*r.sweep : nullptr, out);
+    printNodeTemperatures(r.thermal->node_names, r.thermal->temperature(), out);
+    printHeatBalance(r.thermal->node_names, r.thermal->heat, r.sweep ? &*r.sweep : nullptr, out);
   }
   out << "view factors: " << r.total_rays << " rays, correction ≤ " << r.correction.max_change << " ("
       << r.correction.max_change_sigma << " σ); closure error " << r.correction.max_closure_error << "\n";

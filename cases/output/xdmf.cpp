@@ -67,10 +67,10 @@ std::vector<XdmfAttribute> writeXdmfCellValues(Hdf5Writer& h5, const GeometryRun
     attrs.push_back({"solar exitance [W/m^2]", "/xdmf/exitance_solar", true});
   }
   if (r.thermal && r.sweep) {
-    h5.writeMatrix("/xdmf/temperature", spread(r.thermal->temperature), "K");
+    h5.writeMatrix("/xdmf/temperature", spread(r.thermal->temperature()), "K");
     attrs.push_back({"temperature [K]", "/xdmf/temperature", true});
   } else if (r.thermal) {
-    h5.writeVector("/xdmf/temperature", spread(r.thermal->temperature).row(0).transpose(), "K");
+    h5.writeVector("/xdmf/temperature", spread(r.thermal->temperature()).row(0).transpose(), "K");
     attrs.push_back({"temperature [K]", "/xdmf/temperature", false});
   }
   return attrs;

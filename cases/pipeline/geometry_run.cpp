@@ -91,8 +91,7 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
     r.sweep = runSweep({*c.orbit, caster, r.radiative, c.absorptivity, c.emissivity, c.solver}, r.timings,
                        show_progress, progress);
   if (c.thermal)
-    runThermal(*c.thermal, *r.radiative.exchange, r.sweep ? &*r.sweep : nullptr, r.timings, progress, r.thermal,
-               r.heat);
+    r.thermal = runThermal(*c.thermal, *r.radiative.exchange, r.sweep ? &*r.sweep : nullptr, r.timings, progress);
   return r;
 }
 

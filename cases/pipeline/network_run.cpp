@@ -34,7 +34,7 @@ NetworkRunResult runNetworkCase(const NetworkCase& c, std::ostream& progress) {
     throw NumericalError(std::string("band solve ") + solver::toString(r.solution.status) + ": " + r.solution.message);
 
   if (c.emissivity) r.radiative.exchange = exchangeFactors(r.radiative, *c.emissivity, c.solver, r.timings);
-  if (c.thermal) runThermal(*c.thermal, *r.radiative.exchange, nullptr, r.timings, progress, r.thermal, r.heat);
+  if (c.thermal) r.thermal = runThermal(*c.thermal, *r.radiative.exchange, nullptr, r.timings, progress);
   return r;
 }
 

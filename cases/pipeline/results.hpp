@@ -53,12 +53,21 @@ struct HeatBalance {
   double max_relative_imbalance = 0.0;  ///< the same, each relative to the largest |term| of its node and position
 };
 
+/// Temperatures and heat flows of the thermal model: its nodes are the radiative nodes
+/// followed by the lumped ones.
+struct ThermalSolution {
+  std::vector<std::string> node_names;  ///< the rows of every (n×P) matrix below
+  int radiative_nodes = 0;              ///< the first nodes, which have geometry or a network row
+  solver::ThermalResult solve;          ///< temperature (n×P), K, and how the solve went
+  HeatBalance heat;
+  const Eigen::MatrixXd& temperature() const { return solve.temperature; }
+};
+
 /// A network-form run: the band solve of the case's initial exitance.
 struct NetworkRunResult {
   RadiativeNetwork radiative;
-  solver::BandSolution solution;                 ///< one column, W/m²
-  std::optional<solver::ThermalResult> thermal;  ///< steady state (n×1), K, with `thermal:`
-  std::optional<HeatBalance> heat;               ///< with `thermal:`
+  solver::BandSolution solution;           ///< one column, W/m²
+  std::optional<ThermalSolution> thermal;  ///< steady state (P = 1), with `thermal:`
   StageTimings timings;
 };
 
@@ -71,9 +80,8 @@ struct GeometryRunResult {
   double rays_per_second = 0.0;
   Eigen::VectorXi triangle_node;  ///< node of each triangle: its front side's, else its back side's
   RadiativeNetwork radiative;
-  std::optional<SweepResult> sweep;              ///< when the case has an orbit
-  std::optional<solver::ThermalResult> thermal;  ///< n×P (P = 1 without an orbit), K, with `thermal:`
-  std::optional<HeatBalance> heat;               ///< with `thermal:`
+  std::optional<SweepResult> sweep;        ///< when the case has an orbit
+  std::optional<ThermalSolution> thermal;  ///< P positions (1 without an orbit), with `thermal:`
   StageTimings timings;
 };
 

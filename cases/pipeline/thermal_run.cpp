@@ -11,19 +11,19 @@ namespace {
 
 // One transient per orbit case, each periodic over its own swept orbit(s).
 solver::ThermalResult transientPerCase(const ThermalSettings& ts, const solver::ThermalNetwork& net,
-                                       const SweepResult& sw) {
+                                       const SweepResult& sw, const Eigen::MatrixXd& q_env) {
   const Eigen::Index n = net.gr.rows();
   solver::ThermalResult result;
-  result.temperature.resize(n, sw.absorbed_total.cols());
-  result.temperature_rate.resize(n, sw.absorbed_total.cols());
+  result.temperature.resize(n, q_env.cols());
+  result.temperature_rate.resize(n, q_env.cols());
   for (int k = 0; k < sw.caseCount(); ++k) {
     const int begin = sw.case_start[static_cast<size_t>(k)];
     const int count = sw.case_start[static_cast<size_t>(k) + 1] - begin;
     std::vector<double> times;
     for (int p = begin; p < begin + count; ++p) times.push_back(sw.positions[static_cast<size_t>(p)].t_s);
-    solver::ThermalResult part = solver::transient(net, times, sw.absorbed_total.middleCols(begin, count),
-                                                   sw.case_sweep_s[static_cast<size_t>(k)], *ts.transient_orbits,
-                                                   Eigen::VectorXd::Constant(n, ts.initial_temperature), ts.options);
+    solver::ThermalResult part =
+        solver::transient(net, times, q_env.middleCols(begin, count), sw.case_sweep_s[static_cast<size_t>(k)],
+                          *ts.transient_orbits, ts.initial_temperature, ts.options);
     result.newton_iterations += part.newton_iterations;
     result.max_residual_w = std::max(result.max_residual_w, part.max_residual_w);
     if (part.status != solver::Status::Converged) {
@@ -40,10 +40,13 @@ solver::ThermalResult transientPerCase(const ThermalSettings& ts, const solver::
 }  // namespace
 
 solver::ThermalNetwork thermalNetwork(const ThermalSettings& ts, const solver::ExchangeFactors& exchange) {
-  const Eigen::Index n = exchange.gr.rows();
+  const Eigen::Index n = ts.nodeCount(), nr = exchange.gr.rows();
   solver::ThermalNetwork net;
-  net.gr = exchange.gr;
-  net.gr_space = exchange.gr_space;
+  net.gr = Eigen::MatrixXd::Zero(n, n);
+  net.gr.topLeftCorner(nr, nr) = exchange.gr;
+  for (const auto& c : ts.radiative_couplings) net.gr(c.row(), c.col()) += c.value();
+  net.gr_space = Eigen::VectorXd::Zero(n);
+  net.gr_space.head(nr) = exchange.gr_space;
   net.conductors.resize(n, n);
   net.conductors.setFromTriplets(ts.conductors.begin(), ts.conductors.end());
   net.capacitance = ts.capacitance;
@@ -73,25 +76,29 @@ HeatBalance heatBalance(const solver::ThermalNetwork& net, const solver::Thermal
   return b;
 }
 
-void runThermal(const ThermalSettings& ts, const solver::ExchangeFactors& exchange, const SweepResult* sweep,
-                StageTimings& timings, std::ostream& progress, std::optional<solver::ThermalResult>& temperatures,
-                std::optional<HeatBalance>& heat) {
+ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFactors& exchange, const SweepResult* sweep,
+                           StageTimings& timings, std::ostream& progress) {
   const solver::ThermalNetwork net = thermalNetwork(ts, exchange);
-  const Eigen::MatrixXd q_env = sweep ? sweep->absorbed_total : Eigen::MatrixXd::Zero(net.gr.rows(), 1);
+  // Lumped nodes absorb nothing from the environment.
+  Eigen::MatrixXd q_env = Eigen::MatrixXd::Zero(ts.nodeCount(), sweep ? sweep->absorbed_total.cols() : 1);
+  if (sweep) q_env.topRows(ts.radiative_nodes) = sweep->absorbed_total;
   StageTimer timer(timings, Stage::Thermal);
-  solver::ThermalResult result;
+  ThermalSolution out;
+  out.node_names = ts.node_names;
+  out.radiative_nodes = ts.radiative_nodes;
   if (ts.transient_orbits)
-    result = transientPerCase(ts, net, *sweep);
+    out.solve = transientPerCase(ts, net, *sweep, q_env);
   else
-    result = solver::steadyStates(net, q_env, ts.options);
+    out.solve = solver::steadyStates(net, q_env, ts.options);
   timer.stop();
+  const solver::ThermalResult& result = out.solve;
   if (result.status != solver::Status::Converged)
     throw NumericalError(std::string("temperatures ") + solver::toString(result.status) + ": " + result.message);
-  heat = heatBalance(net, result, q_env);
+  out.heat = heatBalance(net, result, q_env);
   progress << "radnet: temperatures (" << (ts.transient_orbits ? "transient" : "steady state per position") << "), "
            << result.newton_iterations << " Newton iterations, largest heat-balance residual " << result.max_residual_w
-           << " W; heat flows balance to " << heat->max_relative_imbalance << " of the largest term\n";
-  temperatures = std::move(result);
+           << " W; heat flows balance to " << out.heat.max_relative_imbalance << " of the largest term\n";
+  return out;
 }
 
 }  // namespace radnet::cases

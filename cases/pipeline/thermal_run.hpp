@@ -8,14 +8,14 @@
 
 namespace radnet::cases {
 
-/// The solver's thermal network from the settings and a run's exchange factors (m²).
+/// The solver's thermal network from the settings and a run's exchange factors (m²): the
+/// radiative nodes' GR, padded with the lumped nodes, plus the user couplings and MLI.
 solver::ThermalNetwork thermalNetwork(const ThermalSettings& settings, const solver::ExchangeFactors& exchange);
 
 /// Temperatures (n×P; P = 1 without a sweep), K, with the sweep's absorbed loads, and the
 /// heat flows of every node. @throws NumericalError when the heat balance does not converge
-void runThermal(const ThermalSettings& settings, const solver::ExchangeFactors& exchange, const SweepResult* sweep,
-                StageTimings& timings, std::ostream& progress, std::optional<solver::ThermalResult>& temperatures,
-                std::optional<HeatBalance>& heat);
+ThermalSolution runThermal(const ThermalSettings& settings, const solver::ExchangeFactors& exchange,
+                           const SweepResult* sweep, StageTimings& timings, std::ostream& progress);
 
 /// The heat flows of a solution and their imbalance; q_env (n×P, W) the absorbed loads.
 HeatBalance heatBalance(const solver::ThermalNetwork& net, const solver::ThermalResult& solution,
