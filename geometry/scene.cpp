@@ -86,8 +86,6 @@ int Scene::nodeFor(const std::string& name, int side, const std::string& label) 
 void Scene::addSurface(const std::string& surface, const std::string& label, const TriangleSoup& soup,
                        const std::string& front_node, const std::string& back_node) {
   if (soup.triangles.empty()) throw GeometryError(label + ": no triangles");
-  if (front_node.empty() && back_node.empty())
-    throw GeometryError(label + ": neither side names a material; the surface would belong to no node");
   if (!front_node.empty() && front_node == back_node)
     throw GeometryError(label + ": front and back sides cannot be the same node '" + front_node + "'");
   std::vector<Face> added = checkedFaces(soup, label, warnings_);

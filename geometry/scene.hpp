@@ -51,7 +51,8 @@ struct Face {
 
 class Scene {
  public:
-  /// Adds the triangles of one surface. Sides name a node ("" = inactive side); a node
+  /// Adds the triangles of one surface. Sides name a node ("" = inactive side; both
+  /// inactive: an occluder that blocks rays and belongs to no node); a node
   /// named again on another surface collects those triangles too (it must be the same side
   /// kind or the message says so). Degenerate triangles are rejected naming the triangle;
   /// slivers (aspect ratio > 1e4) are accepted and listed in warnings().

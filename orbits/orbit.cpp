@@ -92,6 +92,8 @@ OrbitState Orbit::state(double t) const {
   return {eciFromPerifocal * pos_pf, eciFromPerifocal * vel_pf};
 }
 
+double Orbit::nodalPeriod() const { return 2 * M_PI / (mean_motion_ + argp_rate_); }
+
 double Orbit::timeOfTrueAnomaly(double nu, int turns) const {
   const double e = el_.eccentricity;
   const double ecc = 2 * std::atan2(std::sqrt(1 - e) * std::sin(nu / 2), std::sqrt(1 + e) * std::cos(nu / 2));

@@ -41,8 +41,14 @@ class Orbit {
 
   /// Position and velocity t seconds after the epoch (two-body + secular J2).
   OrbitState state(double t_s) const;
-  /// Anomalistic period of the unperturbed orbit, s.
+  /// Anomalistic period of the unperturbed orbit, 2π √(a³/GM), s.
   double period() const;
+  /// Nodal (draconic) period, s: ascending node to ascending node under the secular J2
+  /// rates, 2π / (n̄ + ω̇) with n̄ the J2-corrected mean motion. One sweep orbit spans it,
+  /// so the swept orbit closes in argument of latitude (Vallado, §9.6).
+  double nodalPeriod() const;
+  /// Mean motion including the secular J2 correction, rad/s.
+  double meanMotion() const { return mean_motion_; }
   double epochJd() const { return epoch_jd_; }
   const KeplerElements& elements() const { return el_; }
   /// Secular rates from J2, rad/s.

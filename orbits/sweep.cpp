@@ -7,22 +7,40 @@
 #include <cmath>
 
 namespace radnet::orbits {
+namespace {
+
+// Seconds after the epoch at which the true anomaly has advanced by dnu (rad, ≥ 0) from
+// the epoch's, counting whole revolutions.
+double timeOfAdvance(const Orbit& orbit, double dnu) {
+  const int turns = static_cast<int>(std::floor(dnu / (2 * M_PI)));
+  const double rest = dnu - 2 * M_PI * turns, revolution = 2 * M_PI / orbit.meanMotion();
+  double t = orbit.timeOfTrueAnomaly(orbit.elements().true_anomaly_rad + rest, turns);
+  // Just past a whole turn, round-off can put the mean anomaly a hair behind the epoch's, and
+  // the wrap then counts one revolution too many.
+  if (rest < M_PI && t - turns * revolution > 0.5 * revolution) t -= revolution;
+  return t;
+}
+
+}  // namespace
 
 std::vector<SweepPosition> sweepOrbit(const Orbit& orbit, const AttitudeSpec& attitude, const SweepOptions& opt) {
   if (opt.positions_per_orbit < 1 || opt.positions_per_orbit > 100000)
     throw OrbitError("positions per orbit must be in [1, 100000]");
   if (!(std::isfinite(opt.orbits) && opt.orbits > 0 && opt.orbits <= 10000))
     throw OrbitError("number of orbits must be in (0, 10000]");
-  const double period = orbit.period(), span = opt.orbits * period;
+  // The nodal period, so that the swept orbit closes with the propagation's J2 drift.
+  const double period = orbit.nodalPeriod(), span = opt.orbits * period;
   const int regular = static_cast<int>(std::ceil(opt.positions_per_orbit * opt.orbits - 1e-9));
   std::vector<std::pair<double, bool>> times;
   for (int k = 0; k < regular; ++k) {
     if (opt.spacing == SweepOptions::Spacing::Time) {
       times.emplace_back(k * period / opt.positions_per_orbit, false);
-    } else {  // equal steps of true anomaly from the epoch's
-      const double nu =
-          orbit.elements().true_anomaly_rad + 2 * M_PI * (k % opt.positions_per_orbit) / opt.positions_per_orbit;
-      times.emplace_back(orbit.timeOfTrueAnomaly(nu, k / opt.positions_per_orbit), false);
+    } else {  // equal steps of argument of latitude ω(t) + ν from the epoch's
+      // Solve ν(t) − ν₀ + ω̇ t = Δu by fixed point: it contracts by ω̇/n ≈ 1e-3 per iteration.
+      const double du = 2 * M_PI * k / opt.positions_per_orbit;
+      double t = timeOfAdvance(orbit, du);
+      for (int it = 0; it < 4; ++it) t = timeOfAdvance(orbit, du - orbit.argPerigeeRate() * t);
+      times.emplace_back(t, false);
     }
   }
   if (opt.insert_eclipse_events)

@@ -1,6 +1,6 @@
 #pragma once
-// Sweep positions along an orbit: P positions per orbit, evenly spaced in time, over one
-// or several orbits, plus every eclipse entry and exit inserted exactly, so transitions
+// Sweep positions along an orbit: P positions per orbit, evenly spaced in time (or in
+// argument of latitude) over one or several nodal periods (Orbit::nodalPeriod), plus every eclipse entry and exit inserted exactly, so transitions
 // are resolved without a fine grid.
 #include "orbits/attitude.hpp"
 #include "orbits/eclipse.hpp"

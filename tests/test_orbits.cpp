@@ -81,6 +81,34 @@ TEST_CASE("two-body states: vis-viva, closed orbit after one period, angular mom
   CHECK(s0.position_eci_m.norm() == Approx(a * (1 - e * e) / (1 + e * std::cos(nu0))).epsilon(1e-12));
 }
 
+namespace {
+// Argument of latitude (rad): the angle from the (drifting) ascending node to the position,
+// in the orbit plane at time t.
+double argumentOfLatitude(const Orbit& orbit, double t) {
+  const Eigen::Vector3d r = orbit.state(t).position_eci_m, h = orbit.normal(t);
+  const Eigen::Vector3d node = Eigen::Vector3d::UnitZ().cross(h).normalized();
+  return std::atan2(r.dot(h.cross(node)), r.dot(node));
+}
+}  // namespace
+
+TEST_CASE("the swept orbit closes: after one nodal period the argument of latitude repeats, after Kepler's it does not") {
+  for (double inc : {28.5, 51.6, 97.4}) {
+    const Orbit orbit(circularElements(400e3, inc, 30.0, 20.0), kEpoch);
+    const double u0 = argumentOfLatitude(orbit, 0.0);
+    // The nodal period closes the orbit to round-off (1e-9 rad ≈ 7 mm at 400 km).
+    CHECK(std::abs(std::remainder(argumentOfLatitude(orbit, orbit.nodalPeriod()) - u0, 2 * M_PI)) < 1e-9);
+    // Kepler's 2π√(a³/GM) misses by the J2 drift of ω + M: 0.1–1° here (the bug this fixes).
+    CHECK(std::abs(std::remainder(argumentOfLatitude(orbit, orbit.period()) - u0, 2 * M_PI)) > 1e-3);
+    // The sweep spans it: the first position of a second orbit is where the first began.
+    SweepOptions opt;
+    opt.positions_per_orbit = 8;
+    opt.orbits = 2;
+    opt.insert_eclipse_events = false;
+    const auto sweep = sweepOrbit(orbit, AttitudeSpec{}, opt);
+    CHECK(sweep[8].t_s == Approx(orbit.nodalPeriod()).epsilon(1e-12));
+  }
+}
+
 TEST_CASE("sun-synchronous orbit: the node drifts 0.9856°/day within 1 %, and the local time holds") {
   for (double h : {500e3, 800e3}) {
     const double inc = sunSynchronousInclinationDeg(h);
@@ -229,7 +257,7 @@ TEST_CASE("sweep: evenly spaced positions plus exact eclipse events; sunlit frac
   CHECK(sweep.size() == 36 + 4);
 }
 
-TEST_CASE("sweep by true anomaly: equal steps of ν on an eccentric orbit, time increasing") {
+TEST_CASE("sweep by true anomaly: equal steps of argument of latitude ω(t) + ν on an eccentric orbit, time increasing") {
   const Orbit orbit(perigeeApogeeElements(500e3, 8000e3, 63.4, 0, 270, 0), kEpoch);
   SweepOptions opt;
   opt.positions_per_orbit = 12;
@@ -247,7 +275,8 @@ TEST_CASE("sweep by true anomaly: equal steps of ν on an eccentric orbit, time 
     const OrbitState st = orbit.state(sweep[k].t_s);
     const double r = st.position_eci_m.norm(), p = orbit.elements().semi_major_axis_m * (1 - e * e);
     const double cos_nu = (p / r - 1) / e;
-    CHECK(cos_nu == Approx(std::cos(2 * M_PI * (k % 12) / 12.0)).margin(1e-6));
+    // Equal steps of ω + ν: ν falls behind 2πk/12 by the perigee's J2 drift ω̇ t.
+    CHECK(cos_nu == Approx(std::cos(2 * M_PI * (k % 12) / 12.0 - orbit.argPerigeeRate() * sweep[k].t_s)).margin(1e-9));
   }
 }
 

@@ -23,7 +23,34 @@ std::string materialOf(const YamlDocument& doc, const YAML::Node& node, const st
     if (auto near = nearestWord(m, ctx.material_names)) msg += " (did you mean '" + *near + "'?)";
     throw doc.error(node, msg);
   }
+  if (!ctx.c.materials.at(m).has_optics)
+    throw doc.error(node, what + ": material '" + m + "' has no emissivity and absorptivity; a surface side needs both");
   return m;
+}
+
+// `shell: {material, thickness}` of a primitive whose faces are [first_face, end_face).
+ShellSpec parseShell(const YamlDocument& doc, const YAML::Node& node, const std::string& what,
+                     const GeometryContext& ctx) {
+  doc.expectMap(node, what, {"material", "thickness"});
+  ShellSpec shell;
+  const YAML::Node mat = doc.required(node, "material", what);
+  shell.material = doc.string(mat, what + ".material");
+  const auto it = ctx.c.materials.find(shell.material);
+  if (it == ctx.c.materials.end()) {
+    std::string msg = what + ".material: unknown material '" + shell.material + "'";
+    if (auto near = nearestWord(shell.material, ctx.material_names)) msg += " (did you mean '" + *near + "'?)";
+    throw doc.error(mat, msg);
+  }
+  if (!it->second.has_bulk)
+    throw doc.error(mat, what + ".material: '" + shell.material +
+                             "' has no conductivity, density and specific_heat; a shell needs them");
+  shell.thickness_m = doc.number(doc.required(node, "thickness", what), what + ".thickness (m)", 1e-7, 10.0);
+  shell.what = what;
+  const InputError where = doc.error(node, "");
+  shell.file = where.file();
+  shell.line = where.line();
+  shell.column = where.column();
+  return shell;
 }
 
 const PrimitiveSpec& primitiveSpec(const YamlDocument& doc, const YAML::Node& key, const std::string& where) {
@@ -49,14 +76,21 @@ void parsePrimitive(const YamlDocument& doc, const YAML::Node& entry, const std:
   const YAML::Node p = entry.begin()->second;
   const std::string what = where + "." + std::string(spec.kind);
   if (!p.IsMap()) throw doc.error(p, what + ": expected a mapping of parameters");
-  std::vector<std::string> allowed = {"name", "front", "back", "subdivisions"};
+  std::vector<std::string> allowed = {"name", "front", "back", "subdivisions", "shell"};
   allowed.insert(allowed.end(), spec.keys.begin(), spec.keys.end());
   doc.expectMap(p, what, allowed);
   const std::string name = doc.string(doc.required(p, "name", what), what + ".name");
   const std::string front = materialOf(doc, p["front"], what + ".front", ctx);
   const std::string back = materialOf(doc, p["back"], what + ".back", ctx);
-  if (front.empty() && back.empty())
-    throw doc.error(p, what + ": neither 'front' nor 'back' names a material; the surface would belong to no node");
+  // Neither side naming a material: a pure occluder (it blocks rays and belongs to no node).
+  std::optional<ShellSpec> shell;
+  if (p["shell"]) {
+    if (front.empty() && back.empty())
+      throw doc.error(p["shell"], what + ".shell: the surface names no material on either side, so it has no node "
+                                         "to give the shell's capacitance and conductors to");
+    shell = parseShell(doc, p["shell"], what + ".shell", ctx);
+  }
+  const int first_face = static_cast<int>(c.scene.faces().size());
   auto add = [&](const std::string& surface, const std::string& node, const geometry::TriangleSoup& soup,
                  const std::string& mesh_file) {
     const std::string label =
@@ -83,6 +117,11 @@ void parsePrimitive(const YamlDocument& doc, const YAML::Node& entry, const std:
                                std::filesystem::path(doc.file()).parent_path(),
                                add};
     spec.build(input);
+    if (shell) {
+      shell->first_face = first_face;
+      shell->end_face = static_cast<int>(c.scene.faces().size());
+      c.shells.push_back(*shell);
+    }
   } catch (const geometry::GeometryError& e) {
     throw doc.error(entry, what + ": " + e.what());
   }
@@ -155,7 +194,12 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
   c.orbit = parseOrbitSettings(doc);
   Eigen::VectorXd area(c.scene.nodes().size());
   for (size_t i = 0; i < c.scene.nodes().size(); ++i) area[static_cast<Eigen::Index>(i)] = c.scene.nodes()[i].area_m2;
-  c.thermal = parseThermalSettings(doc, c.node_names, area, c.orbit.has_value());
+  std::optional<double> orbit_period_s;
+  if (c.orbit)
+    for (const OrbitCase& oc : c.orbit->cases)
+      orbit_period_s = std::min(orbit_period_s.value_or(oc.orbit->nodalPeriod()), oc.orbit->nodalPeriod());
+  c.thermal = parseThermalSettings(doc, c.node_names, area, orbit_period_s);
+  applyShells(c);
   if (root["expect"])
     c.expectations =
         parseExpectations(doc, root["expect"], c.node_names, c.thermal ? c.thermal->node_names : c.node_names);

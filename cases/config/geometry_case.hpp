@@ -17,9 +17,27 @@
 
 namespace radnet::cases {
 
+/// A material: optical properties for surfaces that name it, bulk properties for shells.
+/// Either set may be absent (a bulk-only material cannot be a surface's side).
 struct Material {
+  bool has_optics = false;
   double emissivity = 1.0;    ///< IR, –
   double absorptivity = 1.0;  ///< solar, –
+  bool has_bulk = false;
+  double conductivity = 0.0;   ///< W/(m K)
+  double density = 0.0;        ///< kg/m³
+  double specific_heat = 0.0;  ///< J/(kg K)
+};
+
+/// A primitive's `shell: {material, thickness}`: the thin plate its surfaces are, giving
+/// capacitance and conductors to its nodes (docs/case-files.md, "Shells").
+struct ShellSpec {
+  int first_face = 0, end_face = 0;  ///< the primitive's scene faces
+  std::string material;
+  double thickness_m = 0.0;
+  std::string what;  ///< e.g. "geometry[2].rectangle.shell", for messages
+  std::string file;  ///< where the case gives it, for messages
+  int line = 0, column = 0;
 };
 
 /// Included files of a case, (path, text), kept so that a result carries all its input.
@@ -39,8 +57,13 @@ struct GeometryCase {
   solver::SolverSettings solver;
   std::optional<OrbitSettings> orbit;      ///< absent: network and exchange factors only
   std::optional<ThermalSettings> thermal;  ///< absent: no temperatures
+  std::vector<ShellSpec> shells;
   std::vector<Expectation> expectations;
 };
+
+/// Adds each shell's capacitance and conductors to the thermal model.
+/// @throws InputError at the shell when the case has no thermal block
+void applyShells(GeometryCase& c);
 
 /// True when the document has a `geometry:` key.
 bool isGeometryCase(const YamlDocument& doc);

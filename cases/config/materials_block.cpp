@@ -30,10 +30,23 @@ void parseMaterials(const YamlDocument& doc, const YAML::Node& mats, std::map<st
       continue;
     }
     const std::string what = "materials." + mname;
-    doc.expectMap(kv.second, what, {"emissivity", "absorptivity"});
+    doc.expectMap(kv.second, what, {"emissivity", "absorptivity", "conductivity", "density", "specific_heat"});
+    const YAML::Node& v = kv.second;
     Material m;
-    m.emissivity = doc.number(doc.required(kv.second, "emissivity", what), what + ".emissivity", 0.0, 1.0);
-    m.absorptivity = doc.number(doc.required(kv.second, "absorptivity", what), what + ".absorptivity", 0.0, 1.0);
+    m.has_optics = v["emissivity"] || v["absorptivity"];
+    if (m.has_optics) {
+      m.emissivity = doc.number(doc.required(v, "emissivity", what), what + ".emissivity", 0.0, 1.0);
+      m.absorptivity = doc.number(doc.required(v, "absorptivity", what), what + ".absorptivity", 0.0, 1.0);
+    }
+    m.has_bulk = v["conductivity"] || v["density"] || v["specific_heat"];
+    if (m.has_bulk) {  // W/(m K), kg/m³, J/(kg K): from aerogels to copper and beyond, with room
+      m.conductivity = doc.number(doc.required(v, "conductivity", what), what + ".conductivity (W/(m K))", 0.0, 1e5);
+      m.density = doc.number(doc.required(v, "density", what), what + ".density (kg/m³)", 0.0, 1e5);
+      m.specific_heat = doc.number(doc.required(v, "specific_heat", what), what + ".specific_heat (J/(kg K))", 0.0, 1e5);
+    }
+    if (!m.has_optics && !m.has_bulk)
+      throw doc.error(v, what + ": expected emissivity and absorptivity (a surface material) or conductivity, "
+                             "density and specific_heat (a shell material), or both");
     if (materials.count(mname)) throw doc.error(kv.first, what + ": defined twice");
     materials[mname] = m;
   }

@@ -133,7 +133,7 @@ NetworkCase loadNetworkCase(const YamlDocument& doc) {
   if (root["solver"] && root["solver"]["view_factors"])
     throw doc.error(root["solver"]["view_factors"],
                     "solver.view_factors: only for geometry cases; this case gives the view factors");
-  c.thermal = parseThermalSettings(doc, c.names, c.area, false);
+  c.thermal = parseThermalSettings(doc, c.names, c.area, std::nullopt);
   if (c.thermal && !c.emissivity)
     throw doc.error(root["thermal"], "thermal: temperatures need the nodes' 'emissivity' (for the exchange factors)");
   if (root["expect"])

@@ -1,6 +1,7 @@
 #include "cases/config/thermal_settings.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace radnet::cases {
@@ -8,32 +9,63 @@ namespace {
 
 constexpr double kBig = std::numeric_limits<double>::max();
 constexpr double kDefaultInitialTemperature = 293.15;  // K
+constexpr double kMinTemperature = 1e-3, kMaxTemperature = 1e5;  // K: what the thermal model accepts
+constexpr int kMaxTransientOutputs = 1000000;                   // output times of a transient without an orbit
 
-// A dissipation in W. Schedules ({sunlit, eclipse} or {table}) are refused until the
-// thermal model has them, rather than accepted and ignored.
-double dissipation(const YamlDocument& doc, const YAML::Node& node, const std::string& what) {
-  if (node.IsMap())
-    throw doc.error(node, what + ": dissipation schedules are not supported yet; give a constant power in W");
-  return doc.number(node, what + " (W)", -kBig, kBig);
+// A dissipation: W, `{sunlit: W, eclipse: W}` (by the spacecraft's sunlit fraction; needs an
+// orbit) or `{table: [[s, W], ...]}` (piecewise constant from each time on, the first at 0 s,
+// repeating each orbit). Returns the constant part; schedules go to s.schedules.
+double parseDissipation(const YamlDocument& doc, const YAML::Node& node, const std::string& what, int i,
+                        std::optional<double> orbit_period_s, ThermalSettings& s) {
+  if (!node.IsMap()) return doc.number(node, what + " (W)", -kBig, kBig);
+  solver::DissipationSchedule sch;
+  sch.node = i;
+  if (node["table"]) {
+    doc.expectMap(node, what, {"table"});
+    sch.kind = solver::DissipationSchedule::Kind::Table;
+    const double span = orbit_period_s.value_or(kBig);
+    parseTable(doc, node["table"], what + ".table (s, W)", 0.0, span, -kBig, kBig, sch.times_s, sch.power_w);
+    if (sch.times_s.front() != 0.0)
+      throw doc.error(node["table"][0], what + ".table: the first entry must be at 0 s (the power from the start on)");
+    if (orbit_period_s && !(sch.times_s.back() < *orbit_period_s))
+      throw doc.error(node["table"], what + ".table: an entry lies at or beyond the orbit period (" +
+                                         std::to_string(*orbit_period_s) + " s); the table repeats each orbit");
+  } else {
+    doc.expectMap(node, what, {"sunlit", "eclipse"});
+    if (!orbit_period_s)
+      throw doc.error(node, what + ": a dissipation by illumination needs an orbit; give a constant or a table");
+    sch.kind = solver::DissipationSchedule::Kind::Illumination;
+    sch.sunlit_w = doc.number(doc.required(node, "sunlit", what), what + ".sunlit (W)", -kBig, kBig);
+    sch.eclipse_w = doc.number(doc.required(node, "eclipse", what), what + ".eclipse (W)", -kBig, kBig);
+  }
+  s.schedules.push_back(sch);
+  return 0.0;
 }
 
 // The properties every node block may give: capacitance, dissipation, boundary
 // temperature and initial temperature.
 void parseNodeProperties(const YamlDocument& doc, const YAML::Node& props, const std::string& what, int i,
-                         ThermalSettings& s) {
+                         std::optional<double> orbit_period_s, ThermalSettings& s) {
   doc.expectMap(props, what, {"capacitance", "dissipation", "temperature", "initial_temperature"});
-  if (props["capacitance"]) {
-    if (props["capacitance"].IsMap())
-      throw doc.error(props["capacitance"], what +
-                                                ".capacitance: temperature tables are not supported yet; "
-                                                "give a constant in J/K");
-    s.capacitance[i] = doc.number(props["capacitance"], what + ".capacitance (J/K)", 0, kBig);
+  if (const YAML::Node c = props["capacitance"]) {
+    if (c.IsMap()) {
+      doc.expectMap(c, what + ".capacitance", {"table"});
+      solver::TemperatureTable table;
+      parseTable(doc, doc.required(c, "table", what + ".capacitance"), what + ".capacitance.table (K, J/K)",
+                 kMinTemperature, kMaxTemperature, 0, kBig, table.temperature_k, table.value);
+      s.capacitance_tables.emplace_back(i, table);
+    } else {
+      s.capacitance[i] = doc.number(c, what + ".capacitance (J/K)", 0, kBig);
+    }
   }
-  if (props["dissipation"]) s.dissipation[i] = dissipation(doc, props["dissipation"], what + ".dissipation");
+  if (props["dissipation"])
+    s.dissipation[i] = parseDissipation(doc, props["dissipation"], what + ".dissipation", i, orbit_period_s, s);
   if (props["temperature"])
-    s.fixed_temperature[i] = doc.number(props["temperature"], what + ".temperature (K, boundary node)", 1e-3, 1e5);
+    s.fixed_temperature[i] =
+        doc.number(props["temperature"], what + ".temperature (K, boundary node)", kMinTemperature, kMaxTemperature);
   if (props["initial_temperature"])
-    s.initial_temperature[i] = doc.number(props["initial_temperature"], what + ".initial_temperature (K)", 1e-3, 1e5);
+    s.initial_temperature[i] =
+        doc.number(props["initial_temperature"], what + ".initial_temperature (K)", kMinTemperature, kMaxTemperature);
 }
 
 // `lumped:` nodes without geometry, appended after the radiative nodes.
@@ -48,18 +80,25 @@ void parseLumpedNames(const YamlDocument& doc, const YAML::Node& lumped, Thermal
   }
 }
 
-// `[node, node, value]` entries of `conductors` (W/K) and `radiative_couplings` (m²).
+// `[node, node, value]` entries of `conductors` (W/K, or a table against the mean
+// temperature) and `radiative_couplings` (m²).
 void parsePairs(const YamlDocument& doc, const YAML::Node& list, const std::string& key, const char* unit,
-                std::vector<Eigen::Triplet<double>>& out, const std::vector<std::string>& names) {
+                bool tables, ThermalSettings& s, std::vector<Eigen::Triplet<double>>& out) {
   doc.expectSequence(list, "thermal." + key);
   for (size_t k = 0; k < list.size(); ++k) {
     const std::string what = "thermal." + key + "[" + std::to_string(k) + "]";
     const YAML::Node e = list[k];
     if (!e.IsSequence() || e.size() != 3) throw doc.error(e, what + ": expected [node, node, " + unit + "]");
-    const int i = doc.nodeIndex(e[0], what, names), j = doc.nodeIndex(e[1], what, names);
+    const int i = doc.nodeIndex(e[0], what, s.node_names), j = doc.nodeIndex(e[1], what, s.node_names);
     if (i == j) throw doc.error(e, what + ": joins a node to itself; expected two different nodes");
-    if (e[2].IsMap())
-      throw doc.error(e[2], what + ": temperature tables are not supported yet; give a constant in " + unit);
+    if (e[2].IsMap() && tables) {
+      doc.expectMap(e[2], what, {"table"});
+      solver::TabledConductor c{i, j, {}};
+      parseTable(doc, doc.required(e[2], "table", what), what + ".table (K, W/K)", kMinTemperature, kMaxTemperature,
+                 0, kBig, c.conductance.temperature_k, c.conductance.value);
+      s.tabled_conductors.push_back(c);
+      continue;
+    }
     const double g = doc.number(e[2], what + " (" + unit + ")", 0, kBig);
     out.emplace_back(i, j, g);
     out.emplace_back(j, i, g);
@@ -88,22 +127,77 @@ void parseMli(const YamlDocument& doc, const YAML::Node& list, const Eigen::Vect
   }
 }
 
+// `duration` (s) and `output_step` (s): a transient without an orbit.
+void parseDuration(const YamlDocument& doc, const YAML::Node& tr, bool has_orbit, ThermalSettings& s) {
+  if (has_orbit)
+    throw doc.error(tr["duration"], "thermal.transient.duration: with an orbit a transient runs whole orbits; give "
+                                    "'orbits' or 'periodic: true' instead");
+  for (const char* key : {"orbits", "periodic", "periodic_tolerance", "max_orbits"})
+    if (tr[key])
+      throw doc.error(tr[key], std::string("thermal.transient.") + key + ": needs an orbit; this case has none");
+  s.duration_s = doc.number(tr["duration"], "thermal.transient.duration (s)", 1e-3, 1e10);
+  s.output_step_s = tr["output_step"] ? doc.number(tr["output_step"], "thermal.transient.output_step (s)", 1e-3, 1e10)
+                                      : std::max(s.options.max_step_s, *s.duration_s / 1000.0);
+  if (*s.duration_s / s.output_step_s > kMaxTransientOutputs)
+    throw doc.error(tr["output_step"] ? tr["output_step"] : tr["duration"],
+                    "thermal.transient: more than " + std::to_string(kMaxTransientOutputs) +
+                        " output times; raise output_step");
+}
+
 void parseTransient(const YamlDocument& doc, const YAML::Node& tr, bool has_orbit, ThermalSettings& s) {
-  doc.expectMap(tr, "thermal.transient", {"orbits", "time_step"});
+  doc.expectMap(tr, "thermal.transient",
+                {"orbits", "time_step", "periodic", "periodic_tolerance", "max_orbits", "duration", "output_step"});
+  if (tr["time_step"])
+    s.options.max_step_s = doc.number(tr["time_step"], "thermal.transient.time_step (s)", 1e-3, 1e5);
+  if (tr["duration"]) return parseDuration(doc, tr, has_orbit, s);
+  if (tr["output_step"])
+    throw doc.error(tr["output_step"], "thermal.transient.output_step: only with 'duration' (with an orbit the "
+                                       "outputs are the orbit's positions)");
   if (!has_orbit)
-    throw doc.error(tr, "thermal.transient: a transient follows an orbit; add 'orbit:' or remove 'transient'");
-  s.transient_orbits = tr["orbits"] ? doc.number(tr["orbits"], "thermal.transient.orbits", 1e-3, 1e4) : 1.0;
-  if (tr["time_step"]) s.options.max_step_s = doc.number(tr["time_step"], "thermal.transient.time_step (s)", 1e-3, 1e5);
+    throw doc.error(tr, "thermal.transient: this case has no orbit; give 'duration' (s) for a transient without one, "
+                        "or add 'orbit:'");
+  const bool periodic = tr["periodic"] && doc.boolean(tr["periodic"], "thermal.transient.periodic");
+  if (!periodic) {
+    for (const char* key : {"periodic_tolerance", "max_orbits"})
+      if (tr[key])
+        throw doc.error(tr[key], std::string("thermal.transient.") + key + ": only with 'periodic: true'");
+    s.transient_orbits = tr["orbits"] ? doc.number(tr["orbits"], "thermal.transient.orbits", 1e-3, 1e4) : 1.0;
+    return;
+  }
+  if (tr["orbits"])
+    throw doc.error(tr["orbits"], "thermal.transient.orbits: a periodic transient runs until it repeats; "
+                                  "give 'max_orbits' instead");
+  solver::PeriodicOptions p;
+  if (tr["periodic_tolerance"])
+    p.tolerance_k = doc.number(tr["periodic_tolerance"], "thermal.transient.periodic_tolerance (K)", 1e-9, 100);
+  if (tr["max_orbits"])
+    p.max_orbits = static_cast<int>(doc.integer(tr["max_orbits"], "thermal.transient.max_orbits", 2, 10000));
+  s.periodic = p;
+}
+
+void parseNodes(const YamlDocument& doc, const YAML::Node& t, const std::vector<std::string>& names,
+                std::optional<double> orbit_period_s, ThermalSettings& s) {
+  if (const YAML::Node nodes = t["nodes"]) {
+    if (!nodes.IsMap()) throw doc.error(nodes, "thermal.nodes: expected a mapping of node names");
+    for (const auto& kv : nodes) {
+      const int i = doc.nodeIndex(kv.first, "thermal.nodes", names);
+      parseNodeProperties(doc, kv.second, "thermal.nodes." + names[static_cast<size_t>(i)], i, orbit_period_s, s);
+    }
+  }
+  for (int i = s.radiative_nodes; i < s.nodeCount(); ++i) {
+    const std::string& name = s.node_names[static_cast<size_t>(i)];
+    parseNodeProperties(doc, t["lumped"][name], "thermal.lumped." + name, i, orbit_period_s, s);
+  }
 }
 
 }  // namespace
 
 std::optional<ThermalSettings> parseThermalSettings(const YamlDocument& doc, const std::vector<std::string>& names,
-                                                    const Eigen::VectorXd& area, bool has_orbit) {
+                                                    const Eigen::VectorXd& area, std::optional<double> orbit_period_s) {
   const YAML::Node t = doc.root()["thermal"];
   if (!t) return std::nullopt;
   doc.expectMap(t, "thermal",
-                {"nodes", "lumped", "conductors", "radiative_couplings", "mli", "initial_temperature",
+                {"nodes", "lumped", "conductors", "radiative_couplings", "mli", "heaters", "initial_temperature",
                  "space_temperature", "transient", "tolerance"});
   ThermalSettings s;
   s.node_names = names;
@@ -113,29 +207,21 @@ std::optional<ThermalSettings> parseThermalSettings(const YamlDocument& doc, con
   s.capacitance = Eigen::VectorXd::Zero(n);
   s.dissipation = Eigen::VectorXd::Zero(n);
   s.fixed_temperature = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::quiet_NaN());
-  const double initial = t["initial_temperature"]
-                             ? doc.number(t["initial_temperature"], "thermal.initial_temperature (K)", 1e-3, 1e5)
-                             : kDefaultInitialTemperature;
+  const double initial =
+      t["initial_temperature"]
+          ? doc.number(t["initial_temperature"], "thermal.initial_temperature (K)", kMinTemperature, kMaxTemperature)
+          : kDefaultInitialTemperature;
   s.initial_temperature = Eigen::VectorXd::Constant(n, initial);
-  if (const YAML::Node nodes = t["nodes"]) {
-    if (!nodes.IsMap()) throw doc.error(nodes, "thermal.nodes: expected a mapping of node names");
-    for (const auto& kv : nodes) {
-      const int i = doc.nodeIndex(kv.first, "thermal.nodes", names);
-      parseNodeProperties(doc, kv.second, "thermal.nodes." + names[static_cast<size_t>(i)], i, s);
-    }
-  }
-  for (int i = s.radiative_nodes; i < n; ++i) {
-    const std::string& name = s.node_names[static_cast<size_t>(i)];
-    parseNodeProperties(doc, t["lumped"][name], "thermal.lumped." + name, i, s);
-  }
-  if (t["conductors"]) parsePairs(doc, t["conductors"], "conductors", "W/K", s.conductors, s.node_names);
+  parseNodes(doc, t, names, orbit_period_s, s);
+  if (t["conductors"]) parsePairs(doc, t["conductors"], "conductors", "W/K", true, s, s.conductors);
   if (t["radiative_couplings"])
-    parsePairs(doc, t["radiative_couplings"], "radiative_couplings", "m²", s.radiative_couplings, s.node_names);
+    parsePairs(doc, t["radiative_couplings"], "radiative_couplings", "m²", false, s, s.radiative_couplings);
   if (t["mli"]) parseMli(doc, t["mli"], area, s);
+  if (t["heaters"]) parseHeaters(doc, t["heaters"], s);
   if (t["space_temperature"])
     s.space_temperature = doc.number(t["space_temperature"], "thermal.space_temperature (K)", 0, 1e4);
   if (t["tolerance"]) s.options.tolerance_w = doc.number(t["tolerance"], "thermal.tolerance (relative)", 1e-15, 1e-2);
-  if (t["transient"]) parseTransient(doc, t["transient"], has_orbit, s);
+  if (t["transient"]) parseTransient(doc, t["transient"], orbit_period_s.has_value(), s);
   return s;
 }
 

@@ -119,6 +119,10 @@ void writeOrbit(Hdf5Writer& h5, const SweepResult& sw) {
         .setConstant(k);
   h5.writeIntegers("/orbit/case", case_of, "1");
   h5.writeStrings("/orbit/case_label", sw.case_labels);
+  h5.writeVector("/orbit/period", Eigen::Map<const Eigen::VectorXd>(sw.case_period_s.data(), sw.caseCount()), "s");
+  h5.attribute("/orbit/period", "kind",
+               std::string("nodal: ascending node to ascending node with the secular J2 rates; each case's sweep "
+                           "spans whole nodal periods"));
 }
 
 }  // namespace
@@ -141,13 +145,55 @@ void writeSweep(Hdf5Writer& h5, const SweepResult& sw, Eigen::Index n) {
   h5.attribute("/report", "planet_ray_casts", static_cast<long long>(sw.irradiance.planet_casts));
 }
 
+namespace {
+
+void writeHeaters(Hdf5Writer& h5, const ThermalSolution& thermal, const ThermalSettings& settings) {
+  const Eigen::Index H = static_cast<Eigen::Index>(settings.heaters.size());
+  if (H == 0) return;
+  std::vector<std::string> nodes, sensors;
+  for (const solver::Heater& h : settings.heaters) {
+    nodes.push_back(settings.node_names[static_cast<size_t>(h.node)]);
+    sensors.push_back(settings.node_names[static_cast<size_t>(h.sensor)]);
+  }
+  h5.writeStrings("/heaters/name", thermal.heater_names);
+  h5.writeStrings("/heaters/node", nodes);
+  h5.writeStrings("/heaters/sensor", sensors);
+  h5.writeMatrix("/heaters/power", thermal.solve.heater_power.transpose(), "W");
+  h5.writeVector("/heaters/duty", thermal.solve.heater_duty, "1");
+  h5.attribute("/heaters/duty", "meaning",
+               std::string(settings.isTransient() ? "fraction of the last orbit (or of the run) the heater is on; the "
+                                                    "largest over orbit cases"
+                                                  : "mean power over the positions / rated power; the largest over "
+                                                    "orbit cases"));
+  h5.writeMatrix("/heaters/case_duty", thermal.case_heater_duty, "1");
+}
+
+}  // namespace
+
 void writeTemperatures(Hdf5Writer& h5, const ThermalSolution& thermal, const ThermalSettings& settings,
                        const SweepResult* sweep) {
   h5.writeMatrix("/solution/temperature", thermal.temperature().transpose(), "K");
-  h5.attribute("/solution/temperature", "mode", std::string(settings.transient_orbits ? "transient" : "steady"));
+  h5.attribute("/solution/temperature", "mode", std::string(settings.isTransient() ? "transient" : "steady"));
+  h5.attribute("/solution/temperature", "kind", thermal.mode);
+  if (settings.isTransient()) h5.attribute("/solution/temperature", "orbits", static_cast<long long>(thermal.solve.orbits));
+  if (settings.periodic) {
+    h5.attribute("/solution/temperature", "periodic_residual", thermal.solve.periodic_residual_k);
+    h5.attribute("/solution/temperature", "periodic_tolerance", settings.periodic->tolerance_k);
+  }
+  if (!sweep)
+    h5.writeVector("/solution/time",
+                   Eigen::Map<const Eigen::VectorXd>(thermal.times_s.data(), static_cast<Eigen::Index>(thermal.times_s.size())),
+                   "s");
   h5.attribute("/report", "thermal_max_residual_w", thermal.solve.max_residual_w);
-  h5.writeVector("/nodes/capacitance", settings.capacitance, "J/K");
+  solver::ThermalNetwork capacities;
+  capacities.capacitance = settings.capacitance;
+  capacities.capacitance_tables = settings.capacitance_tables;
+  h5.writeVector("/nodes/capacitance", solver::capacitanceAt(capacities, settings.initial_temperature), "J/K");
+  h5.attribute("/nodes/capacitance", "at", std::string("the initial temperature (for nodes with a table)"));
   h5.writeVector("/nodes/dissipation", settings.dissipation, "W");
+  h5.attribute("/nodes/dissipation", "meaning",
+               std::string("the constant part; /solution/heat/dissipation holds schedules over time"));
+  writeHeaters(h5, thermal, settings);
   const HeatBalance& heat = thermal.heat;
   const solver::HeatFlows& f = heat.flows;
   const Eigen::MatrixXd none = Eigen::MatrixXd::Zero(f.stored.rows(), f.stored.cols());
@@ -160,7 +206,7 @@ void writeTemperatures(Hdf5Writer& h5, const ThermalSolution& thermal, const The
   h5.writeMatrix("/solution/heat/radiative", f.radiative.transpose(), "W");
   h5.writeMatrix("/solution/heat/conducted", f.conducted.transpose(), "W");
   h5.writeMatrix("/solution/heat/dissipation", f.dissipation.transpose(), "W");
-  h5.writeMatrix("/solution/heat/heater", none.transpose(), "W");  // no heater model yet: nothing supplied
+  h5.writeMatrix("/solution/heat/heater", f.heater.transpose(), "W");
   h5.writeMatrix("/solution/heat/stored", f.stored.transpose(), "W");
   h5.writeMatrix("/solution/heat/boundary", f.boundary.transpose(), "W");
   h5.attribute("/report", "heat_balance_max_imbalance_w", heat.max_imbalance_w);

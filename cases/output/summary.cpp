@@ -126,8 +126,16 @@ void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std
   }
   if (r.sweep) printSweepSummary(net.names(), *r.sweep, out);
   if (r.thermal) {
-    out << "temperatures, K (" << (c.thermal->transient_orbits ? "transient, last orbit" : "steady state per position")
-        << "):\n";
+    const solver::ThermalResult& solve = r.thermal->solve;
+    out << "temperatures, K (";
+    if (c.thermal->periodic)
+      out << "periodic transient, last of " << solve.orbits << " orbits, orbit-to-orbit change "
+          << solve.periodic_residual_k << " K";
+    else if (c.thermal->transient_orbits)
+      out << "transient, last orbit";
+    else
+      out << "steady state per position";
+    out << "):\n";
     printNodeTemperatures(r.thermal->node_names, r.thermal->temperature(), out);
     printHeatBalance(r.thermal->node_names, r.thermal->heat, r.sweep ? &*r.sweep : nullptr, out);
   }

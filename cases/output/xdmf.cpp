@@ -52,7 +52,9 @@ std::vector<XdmfAttribute> writeXdmfCellValues(Hdf5Writer& h5, const GeometryRun
   std::vector<XdmfAttribute> attrs = {{"node", "/geometry/triangle_node", false, true}};
   auto spread = [&](const Eigen::MatrixXd& node_by_position) {  // (n×P) → (P×nt)
     Eigen::MatrixXd cells(node_by_position.cols(), nt);
-    for (Eigen::Index t = 0; t < nt; ++t) cells.col(t) = node_by_position.row(shown[t]).transpose();
+    for (Eigen::Index t = 0; t < nt; ++t)  // an occluder's triangles belong to no node: 0 (node −1)
+      cells.col(t) = shown[t] >= 0 ? Eigen::VectorXd(node_by_position.row(shown[t]).transpose())
+                                   : Eigen::VectorXd::Zero(cells.rows());
     return cells;
   };
   const solver::Network& net = *r.radiative.network;

@@ -38,7 +38,7 @@ void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings,
     int events = 0;
     for (const auto& p : positions) events += p.event;
     progress << "radnet: orbit " << k + 1 << "/" << o.cases.size() << " (" << o.description << ", " << o.cases[k].label
-             << "), period " << orbit.period() << " s, " << positions.size() << " positions (" << events
+             << "), nodal period " << orbit.nodalPeriod() << " s, " << positions.size() << " positions (" << events
              << " eclipse entries/exits inserted)\n";
     StageTimer t_loads(timings, Stage::EnvironmentLoads);
     orbits::EnvironmentOptions env = o.environment;
@@ -47,7 +47,8 @@ void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings,
                                              orbit.earth().equatorial_radius_m, env));
     sw.case_start.push_back(static_cast<int>(sw.positions.size()));
     sw.case_labels.push_back(o.cases[k].label);
-    sw.case_sweep_s.push_back(orbit.period() * o.sweep.orbits);
+    sw.case_period_s.push_back(orbit.nodalPeriod());
+    sw.case_sweep_s.push_back(orbit.nodalPeriod() * o.sweep.orbits);
     sw.positions.insert(sw.positions.end(), positions.begin(), positions.end());
   }
   const int P = static_cast<int>(sw.positions.size());

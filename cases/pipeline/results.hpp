@@ -35,7 +35,8 @@ struct SweepResult {
   std::vector<orbits::SweepPosition> positions;  ///< of every orbit case, one after another
   std::vector<int> case_start;                   ///< first position of each case, then P
   std::vector<std::string> case_labels;
-  std::vector<double> case_sweep_s;     ///< time each case's sweep spans (orbit period × orbits), s
+  std::vector<double> case_period_s;    ///< each case's nodal orbit period, s (Orbit::nodalPeriod)
+  std::vector<double> case_sweep_s;     ///< time each case's sweep spans (nodal period × orbits), s
   orbits::EnvironmentLoads irradiance;  ///< external irradiances, W/m² (n×P)
   Eigen::MatrixXd absorbed_solar, absorbed_albedo, absorbed_earth_ir;  ///< after interreflection, W (n×P)
   Eigen::MatrixXd absorbed_total;                                      ///< solar + albedo + Earth IR, W (n×P)
@@ -59,6 +60,10 @@ struct ThermalSolution {
   std::vector<std::string> node_names;  ///< the rows of every (n×P) matrix below
   int radiative_nodes = 0;              ///< the first nodes, which have geometry or a network row
   solver::ThermalResult solve;          ///< temperature (n×P), K, and how the solve went
+  std::string mode;                     ///< "steady", "transient", "periodic transient" or "transient without orbit"
+  std::vector<double> times_s;          ///< the P output times (s; for a transient without an orbit, from its start)
+  std::vector<std::string> heater_names;
+  Eigen::MatrixXd case_heater_duty;  ///< (c × h) duty of each heater in each orbit case (1 row without an orbit), –
   HeatBalance heat;
   const Eigen::MatrixXd& temperature() const { return solve.temperature; }
 };

@@ -9,32 +9,99 @@
 namespace radnet::cases {
 namespace {
 
-// One transient per orbit case, each periodic over its own swept orbit(s).
-solver::ThermalResult transientPerCase(const ThermalSettings& ts, const solver::ThermalNetwork& net,
-                                       const SweepResult& sw, const Eigen::MatrixXd& q_env) {
-  const Eigen::Index n = net.gr.rows();
+// The forcing of orbit case k: its positions' loads and sunlit fractions, repeating over the
+// case's sweep, dissipation tables over its orbit period.
+solver::ThermalForcing caseForcing(const SweepResult& sw, const Eigen::MatrixXd& q_env, int k) {
+  const int begin = sw.case_start[static_cast<size_t>(k)], end = sw.case_start[static_cast<size_t>(k) + 1];
+  solver::ThermalForcing f;
+  for (int p = begin; p < end; ++p) {
+    f.times_s.push_back(sw.positions[static_cast<size_t>(p)].t_s);
+    f.sunlit_fraction.push_back(sw.positions[static_cast<size_t>(p)].sunlit_fraction);
+  }
+  f.q_env = q_env.middleCols(begin, end - begin);
+  f.load_period_s = sw.case_sweep_s[static_cast<size_t>(k)];
+  f.schedule_period_s = sw.case_period_s[static_cast<size_t>(k)];
+  return f;
+}
+
+// One transient per orbit case, each periodic over its own swept orbit(s); or one steady
+// state per position. Each case's heater duty is kept.
+solver::ThermalResult solvePerCase(const ThermalSettings& ts, const solver::ThermalNetwork& net, const SweepResult& sw,
+                                   const Eigen::MatrixXd& q_env, Eigen::MatrixXd& case_duty) {
+  const Eigen::Index n = net.size(), P = q_env.cols(), H = static_cast<Eigen::Index>(net.heaters.size());
   solver::ThermalResult result;
-  result.temperature.resize(n, q_env.cols());
-  result.temperature_rate.resize(n, q_env.cols());
+  result.temperature.resize(n, P);
+  result.temperature_rate.resize(n, P);
+  result.dissipation.resize(n, P);
+  result.heater_power.resize(H, P);
+  case_duty.resize(sw.caseCount(), H);
   for (int k = 0; k < sw.caseCount(); ++k) {
-    const int begin = sw.case_start[static_cast<size_t>(k)];
-    const int count = sw.case_start[static_cast<size_t>(k) + 1] - begin;
-    std::vector<double> times;
-    for (int p = begin; p < begin + count; ++p) times.push_back(sw.positions[static_cast<size_t>(p)].t_s);
-    solver::ThermalResult part =
-        solver::transient(net, times, q_env.middleCols(begin, count), sw.case_sweep_s[static_cast<size_t>(k)],
-                          *ts.transient_orbits, ts.initial_temperature, ts.options);
+    const solver::ThermalForcing f = caseForcing(sw, q_env, k);
+    const solver::ThermalResult part =
+        ts.periodic ? solver::periodicTransient(net, f, ts.initial_temperature, *ts.periodic, ts.options)
+        : ts.transient_orbits ? solver::transient(net, f, *ts.transient_orbits, ts.initial_temperature, ts.options)
+                              : solver::steadyStates(net, f, ts.options);
     result.newton_iterations += part.newton_iterations;
+    result.heater_switches += part.heater_switches;
     result.max_residual_w = std::max(result.max_residual_w, part.max_residual_w);
+    result.orbits = std::max(result.orbits, part.orbits);  // the slowest orbit case
+    if (ts.periodic)
+      result.periodic_residual_k =
+          k == 0 ? part.periodic_residual_k : std::max(result.periodic_residual_k, part.periodic_residual_k);
     if (part.status != solver::Status::Converged) {
       result.status = part.status;
       result.message = part.message + " (orbit case " + std::to_string(k + 1) + ")";
       break;
     }
+    const int begin = sw.case_start[static_cast<size_t>(k)];
+    const Eigen::Index count = part.temperature.cols();
     result.temperature.middleCols(begin, count) = part.temperature;
     result.temperature_rate.middleCols(begin, count) = part.temperature_rate;
+    result.dissipation.middleCols(begin, count) = part.dissipation;
+    result.heater_power.middleCols(begin, count) = part.heater_power;
+    case_duty.row(k) = part.heater_duty.transpose();
   }
+  // The duty that sizes a heater: the largest of any case.
+  result.heater_duty = H > 0 ? Eigen::VectorXd(case_duty.colwise().maxCoeff().transpose()) : Eigen::VectorXd();
   return result;
+}
+
+// Without an orbit: a steady state (no environment loads), or a transient over `duration`
+// with outputs every output_step.
+solver::ThermalResult solveWithoutOrbit(const ThermalSettings& ts, const solver::ThermalNetwork& net,
+                                        std::vector<double>& times) {
+  solver::ThermalForcing f;
+  if (ts.duration_s) {
+    const long steps = std::lround(std::ceil(*ts.duration_s / ts.output_step_s - 1e-9));
+    for (long k = 0; k <= steps; ++k) f.times_s.push_back(std::min(*ts.duration_s, k * ts.output_step_s));
+  } else {
+    f.times_s.push_back(0.0);
+  }
+  times = f.times_s;
+  f.q_env = Eigen::MatrixXd::Zero(net.size(), static_cast<Eigen::Index>(f.times_s.size()));
+  return ts.duration_s ? solver::transient(net, f, 1.0, ts.initial_temperature, ts.options)
+                       : solver::steadyStates(net, f, ts.options);
+}
+
+std::string modeName(const ThermalSettings& ts) {
+  return ts.periodic ? "periodic transient"
+         : ts.transient_orbits ? "transient"
+         : ts.duration_s ? "transient without orbit"
+                         : "steady";
+}
+
+// A temperature the network does not fix is an error naming the nodes, never the initial guess.
+void checkDetermined(const ThermalSettings& ts, const solver::ThermalNetwork& net) {
+  const std::vector<int> loose = solver::undeterminedNodes(net, ts.isTransient());
+  if (loose.empty()) return;
+  std::string names;
+  for (size_t k = 0; k < loose.size() && k < 8; ++k)
+    names += (k ? ", '" : "'") + ts.node_names[static_cast<size_t>(loose[k])] + "'";
+  if (loose.size() > 8) names += " and " + std::to_string(loose.size() - 8) + " more";
+  throw NumericalError("temperatures undetermined: node(s) " + names +
+                       " have no radiative or conductive path to space or to a boundary node" +
+                       (ts.isTransient() ? " and no capacitance" : "") +
+                       " (emissivity 0 and no conductor?), so nothing fixes their temperature");
 }
 
 }  // namespace
@@ -49,8 +116,12 @@ solver::ThermalNetwork thermalNetwork(const ThermalSettings& ts, const solver::E
   net.gr_space.head(nr) = exchange.gr_space;
   net.conductors.resize(n, n);
   net.conductors.setFromTriplets(ts.conductors.begin(), ts.conductors.end());
+  net.tabled_conductors = ts.tabled_conductors;
   net.capacitance = ts.capacitance;
+  net.capacitance_tables = ts.capacitance_tables;
   net.dissipation = ts.dissipation;
+  net.schedules = ts.schedules;
+  net.heaters = ts.heaters;
   net.fixed_temperature = ts.fixed_temperature;
   net.space_temperature = ts.space_temperature;
   return net;
@@ -61,8 +132,8 @@ HeatBalance heatBalance(const solver::ThermalNetwork& net, const solver::Thermal
   HeatBalance b;
   b.flows = solver::heatFlows(net, solution, q_env);
   const solver::HeatFlows& f = b.flows;
-  const std::array<const Eigen::MatrixXd*, 7> terms = {&q_env,         &f.emitted, &f.radiative, &f.conducted,
-                                                       &f.dissipation, &f.stored,  &f.boundary};
+  const std::array<const Eigen::MatrixXd*, 8> terms = {&q_env,         &f.emitted, &f.radiative, &f.conducted,
+                                                       &f.dissipation, &f.heater,  &f.stored,    &f.boundary};
   for (Eigen::Index p = 0; p < q_env.cols(); ++p)
     for (Eigen::Index i = 0; i < q_env.rows(); ++i) {
       double sum = 0.0, largest = 0.0;
@@ -79,25 +150,36 @@ HeatBalance heatBalance(const solver::ThermalNetwork& net, const solver::Thermal
 ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFactors& exchange, const SweepResult* sweep,
                            StageTimings& timings, std::ostream& progress) {
   const solver::ThermalNetwork net = thermalNetwork(ts, exchange);
-  // Lumped nodes absorb nothing from the environment.
-  Eigen::MatrixXd q_env = Eigen::MatrixXd::Zero(ts.nodeCount(), sweep ? sweep->absorbed_total.cols() : 1);
-  if (sweep) q_env.topRows(ts.radiative_nodes) = sweep->absorbed_total;
+  checkDetermined(ts, net);
   StageTimer timer(timings, Stage::Thermal);
   ThermalSolution out;
   out.node_names = ts.node_names;
   out.radiative_nodes = ts.radiative_nodes;
-  if (ts.transient_orbits)
-    out.solve = transientPerCase(ts, net, *sweep, q_env);
-  else
-    out.solve = solver::steadyStates(net, q_env, ts.options);
+  out.mode = modeName(ts);
+  for (const solver::Heater& h : ts.heaters) out.heater_names.push_back(h.name);
+  // Lumped nodes absorb nothing from the environment.
+  Eigen::MatrixXd q_env;
+  if (sweep) {
+    q_env = Eigen::MatrixXd::Zero(ts.nodeCount(), sweep->absorbed_total.cols());
+    q_env.topRows(ts.radiative_nodes) = sweep->absorbed_total;
+    for (const auto& p : sweep->positions) out.times_s.push_back(p.t_s);
+    out.solve = solvePerCase(ts, net, *sweep, q_env, out.case_heater_duty);
+  } else {
+    out.solve = solveWithoutOrbit(ts, net, out.times_s);
+    q_env = Eigen::MatrixXd::Zero(ts.nodeCount(), static_cast<Eigen::Index>(out.times_s.size()));
+    out.case_heater_duty = out.solve.heater_duty.transpose();
+  }
   timer.stop();
   const solver::ThermalResult& result = out.solve;
   if (result.status != solver::Status::Converged)
     throw NumericalError(std::string("temperatures ") + solver::toString(result.status) + ": " + result.message);
   out.heat = heatBalance(net, result, q_env);
-  progress << "radnet: temperatures (" << (ts.transient_orbits ? "transient" : "steady state per position") << "), "
-           << result.newton_iterations << " Newton iterations, largest heat-balance residual " << result.max_residual_w
-           << " W; heat flows balance to " << out.heat.max_relative_imbalance << " of the largest term\n";
+  progress << "radnet: temperatures (" << out.mode;
+  if (ts.periodic) progress << ", " << result.orbits << " orbits to a change below " << ts.periodic->tolerance_k << " K";
+  if (!ts.heaters.empty()) progress << ", " << result.heater_switches << " heater switchings";
+  progress << "), " << result.newton_iterations << " Newton iterations, largest heat-balance residual "
+           << result.max_residual_w << " W; heat flows balance to " << out.heat.max_relative_imbalance
+           << " of the largest term\n";
   return out;
 }
 

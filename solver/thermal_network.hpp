@@ -1,0 +1,104 @@
+#pragma once
+// The thermal network that temperatures are solved on (docs/design.md, "Temperatures"):
+// radiative exchange factors GR, conductors (constant or tabulated against temperature),
+// capacitances (constant or tabulated), dissipations (constant or scheduled in time),
+// thermostat heaters and boundary nodes. Heat balance of node i (W):
+//   G_i(T, t) = Q_env,i(t) + Q_int,i(t) + Q_heater,i(t) + Σ_j K_ij(T̄_ij) (T_j − T_i)
+//             + σ Σ_j GR_ij (T_j⁴ − T_i⁴) − σ GR_i,space (T_i⁴ − T_space⁴),   T̄_ij = (T_i + T_j)/2.
+#include <Eigen/Dense>
+#include <Eigen/SparseCore>
+
+#include <string>
+#include <vector>
+
+namespace radnet::solver {
+
+/// A property tabulated against temperature: linear between points, held at the end values
+/// beyond the first and last point (ESATAN's and Thermal Desktop's default for tables).
+struct TemperatureTable {
+  std::vector<double> temperature_k;  ///< strictly increasing, K
+  std::vector<double> value;          ///< the property at each temperature
+  double at(double t_k) const;
+  /// d value / dT at t_k (the segment's slope; 0 beyond the ends).
+  double slope(double t_k) const;
+  /// @throws std::invalid_argument naming `what` unless there is at least one point, the
+  /// temperatures are finite, positive and increasing, and the values finite and ≥ 0
+  void validate(const std::string& what) const;
+};
+
+/// Part of a node's internal dissipation that changes in time, W (on top of the constant one).
+struct DissipationSchedule {
+  enum class Kind {
+    Illumination,  ///< eclipse_w + f (sunlit_w − eclipse_w), f the spacecraft's sunlit fraction
+    Table          ///< power_w[k] from times_s[k] until the next entry, repeating every period
+  };
+  int node = -1;
+  Kind kind = Kind::Illumination;
+  double sunlit_w = 0.0, eclipse_w = 0.0;
+  std::vector<double> times_s;  ///< increasing, the first 0: seconds into the period
+  std::vector<double> power_w;
+  /// @param t_s  seconds since the start of the run
+  /// @param sunlit_fraction  0 … 1
+  /// @param period_s  the table repeats with this period (the orbit's); 0: it does not repeat
+  double at(double t_s, double sunlit_fraction, double period_s) const;
+};
+
+/// An on/off thermostat with hysteresis: on when its sensor falls below on_below_k, off
+/// when it rises above off_above_k (a dead band, so it cannot chatter).
+struct Heater {
+  std::string name;
+  int node = -1;    ///< where the power goes
+  int sensor = -1;  ///< whose temperature switches it (often `node`)
+  double power_w = 0.0, on_below_k = 0.0, off_above_k = 0.0;
+};
+
+/// A conductor whose conductance (W/K) is tabulated against the mean of its two nodes'
+/// temperatures (K).
+struct TabledConductor {
+  int i = -1, j = -1;
+  TemperatureTable conductance;
+};
+
+struct ThermalNetwork {
+  Eigen::MatrixXd gr;                      ///< radiative exchange factors GR (n×n), m²
+  Eigen::VectorXd gr_space;                ///< GR to space, m²
+  Eigen::SparseMatrix<double> conductors;  ///< constant K_ij (symmetric, zero diagonal), W/K
+  std::vector<TabledConductor> tabled_conductors;
+  Eigen::VectorXd capacitance;  ///< C_i, J/K (0: arithmetic node)
+  std::vector<std::pair<int, TemperatureTable>> capacitance_tables;  ///< C_i(T) in place of capacitance[i], J/K
+  Eigen::VectorXd dissipation;                                       ///< constant Q_int,i, W
+  std::vector<DissipationSchedule> schedules;                        ///< added to the constant dissipation
+  std::vector<Heater> heaters;
+  Eigen::VectorXd fixed_temperature;  ///< K, NaN where the node is free (boundary nodes otherwise)
+  double space_temperature = 3.0;     ///< K
+
+  Eigen::Index size() const { return gr.rows(); }
+  bool isFixed(Eigen::Index i) const;
+  /// @throws std::invalid_argument on inconsistent sizes, indices or non-physical values
+  void validate() const;
+};
+
+/// Capacitances at temperatures t (n), J/K, and their derivatives dC/dT, J/K².
+Eigen::VectorXd capacitanceAt(const ThermalNetwork& net, const Eigen::VectorXd& t);
+Eigen::VectorXd capacitanceSlope(const ThermalNetwork& net, const Eigen::VectorXd& t);
+
+/// Scheduled plus constant dissipation of every node at time t_s, W.
+Eigen::VectorXd dissipationAt(const ThermalNetwork& net, double t_s, double sunlit_fraction, double period_s);
+
+/// Heat balance G(T) of every node, W, for applied powers q (environment + dissipation +
+/// heaters) (n), W.
+Eigen::VectorXd netHeat(const ThermalNetwork& net, const Eigen::VectorXd& t, const Eigen::VectorXd& q);
+/// Net conduction into every node, Σ_j K_ij(T̄) (T_j − T_i), W.
+Eigen::VectorXd conductedHeat(const ThermalNetwork& net, const Eigen::VectorXd& t);
+/// ∂G/∂T (n×n), W/K.
+Eigen::MatrixXd netHeatJacobian(const ThermalNetwork& net, const Eigen::VectorXd& t);
+/// The size of what flows through each node at t (sum of |terms|), W: the scale of its
+/// balance, so that a tolerance means the same for a 1e-6 W/K strap and a 1e6 W/K joint.
+Eigen::VectorXd balanceScale(const ThermalNetwork& net, const Eigen::VectorXd& t, const Eigen::VectorXd& q);
+
+/// Nodes whose temperature the network does not determine: those of a connected group
+/// (through GR, conductors and couplings) with no path to space or to a boundary node and,
+/// when `transient`, no capacitance either. Empty when every temperature is determined.
+std::vector<int> undeterminedNodes(const ThermalNetwork& net, bool transient);
+
+}  // namespace radnet::solver
