@@ -66,8 +66,9 @@ ShellAdjacency shellAdjacency(const Scene& scene, int first_face, int end_face) 
     const Vec3 c = (face.v[0] + face.v[1] + face.v[2]) / 3.0;
     for (int node : {face.front_node, face.back_node}) {
       if (node < 0) continue;
-      centroid[node].first += face.area_m2;
-      centroid[node].second += face.area_m2 * c;
+      auto& [area, weighted] = centroid.try_emplace(node, 0.0, Vec3::Zero()).first->second;
+      area += face.area_m2;
+      weighted += face.area_m2 * c;
     }
     if (face.front_node >= 0 && face.back_node >= 0) front_back[{face.front_node, face.back_node}] += face.area_m2;
   }

@@ -3,6 +3,7 @@
 #include "solver/units.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace radnet::solver {
@@ -16,7 +17,8 @@ HeatFlows heatFlows(const ThermalNetwork& net, const ThermalResult& solution, co
   const Eigen::MatrixXd& t = solution.temperature;
   const Eigen::Index n = t.rows(), P = t.cols(), H = static_cast<Eigen::Index>(net.heaters.size());
   if (q_env.rows() != n || q_env.cols() != P || solution.temperature_rate.rows() != n ||
-      solution.temperature_rate.cols() != P || net.size() != n || solution.dissipation.rows() != n ||
+      solution.temperature_rate.cols() != P || solution.rate_roundoff.rows() != n ||
+      solution.rate_roundoff.cols() != P || net.size() != n || solution.dissipation.rows() != n ||
       solution.dissipation.cols() != P || solution.heater_power.rows() != H || solution.heater_power.cols() != P)
     throw std::invalid_argument("heat flows: temperatures, rates, dissipations and loads need (n × P) entries");
   const Eigen::MatrixXd t4 = t.array().square().square().matrix();
@@ -27,14 +29,21 @@ HeatFlows heatFlows(const ThermalNetwork& net, const ThermalResult& solution, co
   f.radiative = kStefanBoltzmann * (net.gr * t4 - gr_row.asDiagonal() * t4);
   f.conducted.resize(n, P);
   f.stored.resize(n, P);
+  f.roundoff.resize(n, P);
   for (Eigen::Index p = 0; p < P; ++p) {
     f.conducted.col(p) = conductedHeat(net, t.col(p));
-    f.stored.col(p) = -capacitanceAt(net, t.col(p)).cwiseProduct(solution.temperature_rate.col(p));
+    const Eigen::VectorXd c = capacitanceAt(net, t.col(p));
+    f.stored.col(p) = -c.cwiseProduct(solution.temperature_rate.col(p));
+    f.roundoff.col(p) = c.cwiseProduct(solution.rate_roundoff.col(p)) + balanceRoundOff(net, t.col(p));
   }
   f.dissipation = solution.dissipation;
   f.heater = Eigen::MatrixXd::Zero(n, P);
   for (Eigen::Index k = 0; k < H; ++k) f.heater.row(net.heaters[static_cast<size_t>(k)].node) += solution.heater_power.row(k);
   f.boundary = Eigen::MatrixXd::Zero(n, P);
+  const Eigen::MatrixXd gross = q_env.cwiseAbs() + f.emitted.cwiseAbs() + f.radiative.cwiseAbs() +
+                                f.conducted.cwiseAbs() + f.dissipation.cwiseAbs() + f.heater.cwiseAbs() +
+                                f.stored.cwiseAbs();
+  f.roundoff += 16 * std::numeric_limits<double>::epsilon() * gross;
   for (Eigen::Index i = 0; i < n; ++i)
     if (net.isFixed(i)) {  // its temperature does not move: it stores nothing, the boundary supplies the rest
       f.stored.row(i).setZero();

@@ -40,6 +40,7 @@ struct ThermalForcing {
 struct ThermalResult {
   Eigen::MatrixXd temperature;       ///< (n×P), K
   Eigen::MatrixXd temperature_rate;  ///< dT/dt at the same times (n×P), K/s; zero for steady states
+  Eigen::MatrixXd rate_roundoff;     ///< how well dT/dt is resolved in floating point (n×P), K/s
   Eigen::MatrixXd dissipation;       ///< internal dissipation applied at those times (n×P), W
   Eigen::MatrixXd heater_power;      ///< (h×P), W: what each heater supplied there
   Eigen::VectorXd heater_duty;       ///< (h): time on over the last orbit (transient) or mean power / rated power (steady), –
@@ -68,6 +69,10 @@ struct HeatFlows {
   Eigen::MatrixXd heater;       ///< heater power
   Eigen::MatrixXd stored;       ///< −C dT/dt (zero in a steady state)
   Eigen::MatrixXd boundary;     ///< what a boundary condition supplies to hold a fixed node; 0 at free nodes
+  /// What floating point resolves of each node's balance (n×P), W: C × the rate's round-off
+  /// (a 1e6 J/K node over a 10 s step resolves 1e-8 W, no better), conductors' differences,
+  /// and 16 ε of the terms' sum. An imbalance within it is no imbalance.
+  Eigen::MatrixXd roundoff;
 };
 
 /// The heat flows of a solution: temperatures, rates, dissipations and heater powers from

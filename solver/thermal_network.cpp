@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 
@@ -142,8 +143,12 @@ Eigen::VectorXd dissipationAt(const ThermalNetwork& net, double t_s, double sunl
 }
 
 Eigen::VectorXd conductedHeat(const ThermalNetwork& net, const Eigen::VectorXd& t) {
-  const Eigen::VectorXd krow = net.conductors * Eigen::VectorXd::Ones(t.size());
-  Eigen::VectorXd g = net.conductors * t - krow.cwiseProduct(t);
+  // Σ_j K_ij (T_j − T_i) term by term: the round-off is then relative to each difference,
+  // not to K T (a 1e6 W/K joint at 300 K would otherwise lose 1e-7 W to cancellation).
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(t.size());
+  for (int k = 0; k < net.conductors.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it)
+      g[it.row()] += it.value() * (t[it.col()] - t[it.row()]);
   for (const TabledConductor& c : net.tabled_conductors) {
     const double q = c.conductance.at(0.5 * (t[c.i] + t[c.j])) * (t[c.j] - t[c.i]);
     g[c.i] += q;
@@ -180,17 +185,35 @@ Eigen::MatrixXd netHeatJacobian(const ThermalNetwork& net, const Eigen::VectorXd
 }
 
 Eigen::VectorXd balanceScale(const ThermalNetwork& net, const Eigen::VectorXd& t, const Eigen::VectorXd& q) {
+  // What flows: applied powers, gross emission σ (Σ_j GR_ij + GR_space) T⁴, and each
+  // conductor's |K (T_j − T_i)|.
   const Eigen::VectorXd t4 = t.array().square().square();
   Eigen::VectorXd s = q.cwiseAbs() + kStefanBoltzmann * (net.gr.rowwise().sum() + net.gr_space).cwiseProduct(t4);
   for (int k = 0; k < net.conductors.outerSize(); ++k)
     for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it)
-      s[it.row()] += std::abs(it.value()) * std::abs(t[it.row()]);
+      s[it.row()] += std::abs(it.value() * (t[it.col()] - t[it.row()]));
   for (const TabledConductor& c : net.tabled_conductors) {
-    const double k = c.conductance.at(0.5 * (t[c.i] + t[c.j]));
-    s[c.i] += k * std::abs(t[c.i]);
-    s[c.j] += k * std::abs(t[c.j]);
+    const double flow = std::abs(c.conductance.at(0.5 * (t[c.i] + t[c.j])) * (t[c.j] - t[c.i]));
+    s[c.i] += flow;
+    s[c.j] += flow;
   }
   return s;
+}
+
+Eigen::VectorXd balanceRoundOff(const ThermalNetwork& net, const Eigen::VectorXd& t) {
+  // Each conductor's difference T_j − T_i is known to ε (|T_i| + |T_j|); σ T⁴ terms and
+  // powers are relative to themselves (in balanceScale). 16 ε allows for the sums.
+  constexpr double kRoundOff = 16 * std::numeric_limits<double>::epsilon();
+  Eigen::VectorXd noise = Eigen::VectorXd::Zero(t.size());
+  for (int k = 0; k < net.conductors.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it)
+      noise[it.row()] += kRoundOff * std::abs(it.value()) * (std::abs(t[it.row()]) + std::abs(t[it.col()]));
+  for (const TabledConductor& c : net.tabled_conductors) {
+    const double e = kRoundOff * c.conductance.at(0.5 * (t[c.i] + t[c.j])) * (std::abs(t[c.i]) + std::abs(t[c.j]));
+    noise[c.i] += e;
+    noise[c.j] += e;
+  }
+  return noise;
 }
 
 std::vector<int> undeterminedNodes(const ThermalNetwork& net, bool transient) {

@@ -95,6 +95,9 @@ Eigen::MatrixXd netHeatJacobian(const ThermalNetwork& net, const Eigen::VectorXd
 /// The size of what flows through each node at t (sum of |terms|), W: the scale of its
 /// balance, so that a tolerance means the same for a 1e-6 W/K strap and a 1e6 W/K joint.
 Eigen::VectorXd balanceScale(const ThermalNetwork& net, const Eigen::VectorXd& t, const Eigen::VectorXd& q);
+/// The round-off of evaluating each node's balance at t, W (conductors' differences of
+/// temperatures near each other): a balance within it is as solved as it can be.
+Eigen::VectorXd balanceRoundOff(const ThermalNetwork& net, const Eigen::VectorXd& t);
 
 /// Nodes whose temperature the network does not determine: those of a connected group
 /// (through GR, conductors and couplings) with no path to space or to a boundary node and,

@@ -97,7 +97,7 @@ ThermalResult steadyStates(const ThermalNetwork& net, const ThermalForcing& forc
     throw std::invalid_argument("steady states: one load column, time and sunlit fraction per position");
   ThermalResult res;
   res.temperature.resize(n, P);
-  res.temperature_rate = Eigen::MatrixXd::Zero(n, P);
+  res.temperature_rate = res.rate_roundoff = Eigen::MatrixXd::Zero(n, P);
   res.dissipation.resize(n, P);
   res.heater_power.resize(H, P);
   std::vector<HeaterMode> mode(static_cast<size_t>(H), HeaterMode::Off);

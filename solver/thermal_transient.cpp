@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <tuple>
 
@@ -15,6 +16,7 @@ namespace {
 // heaters are on, and what the last step applied.
 struct TransientState {
   Eigen::VectorXd t_now, t_prev, rate;  // K, K, K/s
+  Eigen::VectorXd rate_roundoff;        // K/s: how well `rate` is known in floating point
   double clock = 0.0, h_prev = 0.0;     // s
   std::vector<char> heater_on;
   Eigen::VectorXd dissipation;  // W, applied during the last step
@@ -71,11 +73,11 @@ class Integrator {
   ThermalResult& res_;
 };
 
-// Applied powers during the step (clock, clock + h]: loads at its end (implicit), the
-// dissipation at its middle (a step never straddles a table entry), heaters as they are.
+// Applied powers during the step (clock, clock + h]: loads and the sunlit fraction at its
+// end (implicit), dissipation tables at its middle (a step never straddles a table entry:
+// at an output time on an entry, the step's value is the one before it), heaters as they are.
 Eigen::VectorXd Integrator::applied(const TransientState& s, double h, Eigen::VectorXd& dissipation) const {
-  const double mid = s.clock + 0.5 * h;
-  dissipation = dissipationAt(net_, mid, f_.sunlitAt(mid), f_.schedule_period_s);
+  dissipation = dissipationAt(net_, s.clock + 0.5 * h, f_.sunlitAt(s.clock + h), f_.schedule_period_s);
   Eigen::VectorXd q = f_.loadAt(s.clock + h) + dissipation;
   for (size_t k = 0; k < net_.heaters.size(); ++k)
     if (s.heater_on[k]) q[net_.heaters[k].node] += net_.heaters[k].power_w;
@@ -102,7 +104,9 @@ bool Integrator::step(const TransientState& s, double h, Eigen::VectorXd& t_new,
 void Integrator::accept(TransientState& s, double h, const Eigen::VectorXd& t_new,
                         const Eigen::VectorXd& dissipation) const {
   const auto [a, b, beta] = bdf2Coefficients(h, s.h_prev);
-  s.rate = (t_new - (a * s.t_now - b * s.t_prev)) / (h * beta);  // the BDF2 derivative at the new time
+  const Eigen::VectorXd history = a * s.t_now - b * s.t_prev;
+  s.rate = (t_new - history) / (h * beta);  // the BDF2 derivative at the new time
+  s.rate_roundoff = 16 * std::numeric_limits<double>::epsilon() * (t_new.cwiseAbs() + history.cwiseAbs()) / (h * beta);
   for (size_t k = 0; k < net_.heaters.size(); ++k)
     if (s.heater_on[k]) s.on_time[static_cast<Eigen::Index>(k)] += h;
   s.t_prev = s.t_now;
@@ -192,7 +196,7 @@ std::vector<double> Integrator::tableEntries(double from, double to) const {
     const double first = period > 0 ? period * std::floor(from / period) : 0.0;
     for (double base = first; base <= to; base += period) {
       for (double e : sch.times_s)
-        if (base + e > from && base + e < to) out.push_back(base + e);
+        if (base + e > from && base + e <= to) out.push_back(base + e);
       if (!(period > 0)) break;
     }
   }
@@ -202,23 +206,26 @@ std::vector<double> Integrator::tableEntries(double from, double to) const {
 
 bool Integrator::marchTo(double target, TransientState& s) {
   std::vector<double> stops = tableEntries(s.clock, target);
-  stops.push_back(target);
-  for (double stop : stops) {
-    const bool table_entry = stop != target;
+  const bool target_is_entry = !stops.empty() && stops.back() == target;
+  if (!target_is_entry) stops.push_back(target);
+  for (size_t k = 0; k < stops.size(); ++k) {
+    const double stop = stops[k];
     while (stop - s.clock > 1e-9 * std::max(1.0, std::abs(stop))) {
       switchCrossed(s);
       const double h = nextStep(s.h_prev, opt_.max_step_s, stop - s.clock);
       Eigen::VectorXd t_new, dissipation;
       if (!step(s, h, t_new, dissipation)) return false;
       double theta = 0.0;
-      const int k = crossing(s, t_new, theta);
-      if (k < 0) {
+      const int heater = crossing(s, t_new, theta);
+      if (heater < 0) {
         accept(s, h, t_new, dissipation);
-      } else if (!switchInside(s, h, k)) {
+      } else if (!switchInside(s, h, heater)) {
         return false;
       }
     }
-    if (table_entry) s.h_prev = 0.0;  // the dissipation steps here: restart BDF2
+    // The dissipation steps here: restart BDF2, whose two-step history would otherwise
+    // carry the jump of dT/dt into an O(h) error.
+    if (k + 1 < stops.size() || target_is_entry) s.h_prev = 0.0;
   }
   return true;
 }
@@ -228,6 +235,7 @@ bool Integrator::marchPeriod(double start, TransientState& s) {
   const Eigen::Index n = net_.size(), H = static_cast<Eigen::Index>(net_.heaters.size());
   res_.temperature.resize(n, P);
   res_.temperature_rate.resize(n, P);
+  res_.rate_roundoff.resize(n, P);
   res_.dissipation.resize(n, P);
   res_.heater_power.resize(H, P);
   s.on_time.setZero();
@@ -236,6 +244,7 @@ bool Integrator::marchPeriod(double start, TransientState& s) {
     if (!marchTo(start + f_.times_s[static_cast<size_t>(p)], s)) return false;
     res_.temperature.col(p) = s.t_now;
     res_.temperature_rate.col(p) = s.rate;
+    res_.rate_roundoff.col(p) = s.rate_roundoff;
     res_.dissipation.col(p) = s.dissipation;
     for (Eigen::Index k = 0; k < H; ++k)
       res_.heater_power(k, p) = s.heater_on[static_cast<size_t>(k)] ? net_.heaters[static_cast<size_t>(k)].power_w : 0.0;
@@ -254,7 +263,7 @@ TransientState Integrator::start(const Eigen::VectorXd& initial) const {
   const Eigen::Index n = net_.size();
   TransientState s;
   s.t_now = s.t_prev = initial;
-  s.rate = Eigen::VectorXd::Zero(n);
+  s.rate = s.rate_roundoff = Eigen::VectorXd::Zero(n);
   for (Eigen::Index i = 0; i < n; ++i)
     if (net_.isFixed(i)) s.t_now[i] = net_.fixed_temperature[i];
   for (const Heater& h : net_.heaters) s.heater_on.push_back(s.t_now[h.sensor] < h.on_below_k);

@@ -1,6 +1,6 @@
 // The command-line contract (docs/design.md, "Contracts") through the real executable: exit codes,
 // located error messages, atomic output, and the HDF5 layout read back with the HDF5 API.
-#include "temp_dir.hpp"
+#include "cli_support.hpp"
 
 #include <hdf5.h>
 #include <catch2/catch.hpp>
@@ -14,92 +14,7 @@
 #include <vector>
 
 namespace fs = std::filesystem;
-
-namespace {
-
-// A fresh directory per test, removed at the end.
-using radnet::test::TempDir;
-
-struct Run {
-  int exit_code;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-Run runRadnet(const std::string& args, const TempDir& dir) {
-  const fs::path out = dir.path / "stdout.txt", err = dir.path / "stderr.txt";
-  const std::string cmd = "cd '" + dir.path.string() + "' && '" + RADNET_EXE + "' " + args + " > '" + out.string() +
-                          "' 2> '" + err.string() + "'";
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
-}
-
-std::string source(const std::string& rel) { return std::string(RADNET_SOURCE_DIR) + "/" + rel; }
-
-struct H5Data {
-  std::vector<hsize_t> dims;
-  std::vector<double> values;
-  std::string units;
-};
-
-H5Data readDataset(hid_t file, const std::string& name) {
-  H5Data d;
-  hid_t ds = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
-  REQUIRE(ds >= 0);
-  hid_t space = H5Dget_space(ds);
-  const int rank = H5Sget_simple_extent_ndims(space);
-  d.dims.resize(static_cast<size_t>(rank));
-  H5Sget_simple_extent_dims(space, d.dims.data(), nullptr);
-  hid_t type = H5Dget_type(ds);
-  if (H5Tget_class(type) == H5T_FLOAT || H5Tget_class(type) == H5T_INTEGER) {
-    hsize_t count = 1;
-    for (auto x : d.dims) count *= x;
-    d.values.resize(count);
-    H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, d.values.data());
-  } else if (H5Tget_class(type) == H5T_ENUM && H5Tget_size(type) == 1) {  // booleans: enum {FALSE, TRUE} of int8
-    hsize_t count = 1;
-    for (auto x : d.dims) count *= x;
-    std::vector<signed char> raw(count);
-    hid_t native = H5Tget_native_type(type, H5T_DIR_ASCEND);
-    H5Dread(ds, native, H5S_ALL, H5S_ALL, H5P_DEFAULT, raw.data());
-    H5Tclose(native);
-    d.values.assign(raw.begin(), raw.end());
-  }
-  if (H5Aexists(ds, "units") > 0) {
-    hid_t attr = H5Aopen(ds, "units", H5P_DEFAULT);
-    hid_t atype = H5Aget_type(attr);
-    REQUIRE(H5Tis_variable_str(atype) > 0);
-    char* text = nullptr;
-    H5Aread(attr, atype, &text);
-    d.units = text ? text : "";
-    H5free_memory(text);
-    H5Tclose(atype);
-    H5Aclose(attr);
-  } else {
-    d.units = "<missing>";
-  }
-  H5Tclose(type);
-  H5Sclose(space);
-  H5Dclose(ds);
-  return d;
-}
-
-double readDoubleAttribute(hid_t file, const char* object, const char* name) {
-  double value = -1.0;
-  const hid_t attr = H5Aopen_by_name(file, object, name, H5P_DEFAULT, H5P_DEFAULT);
-  REQUIRE(attr >= 0);
-  H5Aread(attr, H5T_NATIVE_DOUBLE, &value);
-  H5Aclose(attr);
-  return value;
-}
-
-}  // namespace
+using namespace radnet::test;
 
 TEST_CASE("cli: run the seed room writes the HDF5 layout with units, and the paper's M'_2") {
   TempDir dir;

@@ -23,8 +23,7 @@ double parseDissipation(const YamlDocument& doc, const YAML::Node& node, const s
   if (node["table"]) {
     doc.expectMap(node, what, {"table"});
     sch.kind = solver::DissipationSchedule::Kind::Table;
-    const double span = orbit_period_s.value_or(kBig);
-    parseTable(doc, node["table"], what + ".table (s, W)", 0.0, span, -kBig, kBig, sch.times_s, sch.power_w);
+    parseTable(doc, node["table"], what + ".table (s, W)", 0.0, kBig, -kBig, kBig, sch.times_s, sch.power_w);
     if (sch.times_s.front() != 0.0)
       throw doc.error(node["table"][0], what + ".table: the first entry must be at 0 s (the power from the start on)");
     if (orbit_period_s && !(sch.times_s.back() < *orbit_period_s))

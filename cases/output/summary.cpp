@@ -1,5 +1,7 @@
 #include "cases/output/summary.hpp"
 
+#include <array>
+#include <cmath>
 #include <iomanip>
 #include <ostream>
 
@@ -44,29 +46,69 @@ void printSweepSummary(const std::vector<std::string>& names, const SweepResult&
       << sw.energy_balance_error << "\n";
 }
 
-// Orbit means of each node's heat flows, W, positive into the node.
-void printHeatBalance(const std::vector<std::string>& names, const HeatBalance& heat, const SweepResult* sweep,
-                      std::ostream& out) {
-  const solver::HeatFlows& f = heat.flows;
+// Time weights of the positions for orbit means: the periodic trapezoid rule within each
+// orbit case (positions are not evenly spaced: eclipse entries and exits are inserted), each
+// case weighted by the time its sweep spans. Without a sweep, the output times' trapezoid
+// (a transient without an orbit) or equal weights.
+Eigen::VectorXd timeWeights(const SweepResult* sweep, const std::vector<double>& times, Eigen::Index P) {
+  Eigen::VectorXd w = Eigen::VectorXd::Constant(P, 1.0 / static_cast<double>(P));
+  if (sweep) {
+    double total = 0;
+    for (int k = 0; k < sweep->caseCount(); ++k) {
+      const int b = sweep->case_start[static_cast<size_t>(k)], e = sweep->case_start[static_cast<size_t>(k) + 1];
+      const double span = sweep->case_sweep_s[static_cast<size_t>(k)];
+      for (int p = b; p < e; ++p) {
+        const double prev = p > b ? times[static_cast<size_t>(p - 1)] : times[static_cast<size_t>(e - 1)] - span;
+        const double next = p + 1 < e ? times[static_cast<size_t>(p + 1)] : times[static_cast<size_t>(b)] + span;
+        w[p] = 0.5 * (next - prev);
+      }
+      total += span;
+    }
+    return w / total;
+  }
+  if (P > 1 && static_cast<Eigen::Index>(times.size()) == P) {
+    for (Eigen::Index p = 0; p < P; ++p) {
+      const size_t q = static_cast<size_t>(p);
+      w[p] = 0.5 * ((p + 1 < P ? times[q + 1] : times[q]) - (p > 0 ? times[q - 1] : times[q]));
+    }
+    w /= w.sum();
+  }
+  return w;
+}
+
+// Orbit means of each node's heat flows, W, positive into the node, and each heater's duty.
+void printHeatBalance(const ThermalSolution& thermal, const SweepResult* sweep, std::ostream& out) {
+  const solver::HeatFlows& f = thermal.heat.flows;
   const Eigen::Index P = f.stored.cols();
-  const Eigen::VectorXd none = Eigen::VectorXd::Zero(f.stored.rows());
-  Eigen::VectorXd environment = none;  // lumped nodes absorb nothing
-  if (sweep) environment.head(sweep->absorbed_total.rows()) = sweep->absorbed_total.rowwise().mean();
-  out << "heat flows, W (mean over " << P << " position(s); + into the node):\n"
+  const Eigen::VectorXd w = timeWeights(sweep, thermal.times_s, P);
+  Eigen::MatrixXd environment = Eigen::MatrixXd::Zero(f.stored.rows(), P);  // lumped nodes absorb nothing
+  if (sweep) environment.topRows(sweep->absorbed_total.rows()) = sweep->absorbed_total;
+  out << "heat flows, W (" << (sweep ? "orbit mean" : P > 1 ? "mean over the run" : "steady state")
+      << "; + into the node):\n"
       << std::left << std::setw(20) << "node" << std::right;
-  for (const char* h : {"environment", "emitted", "radiative", "conducted", "dissipation", "stored", "boundary"})
+  for (const char* h :
+       {"environment", "emitted", "radiative", "conducted", "dissipation", "heater", "stored", "boundary"})
     out << std::setw(12) << h;
   out << "\n";
-  for (size_t k = 0; k < names.size(); ++k) {
+  const std::array<const Eigen::MatrixXd*, 8> terms = {&environment,   &f.emitted, &f.radiative, &f.conducted,
+                                                       &f.dissipation, &f.heater,  &f.stored,    &f.boundary};
+  for (size_t k = 0; k < thermal.node_names.size(); ++k) {
     const auto i = static_cast<Eigen::Index>(k);
-    out << std::left << std::setw(20) << names[k] << std::right << std::setprecision(5);
-    for (double v : {environment[i], f.emitted.row(i).mean(), f.radiative.row(i).mean(), f.conducted.row(i).mean(),
-                     f.dissipation.row(i).mean(), f.stored.row(i).mean(), f.boundary.row(i).mean()})
-      out << std::setw(12) << (v == 0.0 ? 0.0 : v);  // no "-0"
+    out << std::left << std::setw(20) << thermal.node_names[k] << std::right << std::setprecision(5);
+    for (const Eigen::MatrixXd* m : terms) {
+      const double v = m->row(i).dot(w);
+      out << std::setw(12) << (std::abs(v) < 1e-12 * (1 + std::abs(environment.row(i).dot(w))) ? 0.0 : v);
+    }
     out << "\n";
   }
-  out << "heat balance: largest imbalance " << heat.max_imbalance_w << " W (" << heat.max_relative_imbalance
-      << " of the largest term)\n";
+  out << "heat balance: largest imbalance " << thermal.heat.max_imbalance_w << " W ("
+      << thermal.heat.max_relative_imbalance << " of the largest term)\n";
+  for (size_t k = 0; k < thermal.heater_names.size(); ++k) {
+    const auto h = static_cast<Eigen::Index>(k);
+    out << "heater " << thermal.heater_names[k] << ": duty " << std::setprecision(4)
+        << 100.0 * thermal.solve.heater_duty[h] << " %, mean power " << thermal.solve.heater_power.row(h).dot(w)
+        << " W\n";
+  }
 }
 
 std::string refinementNote(const solver::BandSolution& s, const solver::SolverSettings& settings, int rank) {
@@ -104,7 +146,7 @@ void printNetworkSummary(const NetworkCase& c, const NetworkRunResult& r, std::o
     for (size_t i = 0; i < names.size(); ++i)
       out << "temperature " << names[i] << ": " << std::fixed << std::setprecision(3)
           << r.thermal->temperature()(static_cast<Eigen::Index>(i), 0) << std::defaultfloat << " K\n";
-    printHeatBalance(names, r.thermal->heat, nullptr, out);
+    printHeatBalance(*r.thermal, nullptr, out);
   }
   if (const auto& ex = r.radiative.exchange)
     out << "exchange factors GR (" << ex->method << "), Σ GR_space = " << ex->gr_space.sum() << " m²\n";
@@ -133,11 +175,13 @@ void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std
           << solve.periodic_residual_k << " K";
     else if (c.thermal->transient_orbits)
       out << "transient, last orbit";
+    else if (c.thermal->duration_s)
+      out << "transient without orbit over " << *c.thermal->duration_s << " s";
     else
       out << "steady state per position";
     out << "):\n";
     printNodeTemperatures(r.thermal->node_names, r.thermal->temperature(), out);
-    printHeatBalance(r.thermal->node_names, r.thermal->heat, r.sweep ? &*r.sweep : nullptr, out);
+    printHeatBalance(*r.thermal, r.sweep ? &*r.sweep : nullptr, out);
   }
   out << "view factors: " << r.total_rays << " rays, correction ≤ " << r.correction.max_change << " ("
       << r.correction.max_change_sigma << " σ); closure error " << r.correction.max_closure_error << "\n";

@@ -50,7 +50,7 @@ struct SweepResult {
 /// Where each node's heat comes from and goes to, per position, and how well it balances.
 struct HeatBalance {
   solver::HeatFlows flows;              ///< (n×P) W, positive into the node; environment loads are in the sweep
-  double max_imbalance_w = 0.0;         ///< largest |Σ of all terms| over nodes and positions, W
+  double max_imbalance_w = 0.0;         ///< largest |Σ of all terms| beyond round-off over nodes and positions, W
   double max_relative_imbalance = 0.0;  ///< the same, each relative to the largest |term| of its node and position
 };
 

@@ -32,6 +32,7 @@ solver::ThermalResult solvePerCase(const ThermalSettings& ts, const solver::Ther
   solver::ThermalResult result;
   result.temperature.resize(n, P);
   result.temperature_rate.resize(n, P);
+  result.rate_roundoff.resize(n, P);
   result.dissipation.resize(n, P);
   result.heater_power.resize(H, P);
   case_duty.resize(sw.caseCount(), H);
@@ -57,6 +58,7 @@ solver::ThermalResult solvePerCase(const ThermalSettings& ts, const solver::Ther
     const Eigen::Index count = part.temperature.cols();
     result.temperature.middleCols(begin, count) = part.temperature;
     result.temperature_rate.middleCols(begin, count) = part.temperature_rate;
+    result.rate_roundoff.middleCols(begin, count) = part.rate_roundoff;
     result.dissipation.middleCols(begin, count) = part.dissipation;
     result.heater_power.middleCols(begin, count) = part.heater_power;
     case_duty.row(k) = part.heater_duty.transpose();
@@ -141,8 +143,10 @@ HeatBalance heatBalance(const solver::ThermalNetwork& net, const solver::Thermal
         sum += (*m)(i, p);
         largest = std::max(largest, std::abs((*m)(i, p)));
       }
-      b.max_imbalance_w = std::max(b.max_imbalance_w, std::abs(sum));
-      if (largest > 0) b.max_relative_imbalance = std::max(b.max_relative_imbalance, std::abs(sum) / largest);
+      // What floating point cannot resolve (HeatFlows::roundoff) is not counted as imbalance.
+      const double beyond = std::max(0.0, std::abs(sum) - f.roundoff(i, p));
+      b.max_imbalance_w = std::max(b.max_imbalance_w, beyond);
+      if (largest > 0) b.max_relative_imbalance = std::max(b.max_relative_imbalance, beyond / largest);
     }
   return b;
 }
