@@ -44,6 +44,36 @@ struct SharedEdges {
   Vec3 weighted_midpoint = Vec3::Zero();  // Σ L m
 };
 
+// Edges shared by triangles of different nodes on the same side, by node pair.
+std::map<std::pair<int, int>, SharedEdges> sharedEdges(const std::vector<Face>& faces,
+                                                       const std::map<std::pair<int, int>, std::vector<int>>& edge_faces,
+                                                       VertexWelder& welder) {
+  std::map<std::pair<int, int>, SharedEdges> shared;
+  for (const auto& [edge, list] : edge_faces) {
+    if (list.size() < 2) continue;
+    const Face& f0 = faces[static_cast<size_t>(list[0])];
+    // The edge's end points, from the first face that has it.
+    Vec3 p, q;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 &a = f0.v[static_cast<size_t>(k)], &b = f0.v[static_cast<size_t>((k + 1) % 3)];
+      if (welder.id(a) == edge.first && welder.id(b) == edge.second) p = a, q = b;
+      if (welder.id(b) == edge.first && welder.id(a) == edge.second) p = b, q = a;
+    }
+    const double length = (q - p).norm();
+    for (size_t i = 0; i < list.size(); ++i)
+      for (size_t j = i + 1; j < list.size(); ++j) {
+        const Face &fi = faces[static_cast<size_t>(list[i])], &fj = faces[static_cast<size_t>(list[j])];
+        for (const auto& [a, b] : {std::pair{fi.front_node, fj.front_node}, std::pair{fi.back_node, fj.back_node}}) {
+          if (a < 0 || b < 0 || a == b) continue;
+          SharedEdges& s = shared[{std::min(a, b), std::max(a, b)}];
+          s.length += length;
+          s.weighted_midpoint += length * 0.5 * (p + q);
+        }
+      }
+  }
+  return shared;
+}
+
 }  // namespace
 
 ShellAdjacency shellAdjacency(const Scene& scene, int first_face, int end_face) {
@@ -72,30 +102,7 @@ ShellAdjacency shellAdjacency(const Scene& scene, int first_face, int end_face) 
     }
     if (face.front_node >= 0 && face.back_node >= 0) front_back[{face.front_node, face.back_node}] += face.area_m2;
   }
-  // Edges shared by triangles of different nodes on the same side.
-  std::map<std::pair<int, int>, SharedEdges> shared;
-  for (const auto& [edge, list] : edge_faces) {
-    if (list.size() < 2) continue;
-    const Face& f0 = faces[static_cast<size_t>(list[0])];
-    // The edge's end points, from the first face that has it.
-    Vec3 p, q;
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 &a = f0.v[static_cast<size_t>(k)], &b = f0.v[static_cast<size_t>((k + 1) % 3)];
-      if (welder.id(a) == edge.first && welder.id(b) == edge.second) p = a, q = b;
-      if (welder.id(b) == edge.first && welder.id(a) == edge.second) p = b, q = a;
-    }
-    const double length = (q - p).norm();
-    for (size_t i = 0; i < list.size(); ++i)
-      for (size_t j = i + 1; j < list.size(); ++j) {
-        const Face &fi = faces[static_cast<size_t>(list[i])], &fj = faces[static_cast<size_t>(list[j])];
-        for (const auto& [a, b] : {std::pair{fi.front_node, fj.front_node}, std::pair{fi.back_node, fj.back_node}}) {
-          if (a < 0 || b < 0 || a == b) continue;
-          SharedEdges& s = shared[{std::min(a, b), std::max(a, b)}];
-          s.length += length;
-          s.weighted_midpoint += length * 0.5 * (p + q);
-        }
-      }
-  }
+  const std::map<std::pair<int, int>, SharedEdges> shared = sharedEdges(faces, edge_faces, welder);
   ShellAdjacency out;
   for (const auto& [pair, s] : shared) {
     const Vec3 m = s.weighted_midpoint / s.length;

@@ -2,6 +2,7 @@
 #include "geometry/mesh_io.hpp"
 #include "geometry/primitives.hpp"
 #include "geometry/ray_caster.hpp"
+#include "geometry/shell.hpp"
 
 #include "temp_dir.hpp"
 
@@ -189,4 +190,41 @@ TEST_CASE("mesh files: OFF, OBJ (with groups), STL, PLY read and scaled, bad fil
   CHECK_THROWS_AS(readObjGroups(bad_index, 1.0), GeometryError);
   const std::string garbage = dir.write("garbage.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\ng x\nf 1 two 3\n");
   CHECK_THROWS_WITH(readObjGroups(garbage, 1.0), Contains("garbage.obj:5") && Contains("'two'"));
+}
+
+TEST_CASE("shell adjacency: grid neighbours share their edge at the centroid distance; box faces fold at an edge") {
+  // A two-sided 0.6 × 0.2 m panel in 3 × 1 node cells (2 × 2 subdivisions each, so the shared
+  // boundary is made of two triangle edges): L = 0.2 m, d = 0.2 m between cell centroids.
+  Scene panel;
+  const Vec3 o(0, 0, 0), u(0.6, 0, 0), v(0, 0.2, 0);
+  for (int i = 0; i < 3; ++i) {
+    const std::string cell = "c" + std::to_string(i);
+    panel.addSurface(cell, cell, rectangle(o + (i / 3.0) * u, u / 3.0, v, 2, 2), cell, cell + ".back");
+  }
+  const ShellAdjacency adj = shellAdjacency(panel, 0, static_cast<int>(panel.faces().size()));
+  REQUIRE(adj.neighbours.size() == 4);  // c0–c1, c1–c2 on each side
+  for (const auto& nb : adj.neighbours) {
+    CHECK(nb.shared_length_m == Approx(0.2).epsilon(1e-12));
+    CHECK(nb.distance_m == Approx(0.2).epsilon(1e-12));
+    CHECK(panel.nodes()[static_cast<size_t>(nb.a)].side == panel.nodes()[static_cast<size_t>(nb.b)].side);
+  }
+  REQUIRE(adj.front_back.size() == 3);
+  for (const auto& fb : adj.front_back) CHECK(fb.area_m2 == Approx(0.04).epsilon(1e-12));
+  // A 0.3 × 0.1 × 0.1 m box, a node per face: +x and +y meet along a 0.1 m edge; the path
+  // runs from each centroid to the edge's midpoint, 0.05 + 0.15 m, not the 0.158 m chord.
+  Scene box;
+  const auto faces = boxFaces(Vec3(0, 0, 0), Vec3(0.3, 0.1, 0.1), 4);
+  for (size_t f = 0; f < 6; ++f) box.addSurface(kBoxFaceNames[f], kBoxFaceNames[f], faces[f], kBoxFaceNames[f], "");
+  const ShellAdjacency folds = shellAdjacency(box, 0, static_cast<int>(box.faces().size()));
+  CHECK(folds.neighbours.size() == 12);  // a box's 12 edges
+  CHECK(folds.front_back.empty());
+  const int px = box.nodeIndex("+x"), py = box.nodeIndex("+y");
+  bool found = false;
+  for (const auto& nb : folds.neighbours)
+    if (std::minmax(nb.a, nb.b) == std::minmax(px, py)) {
+      found = true;
+      CHECK(nb.shared_length_m == Approx(0.1).epsilon(1e-12));
+      CHECK(nb.distance_m == Approx(0.2).epsilon(1e-12));
+    }
+  CHECK(found);
 }

@@ -1,6 +1,7 @@
 // Temperatures: steady states and transients against closed forms and a bisection.
 #include "solver/network.hpp"
 #include "solver/thermal.hpp"
+#include "thermal_support.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -11,26 +12,16 @@ using namespace radnet::solver;
 
 namespace {
 
-ThermalNetwork emptyNetwork(int n) {
-  ThermalNetwork net;
-  net.gr = Eigen::MatrixXd::Zero(n, n);
-  net.gr_space = Eigen::VectorXd::Zero(n);
-  net.conductors.resize(n, n);
-  net.capacitance = Eigen::VectorXd::Zero(n);
-  net.dissipation = Eigen::VectorXd::Zero(n);
-  net.fixed_temperature = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::quiet_NaN());
-  net.space_temperature = 3.0;
-  return net;
-}
+ThermalNetwork emptyNetwork(int n) { return radnet::test::emptyThermalNetwork(n); }
 
+// Adds a conductor of k W/K between i and j to those the network has.
 void link(ThermalNetwork& net, int i, int j, double k) {
-  std::vector<Eigen::Triplet<double>> t;
+  std::vector<std::tuple<int, int, double>> links;
   for (int a = 0; a < net.conductors.outerSize(); ++a)
     for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, a); it; ++it)
-      t.emplace_back(static_cast<int>(it.row()), static_cast<int>(it.col()), it.value());
-  t.emplace_back(i, j, k);
-  t.emplace_back(j, i, k);
-  net.conductors.setFromTriplets(t.begin(), t.end());
+      if (it.row() < it.col()) links.emplace_back(static_cast<int>(it.row()), static_cast<int>(it.col()), it.value());
+  links.emplace_back(i, j, k);
+  radnet::test::setConductors(net, links);
 }
 
 }  // namespace

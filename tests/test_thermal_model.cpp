@@ -3,6 +3,7 @@
 // and conservation.
 #include "solver/thermal.hpp"
 #include "solver/units.hpp"
+#include "thermal_support.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -11,28 +12,11 @@
 
 using namespace radnet::solver;
 using radnet::units::kStefanBoltzmann;
+using radnet::test::setConductors;
 
 namespace {
 
-ThermalNetwork network(int n) {
-  ThermalNetwork net;
-  net.gr = Eigen::MatrixXd::Zero(n, n);
-  net.gr_space = Eigen::VectorXd::Zero(n);
-  net.conductors.resize(n, n);
-  net.capacitance = Eigen::VectorXd::Zero(n);
-  net.dissipation = Eigen::VectorXd::Zero(n);
-  net.fixed_temperature = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::quiet_NaN());
-  return net;
-}
-
-void setConductors(ThermalNetwork& net, const std::vector<std::tuple<int, int, double>>& links) {
-  std::vector<Eigen::Triplet<double>> t;
-  for (const auto& [i, j, k] : links) {
-    t.emplace_back(i, j, k);
-    t.emplace_back(j, i, k);
-  }
-  net.conductors.setFromTriplets(t.begin(), t.end());
-}
+ThermalNetwork network(int n) { return radnet::test::emptyThermalNetwork(n); }
 
 // Constant loads over a period with P evenly spaced samples.
 ThermalForcing constantForcing(const ThermalNetwork& net, double period, int P) {
