@@ -47,6 +47,7 @@ struct ThermalResult {
   Status status = Status::Converged;
   std::string message;
   int newton_iterations = 0;    ///< total
+  int factorisations = 0;       ///< Jacobian LU factorisations (O(n³) each; the chord steps between them cost O(n²))
   double max_residual_w = 0.0;  ///< largest |G_i| left, W
   int orbits = 0;               ///< transients: orbits integrated
   int heater_switches = 0;      ///< transients: switchings located inside a step

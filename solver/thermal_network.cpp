@@ -185,10 +185,16 @@ Eigen::MatrixXd netHeatJacobian(const ThermalNetwork& net, const Eigen::VectorXd
 }
 
 Eigen::VectorXd balanceScale(const ThermalNetwork& net, const Eigen::VectorXd& t, const Eigen::VectorXd& q) {
-  // What flows: applied powers, gross emission σ (Σ_j GR_ij + GR_space) T⁴, and each
-  // conductor's |K (T_j − T_i)|.
-  const Eigen::VectorXd t4 = t.array().square().square();
-  Eigen::VectorXd s = q.cwiseAbs() + kStefanBoltzmann * (net.gr.rowwise().sum() + net.gr_space).cwiseProduct(t4);
+  // What flows, term by term as the heat flows report it: applied powers, the net exchange
+  // with space σ GR_space |T⁴ − T_space⁴| and with each node σ GR_ij |T_j⁴ − T_i⁴|, and each
+  // conductor's |K (T_j − T_i)|. (Gross emission would hide an imbalance of a node near the
+  // space temperature; its round-off is in balanceRoundOff instead.)
+  const Eigen::ArrayXd t4 = t.array().square().square();
+  Eigen::VectorXd s = q.cwiseAbs() + kStefanBoltzmann * net.gr_space.cwiseProduct(
+                                                            (t4 - std::pow(net.space_temperature, 4)).abs().matrix());
+  const Eigen::Index n = t.size();
+  for (Eigen::Index j = 0; j < n; ++j)  // column by column (GR is symmetric)
+    s += kStefanBoltzmann * net.gr.col(j).cwiseProduct((t4 - t4[j]).abs().matrix());
   for (int k = 0; k < net.conductors.outerSize(); ++k)
     for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it)
       s[it.row()] += std::abs(it.value() * (t[it.col()] - t[it.row()]));
@@ -201,10 +207,16 @@ Eigen::VectorXd balanceScale(const ThermalNetwork& net, const Eigen::VectorXd& t
 }
 
 Eigen::VectorXd balanceRoundOff(const ThermalNetwork& net, const Eigen::VectorXd& t) {
-  // Each conductor's difference T_j − T_i is known to ε (|T_i| + |T_j|); σ T⁴ terms and
-  // powers are relative to themselves (in balanceScale). 16 ε allows for the sums.
+  // A difference of nearly equal numbers is known to ε of the numbers: each conductor's
+  // T_j − T_i to ε (|T_i| + |T_j|), each radiative exchange T_j⁴ − T_i⁴ to ε (T_i⁴ + T_j⁴),
+  // the exchange with space to ε (T⁴ + T_space⁴). 16 ε allows for the sums.
   constexpr double kRoundOff = 16 * std::numeric_limits<double>::epsilon();
-  Eigen::VectorXd noise = Eigen::VectorXd::Zero(t.size());
+  const Eigen::VectorXd t4 = t.array().square().square();
+  const Eigen::VectorXd gr_row = net.gr.rowwise().sum();
+  Eigen::VectorXd noise =
+      kRoundOff * kStefanBoltzmann *
+      (gr_row.cwiseProduct(t4) + net.gr * t4 +
+       net.gr_space.cwiseProduct((t4.array() + std::pow(net.space_temperature, 4)).matrix()));
   for (int k = 0; k < net.conductors.outerSize(); ++k)
     for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it)
       noise[it.row()] += kRoundOff * std::abs(it.value()) * (std::abs(t[it.row()]) + std::abs(t[it.col()]));

@@ -92,11 +92,12 @@ Eigen::VectorXd netHeat(const ThermalNetwork& net, const Eigen::VectorXd& t, con
 Eigen::VectorXd conductedHeat(const ThermalNetwork& net, const Eigen::VectorXd& t);
 /// ∂G/∂T (n×n), W/K.
 Eigen::MatrixXd netHeatJacobian(const ThermalNetwork& net, const Eigen::VectorXd& t);
-/// The size of what flows through each node at t (sum of |terms|), W: the scale of its
-/// balance, so that a tolerance means the same for a 1e-6 W/K strap and a 1e6 W/K joint.
+/// The size of what flows through each node at t (sum of |net terms|: powers, exchange with
+/// each node and with space, conduction), W: the scale of its balance, so that a tolerance
+/// means the same for a 1e-6 W/K strap, a 1e6 W/K joint and a node near the space temperature.
 Eigen::VectorXd balanceScale(const ThermalNetwork& net, const Eigen::VectorXd& t, const Eigen::VectorXd& q);
-/// The round-off of evaluating each node's balance at t, W (conductors' differences of
-/// temperatures near each other): a balance within it is as solved as it can be.
+/// The round-off of evaluating each node's balance at t, W (differences of nearly equal
+/// temperatures and of their fourth powers): a balance within it is as solved as it can be.
 Eigen::VectorXd balanceRoundOff(const ThermalNetwork& net, const Eigen::VectorXd& t);
 
 /// Nodes whose temperature the network does not determine: those of a connected group

@@ -15,6 +15,16 @@
 
 namespace radnet::solver::detail {
 
+/// A factorised Jacobian kept between solves (the chord method): it serves while Newton
+/// still converges fast with it, and is refactorised at the current iterate when it does
+/// not. For a dense n-node network a factorisation costs O(n³), a solve with it O(n²).
+struct JacobianCache {
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+  double hb = 0.0;     ///< the h β it was factorised for (a BDF2 step of another length needs another)
+  bool valid = false;  ///< only for systems without controlled heaters
+  int factorisations = 0;
+};
+
 struct ImplicitSystem {
   const ThermalNetwork& net;
   Eigen::VectorXd q;        ///< applied powers (environment, dissipation, heaters that are on), W
@@ -22,6 +32,7 @@ struct ImplicitSystem {
   double hb = 1.0;          ///< h β, s (transient); 1 (steady)
   bool transient = false;
   std::vector<int> controlled;  ///< heaters (indices into net.heaters) holding their sensor at on_below
+  JacobianCache* cache = nullptr;  ///< reused between solves when given
 };
 
 struct NewtonOutcome {

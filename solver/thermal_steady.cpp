@@ -33,12 +33,13 @@ Eigen::VectorXd startingGuess(const ThermalNetwork& net, const Eigen::VectorXd& 
 // heaters' modes corrected until they agree with the answer (an active-set loop: at most a
 // few rounds, since each heater moves at most Off → Controlled → Saturated and back).
 detail::NewtonOutcome solvePosition(const ThermalNetwork& net, const Eigen::VectorXd& q, std::vector<HeaterMode>& mode,
-                                    Eigen::VectorXd& t, Eigen::VectorXd& power, const ThermalOptions& opt) {
+                                    Eigen::VectorXd& t, Eigen::VectorXd& power, const ThermalOptions& opt,
+                                    detail::JacobianCache& cache) {
   const size_t H = net.heaters.size();
   constexpr double kSettle = 1e-6;  // K: a sensor this close to on_below is at it
   detail::NewtonOutcome total;
   for (size_t round = 0; round < 2 * H + 3; ++round) {
-    detail::ImplicitSystem sys{net, q, {}, 1.0, false, {}};
+    detail::ImplicitSystem sys{net, q, {}, 1.0, false, {}, &cache};
     Eigen::VectorXd u;
     std::vector<double> u0;
     for (size_t k = 0; k < H; ++k) {
@@ -103,14 +104,16 @@ ThermalResult steadyStates(const ThermalNetwork& net, const ThermalForcing& forc
   std::vector<HeaterMode> mode(static_cast<size_t>(H), HeaterMode::Off);
   Eigen::VectorXd power = Eigen::VectorXd::Zero(H);
   Eigen::VectorXd t;
+  detail::JacobianCache cache;  // one factorisation serves many positions
   for (Eigen::Index p = 0; p < P; ++p) {
     const size_t ps = static_cast<size_t>(p);
     const double sunlit = forcing.sunlit_fraction.empty() ? 1.0 : forcing.sunlit_fraction[ps];
     res.dissipation.col(p) = dissipationAt(net, forcing.times_s[ps], sunlit, forcing.schedule_period_s);
     const Eigen::VectorXd q = forcing.q_env.col(p) + res.dissipation.col(p);
     if (p == 0) t = startingGuess(net, q);
-    const detail::NewtonOutcome s = solvePosition(net, q, mode, t, power, opt);
+    const detail::NewtonOutcome s = solvePosition(net, q, mode, t, power, opt, cache);
     res.newton_iterations += s.iterations;
+    res.factorisations = cache.factorisations;
     if (s.status != Status::Converged) {
       res.status = s.status;
       res.message = s.message + " (steady state at position " + std::to_string(p) + ")";

@@ -71,6 +71,7 @@ class Integrator {
   const ThermalForcing& f_;
   const ThermalOptions& opt_;
   ThermalResult& res_;
+  detail::JacobianCache cache_;  // one factorisation serves many steps (the chord method)
 };
 
 // Applied powers during the step (clock, clock + h]: loads and the sunlit fraction at its
@@ -86,12 +87,14 @@ Eigen::VectorXd Integrator::applied(const TransientState& s, double h, Eigen::Ve
 
 bool Integrator::step(const TransientState& s, double h, Eigen::VectorXd& t_new, Eigen::VectorXd& dissipation) {
   const auto [a, b, beta] = bdf2Coefficients(h, s.h_prev);
-  const detail::ImplicitSystem sys{net_, applied(s, h, dissipation), a * s.t_now - b * s.t_prev, h * beta, true, {}};
+  const detail::ImplicitSystem sys{net_,      applied(s, h, dissipation), a * s.t_now - b * s.t_prev, h * beta, true,
+                                   {},        &cache_};
   t_new = s.t_now + h * s.rate;  // the explicit prediction, when it stays physical
   if (!(t_new.array() > 0).all()) t_new = s.t_now;
   Eigen::VectorXd none;
   const detail::NewtonOutcome out = detail::solveImplicit(sys, t_new, none, opt_);
   res_.newton_iterations += out.iterations;
+  res_.factorisations = cache_.factorisations;
   if (out.status != Status::Converged) {
     res_.status = out.status;
     res_.message = out.message + " (transient step at t = " + std::to_string(s.clock + h) + " s)";
@@ -277,7 +280,7 @@ TransientState Integrator::start(const Eigen::VectorXd& initial) const {
     if (c[i] > 0) held.fixed_temperature[i] = s.t_now[i];
   Eigen::VectorXd t = s.t_now, none;
   if ((c.array() == 0).any() &&
-      detail::solveImplicit({held, q, {}, 1.0, false, {}}, t, none, opt_).status == Status::Converged)
+      detail::solveImplicit({held, q, {}, 1.0, false, {}, nullptr}, t, none, opt_).status == Status::Converged)
     s.t_now = t;
   const Eigen::VectorXd g = netHeat(net_, s.t_now, q);
   for (Eigen::Index i = 0; i < n; ++i)

@@ -44,6 +44,7 @@ solver::ThermalResult solvePerCase(const ThermalSettings& ts, const solver::Ther
                               : solver::steadyStates(net, f, ts.options);
     result.newton_iterations += part.newton_iterations;
     result.heater_switches += part.heater_switches;
+    result.factorisations += part.factorisations;
     result.max_residual_w = std::max(result.max_residual_w, part.max_residual_w);
     result.orbits = std::max(result.orbits, part.orbits);  // the slowest orbit case
     if (ts.periodic)
@@ -181,7 +182,8 @@ ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFact
   progress << "radnet: temperatures (" << out.mode;
   if (ts.periodic) progress << ", " << result.orbits << " orbits to a change below " << ts.periodic->tolerance_k << " K";
   if (!ts.heaters.empty()) progress << ", " << result.heater_switches << " heater switchings";
-  progress << "), " << result.newton_iterations << " Newton iterations, largest heat-balance residual "
+  progress << "), " << result.newton_iterations << " Newton iterations (" << result.factorisations
+           << " Jacobian factorisations), largest heat-balance residual "
            << result.max_residual_w << " W; heat flows balance to " << out.heat.max_relative_imbalance
            << " of the largest term\n";
   return out;
