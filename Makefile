@@ -37,6 +37,7 @@ bench: build
 	./$(BUILD_DIR)/bench/bench_solver docs/solver-benchmark.md
 	./$(BUILD_DIR)/bench/bench_view_factors docs/view-factor-benchmark.md
 	./$(BUILD_DIR)/bench/bench_loads docs/loads-benchmark.md
+	./$(BUILD_DIR)/bench/bench_thermal docs/thermal-benchmark.md
 
 clean:
 	rm -rf $(BUILD_DIR) build-sanitize

@@ -21,6 +21,7 @@ struct ThermalOptions {
   int max_newton_iterations = 100;
   double max_step_s = 10.0;           ///< transient substep
   double switch_tolerance_k = 1e-3;   ///< a heater switches within this of its set point, K
+  bool reuse_jacobian = true;         ///< chord steps on a cached LU (false: a new LU every iteration)
 };
 
 /// What drives the network: absorbed environment loads sampled at times within one period,

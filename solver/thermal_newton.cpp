@@ -130,7 +130,7 @@ NewtonOutcome solveImplicit(const ImplicitSystem& s, Eigen::VectorXd& t, Eigen::
   const Eigen::Index n = t.size(), a = u.size();
   for (Eigen::Index i = 0; i < n; ++i)
     if (s.net.isFixed(i)) t[i] = s.net.fixed_temperature[i];
-  JacobianCache* cache = a == 0 ? s.cache : nullptr;
+  JacobianCache* cache = a == 0 && opt.reuse_jacobian ? s.cache : nullptr;
   NewtonOutcome out;
   Residual res = residual(s, t, u);
   for (int it = 0;; ++it) {
@@ -145,6 +145,7 @@ NewtonOutcome solveImplicit(const ImplicitSystem& s, Eigen::VectorXd& t, Eigen::
       continue;
     // A full Newton step at this iterate (its factorisation kept for the chord steps after).
     Eigen::PartialPivLU<Eigen::MatrixXd> lu(jacobian(s, t, a));
+    ++out.factorisations;
     const Eigen::VectorXd step = lu.solve(-res.r);
     if (!step.allFinite()) {
       out.status = Status::Singular;
@@ -155,7 +156,6 @@ NewtonOutcome solveImplicit(const ImplicitSystem& s, Eigen::VectorXd& t, Eigen::
       cache->lu = std::move(lu);
       cache->hb = s.hb;
       cache->valid = true;
-      ++cache->factorisations;
     }
     res = lineSearch(s, res, step, opt.tolerance_w, t, u);
   }

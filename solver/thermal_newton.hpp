@@ -22,7 +22,6 @@ struct JacobianCache {
   Eigen::PartialPivLU<Eigen::MatrixXd> lu;
   double hb = 0.0;     ///< the h β it was factorised for (a BDF2 step of another length needs another)
   bool valid = false;  ///< only for systems without controlled heaters
-  int factorisations = 0;
 };
 
 struct ImplicitSystem {
@@ -38,6 +37,7 @@ struct ImplicitSystem {
 struct NewtonOutcome {
   Status status = Status::Converged;
   int iterations = 0;
+  int factorisations = 0;   ///< Jacobian LUs computed
   double residual_w = 0.0;  ///< largest |G_i| left, W
   std::string message;
 };

@@ -56,9 +56,11 @@ detail::NewtonOutcome solvePosition(const ThermalNetwork& net, const Eigen::Vect
       step = detail::solveImplicit(sys, t, u, opt);
     }
     total.iterations += step.iterations;
+    total.factorisations += step.factorisations;
     total.residual_w = step.residual_w;
     if (step.status != Status::Converged) {
       step.iterations = total.iterations;
+      step.factorisations = total.factorisations;
       return step;
     }
     bool changed = false;
@@ -113,7 +115,7 @@ ThermalResult steadyStates(const ThermalNetwork& net, const ThermalForcing& forc
     if (p == 0) t = startingGuess(net, q);
     const detail::NewtonOutcome s = solvePosition(net, q, mode, t, power, opt, cache);
     res.newton_iterations += s.iterations;
-    res.factorisations = cache.factorisations;
+    res.factorisations += s.factorisations;
     if (s.status != Status::Converged) {
       res.status = s.status;
       res.message = s.message + " (steady state at position " + std::to_string(p) + ")";

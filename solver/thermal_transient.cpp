@@ -94,7 +94,7 @@ bool Integrator::step(const TransientState& s, double h, Eigen::VectorXd& t_new,
   Eigen::VectorXd none;
   const detail::NewtonOutcome out = detail::solveImplicit(sys, t_new, none, opt_);
   res_.newton_iterations += out.iterations;
-  res_.factorisations = cache_.factorisations;
+  res_.factorisations += out.factorisations;
   if (out.status != Status::Converged) {
     res_.status = out.status;
     res_.message = out.message + " (transient step at t = " + std::to_string(s.clock + h) + " s)";

@@ -359,10 +359,11 @@ TEST_CASE("cli: validate accepts the shipped examples") {
 }
 
 TEST_CASE("cli: heat flows per node and position close the balance on every case with temperatures") {
-  // The CubeSat's transient (stored heat), the sunlit plate's steady state (environment
-  // loads) and the plates between boundary nodes (boundary supply), both case forms.
-  for (const char* c :
-       {"examples/cubesat-3u", "analytic/sunlit-plate-temperature", "analytic/parallel-plates-temperature"}) {
+  // Every shipped case with temperatures: the CubeSat's periodic transient (stored heat, a
+  // heater, shells, schedules), the sunlit plate's steady state (environment loads), the
+  // plates between boundary nodes (boundary supply) and the lumped nodes (couplings, MLI).
+  for (const char* c : {"examples/cubesat-3u", "analytic/sunlit-plate-temperature",
+                        "analytic/parallel-plates-temperature", "analytic/lumped-nodes"}) {
     INFO(c);
     TempDir dir;
     const Run r = runRadnet("run '" + source(std::string("cases/") + c + ".yaml") + "' -o out.h5 -q", dir);
