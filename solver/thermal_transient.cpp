@@ -384,7 +384,10 @@ ThermalResult periodicTransient(const ThermalNetwork& net, const ThermalForcing&
     res.message = "the transient did not become periodic in " + std::to_string(res.orbits) +
                   " orbits: the last orbit still changed a temperature by " +
                   std::to_string(res.periodic_residual_k) + " K (periodic_tolerance " +
-                  std::to_string(periodic.tolerance_k) + " K); raise max_orbits or check for a slow time constant";
+                  std::to_string(periodic.tolerance_k) + " K); raise max_orbits or check for a slow time constant" +
+                  (res.heater_switches > 0 ? ", or a thermostat whose on/off cycle does not repeat with the orbit "
+                                             "(a periodic_tolerance above its dead band)"
+                                           : "");
   }
   checkFinite(res);
   return res;
