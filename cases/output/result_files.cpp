@@ -47,6 +47,8 @@ void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, cons
   std::vector<double> times;
   if (r.sweep)
     for (const auto& p : r.sweep->positions) times.push_back(p.t_s);
+  else if (r.thermal && r.thermal->times_s.size() > 1)  // a transient without an orbit: its output times
+    times = r.thermal->times_s;
   const std::string text =
       xdmfText(std::filesystem::path(path).filename().string(), static_cast<long>(c.scene.vertexMatrix().rows()),
                static_cast<long>(c.scene.faces().size()), times, cell_values);

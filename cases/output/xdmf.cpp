@@ -68,7 +68,7 @@ std::vector<XdmfAttribute> writeXdmfCellValues(Hdf5Writer& h5, const GeometryRun
     attrs.push_back({"absorbed environmental flux [W/m^2]", "/xdmf/absorbed_flux", true});
     attrs.push_back({"solar exitance [W/m^2]", "/xdmf/exitance_solar", true});
   }
-  if (r.thermal && r.sweep) {
+  if (r.thermal && (r.sweep || r.thermal->temperature().cols() > 1)) {
     h5.writeMatrix("/xdmf/temperature", spread(r.thermal->temperature()), "K");
     attrs.push_back({"temperature [K]", "/xdmf/temperature", true});
   } else if (r.thermal) {
