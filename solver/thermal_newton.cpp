@@ -148,8 +148,12 @@ NewtonOutcome solveImplicit(const ImplicitSystem& s, Eigen::VectorXd& t, Eigen::
     ++out.factorisations;
     const Eigen::VectorXd step = lu.solve(-res.r);
     if (!step.allFinite()) {
-      out.status = Status::Singular;
-      out.message = "thermal Newton: singular Jacobian (a node with no capacitance, conductor or radiative link?)";
+      const bool overflow = !res.r.allFinite();
+      out.status = overflow ? Status::NonFinite : Status::Singular;
+      out.message = overflow ? "thermal Newton: the heat balance is not finite (a power, conductance or temperature "
+                               "beyond what doubles hold?)"
+                             : "thermal Newton: singular Jacobian (a node with no capacitance, conductor or "
+                               "radiative link?)";
       return out;
     }
     if (cache) {

@@ -8,6 +8,13 @@ namespace radnet::cases {
 namespace {
 
 constexpr double kBig = std::numeric_limits<double>::max();
+// What the thermal model accepts: far beyond any spacecraft (a 1 GW heater, a 1e12 W/K
+// "infinite" joint, a 1e12 J/K tank, a 1e9 m² coupling), yet far enough inside the doubles
+// that the heat balance (K T, σ GR T⁴ at 1e5 K) cannot overflow.
+constexpr double kMaxPower = 1e9;         // W
+constexpr double kMaxConductance = 1e12;  // W/K
+constexpr double kMaxCapacitance = 1e12;  // J/K
+constexpr double kMaxCoupling = 1e9;      // m²
 constexpr double kDefaultInitialTemperature = 293.15;  // K
 constexpr double kMinTemperature = 1e-3, kMaxTemperature = 1e5;  // K: what the thermal model accepts
 constexpr int kMaxTransientOutputs = 1000000;                   // output times of a transient without an orbit
@@ -17,13 +24,13 @@ constexpr int kMaxTransientOutputs = 1000000;                   // output times 
 // repeating each orbit). Returns the constant part; schedules go to s.schedules.
 double parseDissipation(const YamlDocument& doc, const YAML::Node& node, const std::string& what, int i,
                         std::optional<double> orbit_period_s, ThermalSettings& s) {
-  if (!node.IsMap()) return doc.number(node, what + " (W)", -kBig, kBig);
+  if (!node.IsMap()) return doc.number(node, what + " (W)", -kMaxPower, kMaxPower);
   solver::DissipationSchedule sch;
   sch.node = i;
   if (node["table"]) {
     doc.expectMap(node, what, {"table"});
     sch.kind = solver::DissipationSchedule::Kind::Table;
-    parseTable(doc, node["table"], what + ".table (s, W)", 0.0, kBig, -kBig, kBig, sch.times_s, sch.power_w);
+    parseTable(doc, node["table"], what + ".table (s, W)", 0.0, kBig, -kMaxPower, kMaxPower, sch.times_s, sch.power_w);
     if (sch.times_s.front() != 0.0)
       throw doc.error(node["table"][0], what + ".table: the first entry must be at 0 s (the power from the start on)");
     if (orbit_period_s && !(sch.times_s.back() < *orbit_period_s))
@@ -34,8 +41,8 @@ double parseDissipation(const YamlDocument& doc, const YAML::Node& node, const s
     if (!orbit_period_s)
       throw doc.error(node, what + ": a dissipation by illumination needs an orbit; give a constant or a table");
     sch.kind = solver::DissipationSchedule::Kind::Illumination;
-    sch.sunlit_w = doc.number(doc.required(node, "sunlit", what), what + ".sunlit (W)", -kBig, kBig);
-    sch.eclipse_w = doc.number(doc.required(node, "eclipse", what), what + ".eclipse (W)", -kBig, kBig);
+    sch.sunlit_w = doc.number(doc.required(node, "sunlit", what), what + ".sunlit (W)", -kMaxPower, kMaxPower);
+    sch.eclipse_w = doc.number(doc.required(node, "eclipse", what), what + ".eclipse (W)", -kMaxPower, kMaxPower);
   }
   s.schedules.push_back(sch);
   return 0.0;
@@ -51,10 +58,10 @@ void parseNodeProperties(const YamlDocument& doc, const YAML::Node& props, const
       doc.expectMap(c, what + ".capacitance", {"table"});
       solver::TemperatureTable table;
       parseTable(doc, doc.required(c, "table", what + ".capacitance"), what + ".capacitance.table (K, J/K)",
-                 kMinTemperature, kMaxTemperature, 0, kBig, table.temperature_k, table.value);
+                 kMinTemperature, kMaxTemperature, 0, kMaxCapacitance, table.temperature_k, table.value);
       s.capacitance_tables.emplace_back(i, table);
     } else {
-      s.capacitance[i] = doc.number(c, what + ".capacitance (J/K)", 0, kBig);
+      s.capacitance[i] = doc.number(c, what + ".capacitance (J/K)", 0, kMaxCapacitance);
     }
   }
   if (props["dissipation"])
@@ -94,11 +101,11 @@ void parsePairs(const YamlDocument& doc, const YAML::Node& list, const std::stri
       doc.expectMap(e[2], what, {"table"});
       solver::TabledConductor c{i, j, {}};
       parseTable(doc, doc.required(e[2], "table", what), what + ".table (K, W/K)", kMinTemperature, kMaxTemperature,
-                 0, kBig, c.conductance.temperature_k, c.conductance.value);
+                 0, kMaxConductance, c.conductance.temperature_k, c.conductance.value);
       s.tabled_conductors.push_back(c);
       continue;
     }
-    const double g = doc.number(e[2], what + " (" + unit + ")", 0, kBig);
+    const double g = doc.number(e[2], what + " (" + unit + ")", 0, tables ? kMaxConductance : kMaxCoupling);
     out.emplace_back(i, j, g);
     out.emplace_back(j, i, g);
   }

@@ -45,7 +45,7 @@ void parseHeaters(const YamlDocument& doc, const YAML::Node& list, ThermalSettin
         throw doc.error(e[key] ? e[key] : node, what + "." + key + ": '" + s.node_names[static_cast<size_t>(index)] +
                                                     "' is a boundary node (its temperature is fixed); a heater "
                                                     "cannot heat or sense it");
-    h.power_w = doc.number(doc.required(e, "power", what), what + ".power (W)", 1e-12, 1e12);
+    h.power_w = doc.number(doc.required(e, "power", what), what + ".power (W)", 1e-12, 1e9);
     h.on_below_k = doc.number(doc.required(e, "on_below", what), what + ".on_below (K)", 1e-3, 1e5);
     const YAML::Node off = doc.required(e, "off_above", what);
     h.off_above_k = doc.number(off, what + ".off_above (K)", 1e-3, 1e5);
