@@ -44,7 +44,13 @@ ShellSpec parseShell(const YamlDocument& doc, const YAML::Node& node, const std:
   if (!it->second.has_bulk)
     throw doc.error(mat, what + ".material: '" + shell.material +
                              "' has no conductivity, density and specific_heat; a shell needs them");
-  shell.thickness_m = doc.number(doc.required(node, "thickness", what), what + ".thickness (m)", 1e-7, 10.0);
+  // A thin shell: beyond 0.1 m the plate is no longer thin against any sensible node, and a
+  // thickness of 2 is far likelier 2 mm than 2 m.
+  const YAML::Node thickness = doc.required(node, "thickness", what);
+  shell.thickness_m = doc.number(thickness, what + ".thickness (m)", 1e-7, 1e3);
+  if (shell.thickness_m > 0.1)
+    throw doc.error(thickness, what + ".thickness: " + std::to_string(shell.thickness_m) +
+                                   " m is not a thin shell; thicknesses are in metres (2 mm is 0.002)");
   shell.what = what;
   const InputError where = doc.error(node, "");
   shell.file = where.file();
