@@ -312,30 +312,6 @@ void checkFinite(ThermalResult& res) {
 
 }  // namespace
 
-Eigen::VectorXd ThermalForcing::loadAt(double t) const {
-  const size_t P = times_s.size();
-  double tau = load_period_s > 0 ? t - load_period_s * std::floor(t / load_period_s) : t;
-  if (load_period_s > 0 && tau < times_s.front()) tau += load_period_s;
-  const auto it = std::upper_bound(times_s.begin(), times_s.end(), tau);
-  if (!(load_period_s > 0)) {  // held before the first and after the last sample
-    if (it == times_s.begin()) return q_env.col(0);
-    if (it == times_s.end()) return q_env.col(static_cast<Eigen::Index>(P) - 1);
-  }
-  const size_t hi = it == times_s.end() ? 0 : static_cast<size_t>(it - times_s.begin());
-  const size_t lo = hi == 0 ? P - 1 : hi - 1;
-  const double t_lo = times_s[lo], t_hi = hi == 0 ? times_s[0] + load_period_s : times_s[hi];
-  const double w = t_hi > t_lo ? (tau - t_lo) / (t_hi - t_lo) : 0.0;
-  return (1 - w) * q_env.col(static_cast<Eigen::Index>(lo)) + w * q_env.col(static_cast<Eigen::Index>(hi));
-}
-
-double ThermalForcing::sunlitAt(double t) const {
-  if (sunlit_fraction.empty()) return 1.0;
-  ThermalForcing one{times_s, Eigen::Map<const Eigen::RowVectorXd>(sunlit_fraction.data(),
-                                                                   static_cast<Eigen::Index>(sunlit_fraction.size())),
-                     {}, load_period_s, 0.0};
-  return one.loadAt(t)[0];
-}
-
 ThermalResult transient(const ThermalNetwork& net, const ThermalForcing& forcing, double orbits,
                         const Eigen::VectorXd& initial, const ThermalOptions& opt) {
   checkInputs(net, forcing, initial, opt);

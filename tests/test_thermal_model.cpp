@@ -268,3 +268,22 @@ TEST_CASE("undetermined temperatures: an isolated or sealed group with nothing t
   setConductors(strap, {{0, 1, 1e6}, {1, 2, 1e-6}});
   CHECK(undeterminedNodes(strap, false).empty());
 }
+
+TEST_CASE("forcing: loads and sunlit fraction linear between samples, wrapping with the period or held") {
+  ThermalForcing f;
+  f.times_s = {0.0, 100.0, 300.0};
+  f.q_env = Eigen::MatrixXd(1, 3);
+  f.q_env << 10.0, 20.0, 40.0;
+  f.sunlit_fraction = {1.0, 0.0, 0.5};
+  f.load_period_s = 400.0;
+  CHECK(f.loadAt(50.0)[0] == Approx(15.0));
+  CHECK(f.loadAt(200.0)[0] == Approx(30.0));
+  CHECK(f.loadAt(350.0)[0] == Approx(25.0));  // between the last sample and the first of the next period
+  CHECK(f.loadAt(850.0)[0] == Approx(15.0));  // the third period
+  CHECK(f.sunlitAt(50.0) == Approx(0.5));
+  CHECK(f.sunlitAt(350.0) == Approx(0.75));
+  f.load_period_s = 0.0;  // no period: held beyond the ends
+  CHECK(f.loadAt(-5.0)[0] == 10.0);
+  CHECK(f.loadAt(1e6)[0] == 40.0);
+  CHECK(f.sunlitAt(1e6) == 0.5);
+}
