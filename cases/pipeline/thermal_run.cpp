@@ -104,7 +104,8 @@ void checkDetermined(const ThermalSettings& ts, const solver::ThermalNetwork& ne
   throw NumericalError("temperatures undetermined: node(s) " + names +
                        " have no radiative or conductive path to space or to a boundary node" +
                        (ts.isTransient() ? " and no capacitance" : "") +
-                       " (emissivity 0 and no conductor?), so nothing fixes their temperature");
+                       ", so nothing fixes their temperature: a sealed enclosure or a node with emissivity 0 "
+                       "needs a conductor to the structure (or a shell), or a boundary node");
 }
 
 }  // namespace
