@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <limits>
 #include <sstream>
 
@@ -58,9 +59,44 @@ YamlDocument YamlDocument::load(const std::string& path) {
   return parse(buf.str(), path);
 }
 
+namespace {
+
+// YAML lets a mapping name a key twice and keeps one silently; a case file must not. Walks
+// the document (at most kMaxVisits nodes, so that nested aliases cannot expand without end).
+constexpr long kMaxVisits = 2000000;
+
+void checkDuplicateKeys(const YAML::Node& node, const std::string& label, long& visits) {
+  if (++visits > kMaxVisits)
+    throw InputError(label, node.Mark().line + 1, node.Mark().column + 1,
+                     "the document expands to more than 2e6 nodes (aliases nested too deep?)");
+  if (node.IsMap()) {
+    std::map<std::string, YAML::Mark> seen;
+    for (const auto& kv : node) {
+      if (kv.first.IsScalar()) {
+        const auto [it, fresh] = seen.emplace(kv.first.Scalar(), kv.first.Mark());
+        if (!fresh)
+          throw InputError(label, kv.first.Mark().line + 1, kv.first.Mark().column + 1,
+                           "duplicate key '" + kv.first.Scalar() + "' (first at line " +
+                               std::to_string(it->second.line + 1) + "); a key may appear once in a mapping");
+      }
+      checkDuplicateKeys(kv.second, label, visits);
+    }
+  } else if (node.IsSequence()) {
+    for (const auto& child : node) checkDuplicateKeys(child, label, visits);
+  }
+}
+
+}  // namespace
+
 YamlDocument YamlDocument::parse(const std::string& text, const std::string& label) {
   try {
-    YAML::Node root = YAML::Load(text);
+    const std::vector<YAML::Node> documents = YAML::LoadAll(text);
+    if (documents.size() > 1)
+      throw InputError(label, documents[1].Mark().line + 1, documents[1].Mark().column + 1,
+                       "a second YAML document ('---'); a case file holds one");
+    YAML::Node root = documents.empty() ? YAML::Node() : documents.front();
+    long visits = 0;
+    checkDuplicateKeys(root, label, visits);
     return YamlDocument(root, label, text);
   } catch (const YAML::ParserException& e) {
     throw InputError(label, e.mark.line + 1, e.mark.column + 1, "YAML syntax error: " + e.msg);
