@@ -24,6 +24,25 @@ struct OrbitKeys {
   double angleRad(const char* key) const { return units::degToRad(num(key, "(deg)", -kBig, kBig, 0)); }
 };
 
+// Below ~100 km nothing orbits for long; such a value is almost always kilometres written
+// where metres are meant (35786 for GEO). Refused unless `allow_low_altitude: true`.
+constexpr double kLowestAltitude = 100e3;  // m
+
+void checkAltitudes(const YamlDocument& doc, const YAML::Node& o) {
+  if (o["allow_low_altitude"] && doc.boolean(o["allow_low_altitude"], "orbit.allow_low_altitude")) return;
+  for (const char* key : {"altitude", "perigee_altitude", "apogee_altitude"}) {
+    const YAML::Node v = o[key];
+    if (!v) continue;
+    const double h = doc.number(v, std::string("orbit.") + key + " (m)", -kBig, kBig);
+    if (h > 0 && h < kLowestAltitude) {
+      std::ostringstream msg;
+      msg << "orbit." << key << ": " << h << " m is below 100 km, where no orbit lasts; altitudes are in metres ("
+          << h << " km is " << h << ".0e3); give 'allow_low_altitude: true' if " << h << " m is meant";
+      throw doc.error(v, msg.str());
+    }
+  }
+}
+
 // `epoch` and `beta` may be lists: one orbit per combination (seasons × betas).
 std::vector<YAML::Node> listOf(const YamlDocument& doc, const YAML::Node& o, const char* key) {
   std::vector<YAML::Node> items;
@@ -121,7 +140,8 @@ std::optional<OrbitSettings> parseOrbitSettings(const YamlDocument& doc) {
   doc.expectMap(o, "orbit",
                 {"altitude", "beta", "inclination", "raan", "ltan", "sun_synchronous", "semi_major_axis",
                  "eccentricity", "perigee_altitude", "apogee_altitude", "arg_perigee", "true_anomaly", "epoch",
-                 "positions", "orbits", "eclipse_events", "spacing"});
+                 "positions", "orbits", "eclipse_events", "spacing", "allow_low_altitude"});
+  checkAltitudes(doc, o);
   OrbitSettings s;
   const OrbitKeys keys{doc, o};
   const auto epoch_list = epochs(doc, o);
