@@ -35,6 +35,12 @@ double julianDateFromIso(const std::string& iso) {
   if (mo < 1 || mo > 12 || d < 1 || d > 31 || h > 23 || mi > 59 || !(s >= 0 && s < 61) || y < 1900 || y > 2200)
     throw std::invalid_argument("'" + iso +
                                 "' has a field out of range (year 1900–2200, month, day, hour, minute, second)");
+  // The days of each month, Gregorian leap years: 2026-02-30 is no date.
+  static constexpr int kDays[12] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+  const bool leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
+  if (d > kDays[mo - 1] + (mo == 2 && leap ? 1 : 0))
+    throw std::invalid_argument("'" + iso + "' names day " + std::to_string(d) + " of a month that has " +
+                                std::to_string(kDays[mo - 1] + (mo == 2 && leap ? 1 : 0)) + " days");
   // Fliegel & Van Flandern (1968): Julian day number of a Gregorian date.
   const int a = (14 - mo) / 12, yy = y + 4800 - a, mm = mo + 12 * a - 3;
   const long jdn = d + (153 * mm + 2) / 5 + 365L * yy + yy / 4 - yy / 100 + yy / 400 - 32045;

@@ -117,6 +117,10 @@ TEST_CASE("cli: a missing file and bad arguments exit 2, a numerical failure exi
   CHECK(no_dir.exit_code == 2);
   CHECK(no_dir.err.find("does not exist") != std::string::npos);
   CHECK(runRadnet("run", dir).exit_code == 2);
+  const Run bad_seed = runRadnet("run '" + source("cases/examples/seed-room.yaml") + "' -o out.h5 --seed -5", dir);
+  CHECK(bad_seed.exit_code == 2);  // refused, not ignored
+  CHECK(bad_seed.err.find("a seed is a whole number >= 0") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir.path / "out.h5"));
 
   const Run num = runRadnet("run '" + source("tests/data/numerical/lossless-cavity.yaml") + "' -o out.h5", dir);
   INFO(num.err);

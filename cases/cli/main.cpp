@@ -154,7 +154,14 @@ int main(int argc, char** argv) {
   run->add_option("-o,--output", run_options.output, "output HDF5 file (default: <case name>.h5 in this directory)");
   run->add_flag("-q,--quiet", run_options.quiet, "no progress on stderr");
   run->add_option("--threads", run_options.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
-  run->add_option("--seed", run_options.seed, "random seed for ray casting (overrides the case)");
+  run->add_option("--seed", run_options.seed, "random seed for ray casting (overrides the case)")
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            return !text.empty() && text.find_first_not_of("0123456789") == std::string::npos
+                       ? std::string()
+                       : "a seed is a whole number >= 0, not '" + text + "'";
+          },
+          "SEED >= 0"));
 
   std::vector<std::string> check_cases;
   auto* check = app.add_subcommand("check", "run cases with an 'expect:' block; exit 1 on any regression");
