@@ -43,6 +43,29 @@ void checkAltitudes(const YamlDocument& doc, const YAML::Node& o) {
   }
 }
 
+// A key the chosen form does not use would be dropped silently: refuse it, saying why.
+void checkFormKeys(const YamlDocument& doc, const YAML::Node& o, bool kepler) {
+  std::vector<std::pair<const char*, const char*>> unused;  // key, why
+  if (kepler) {
+    for (const char* key : {"altitude", "ltan", "sun_synchronous", "beta"})
+      unused.emplace_back(key, "Keplerian elements give the orbit; remove it");
+    if (o["semi_major_axis"])
+      for (const char* key : {"perigee_altitude", "apogee_altitude"})
+        unused.emplace_back(key, "give semi_major_axis/eccentricity or perigee/apogee altitudes, not both");
+    else
+      unused.emplace_back("eccentricity", "perigee and apogee altitudes set it; remove it");
+  } else {
+    for (const char* key : {"eccentricity", "arg_perigee", "apogee_altitude"})
+      unused.emplace_back(key, "a circular orbit by altitude has none; give Keplerian elements for an eccentric one");
+    if (o["beta"])
+      for (const char* key : {"inclination", "raan", "true_anomaly"})
+        unused.emplace_back(key, "the beta form sets the plane from beta and starts at the ascending node; remove it");
+    if (o["ltan"] || o["sun_synchronous"]) unused.emplace_back("raan", "a sun-synchronous orbit's node follows from ltan");
+  }
+  for (const auto& [key, why] : unused)
+    if (o[key]) throw doc.error(o[key], std::string("orbit.") + key + ": " + why);
+}
+
 // `epoch` and `beta` may be lists: one orbit per combination (seasons × betas).
 std::vector<YAML::Node> listOf(const YamlDocument& doc, const YAML::Node& o, const char* key) {
   std::vector<YAML::Node> items;
@@ -108,8 +131,8 @@ orbits::KeplerElements circularElements(const OrbitKeys& k, std::optional<double
     std::ostringstream d;
     d << "sun-synchronous, LTAN " << ltan << " h";
     description = d.str();
-    return orbits::circularElements(h, orbits::sunSynchronousInclinationDeg(h),
-                                    orbits::raanForLocalTimeDeg(ltan, epoch));
+    return orbits::circularElements(h, orbits::sunSynchronousInclinationDeg(h), orbits::raanForLocalTimeDeg(ltan, epoch),
+                                    k.num("true_anomaly", "(deg)", -kBig, kBig, 0));
   }
   description = "circular";
   return orbits::circularElements(h, k.num("inclination", "(deg)", 0, 180, 0), k.num("raan", "(deg)", -kBig, kBig, 0),
@@ -156,6 +179,7 @@ std::optional<OrbitSettings> parseOrbitSettings(const YamlDocument& doc) {
                     "orbit: give one form: 'beta', or 'ltan'/'sun_synchronous', or Keplerian elements "
                     "('semi_major_axis'/'perigee_altitude'), or 'altitude' with 'inclination' and 'raan'");
   if (!kepler && !o["altitude"]) throw doc.error(o, "orbit: missing 'altitude' (m)");
+  checkFormKeys(doc, o, kepler);
   for (const auto& [epoch, epoch_text] : epoch_list) {
     for (const auto& beta : betas) {
       try {
