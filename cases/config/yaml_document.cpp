@@ -178,9 +178,45 @@ long long YamlDocument::integer(const YAML::Node& node, const std::string& what,
   return value;
 }
 
+namespace {
+
+// Well-formed UTF-8 without control characters: names go into UTF-8 HDF5 strings, and a
+// NUL would make two different names one in every C API downstream.
+bool isCleanUtf8(const std::string& text) {
+  const auto* p = reinterpret_cast<const unsigned char*>(text.data());
+  const auto* end = p + text.size();
+  while (p < end) {
+    const unsigned char c = *p;
+    int extra = 0;
+    unsigned cp = 0;
+    if (c < 0x80) {
+      if ((c < 0x20 && c != '\t' && c != '\n' && c != '\r') || c == 0x7f) return false;  // NUL, ESC, …
+      ++p;
+      continue;
+    }
+    if ((c & 0xe0) == 0xc0) extra = 1, cp = c & 0x1f;
+    else if ((c & 0xf0) == 0xe0) extra = 2, cp = c & 0x0f;
+    else if ((c & 0xf8) == 0xf0) extra = 3, cp = c & 0x07;
+    else return false;
+    if (end - p <= extra) return false;
+    for (int k = 1; k <= extra; ++k) {
+      if ((p[k] & 0xc0) != 0x80) return false;
+      cp = (cp << 6) | (p[k] & 0x3f);
+    }
+    static constexpr unsigned kMin[4] = {0, 0x80, 0x800, 0x10000};
+    if (cp < kMin[extra] || cp > 0x10ffff || (cp >= 0xd800 && cp <= 0xdfff)) return false;  // overlong, surrogate
+    p += extra + 1;
+  }
+  return true;
+}
+
+}  // namespace
+
 std::string YamlDocument::string(const YAML::Node& node, const std::string& what) const {
   if (!node.IsScalar() || node.Scalar().empty())
     throw error(node, what + ": expected a non-empty text, found " + kindName(node));
+  if (!isCleanUtf8(node.Scalar()))
+    throw error(node, what + ": the text holds a control character (NUL, ESC, …) or is not valid UTF-8");
   return node.Scalar();
 }
 
