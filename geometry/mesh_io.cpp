@@ -125,6 +125,25 @@ void checkOffCounts(const std::string& path) {
                         " (truncated, or a wrong count)");
 }
 
+// A binary STL is an 80-byte header, a triangle count and 50 bytes per triangle: a count
+// that disagrees with the size would make the reader drop (or invent) triangles silently.
+// An ASCII STL starts with "solid" and has "facet" soon after.
+void checkStlCount(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(1024, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<size_t>(in.gcount()));
+  if (head.rfind("solid", 0) == 0 && head.find("facet") != std::string::npos) return;
+  const auto size = static_cast<unsigned long long>(std::filesystem::file_size(path));
+  if (size < 84) throw GeometryError(path + ": binary STL shorter than its 84-byte header");
+  const unsigned char* c = reinterpret_cast<const unsigned char*>(head.data()) + 80;
+  const unsigned long long count = c[0] | (c[1] << 8) | (c[2] << 16) | (static_cast<unsigned long long>(c[3]) << 24);
+  if (84 + 50 * count != size)
+    throw GeometryError(path + ": the binary STL header counts " + std::to_string(count) + " triangles, which take " +
+                        std::to_string(84 + 50 * count) + " bytes; the file has " + std::to_string(size) +
+                        " (truncated, or a wrong count)");
+}
+
 void checkScale(double scale, const std::string& path) {
   if (!(std::isfinite(scale) && scale > 0)) throw GeometryError(path + ": scale must be a finite value > 0");
 }
@@ -139,6 +158,7 @@ TriangleSoup readMesh(const std::string& path, double scale) {
   if (!std::filesystem::exists(path)) throw GeometryError(path + ": mesh file not found");
   if (ext == ".ply") checkPlyHeader(path);
   if (ext == ".off") checkOffCounts(path);
+  if (ext == ".stl") checkStlCount(path);
   std::vector<Point3> points;
   std::vector<std::vector<std::size_t>> polygons;
   bool ok = false;

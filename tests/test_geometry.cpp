@@ -9,6 +9,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -174,6 +175,20 @@ TEST_CASE("mesh files: OFF, OBJ (with groups), STL, PLY read and scaled, bad fil
                 "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 2 0 0\nvertex 0 2 0\n"
                 "endloop\nendfacet\nendsolid t\n");
   CHECK(soupArea(readMesh(stl, 1.0)) == Approx(2.0));
+  // Binary STL: 80-byte header, count, 50 bytes per triangle (normal, 3 vertices, attribute).
+  auto binaryStl = [&](const std::string& name, std::uint32_t count, int triangles) {
+    std::string bytes(80, ' ');
+    bytes.append(reinterpret_cast<const char*>(&count), 4);
+    for (int t = 0; t < triangles; ++t) {
+      const float f[12] = {0, 0, 1, 0, 0, 0, 2, 0, 0, 0, 2, 0};
+      bytes.append(reinterpret_cast<const char*>(f), sizeof f);
+      bytes.append(2, '\0');
+    }
+    return dir.write(name, bytes);
+  };
+  CHECK(soupArea(readMesh(binaryStl("b.stl", 2, 2), 1.0)) == Approx(4.0));
+  // A count that disagrees with the size is refused, not read short (issue 13).
+  CHECK_THROWS_WITH(readMesh(binaryStl("short.stl", 1, 2), 1.0), Contains("counts 1 triangles"));
   const std::string ply = dir.write("t.ply",
                                     "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                                     "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
