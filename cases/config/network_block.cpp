@@ -11,6 +11,9 @@ namespace radnet::cases {
 namespace {
 
 constexpr double kHuge = std::numeric_limits<double>::max();
+// An exitance beyond 1e15 W/m² (a 1e5 K black body is 5.7e12) would overflow the residual
+// norms of the band solve into infinities and NaN.
+constexpr double kMaxExitance = 1e15;  // W/m²
 
 Eigen::MatrixXd parseDenseViewFactors(const YamlDocument& doc, const YAML::Node& node, int n) {
   doc.expectSequence(node, "network.view_factors");
@@ -84,7 +87,7 @@ std::unordered_map<std::string, int> parseNodes(const YamlDocument& doc, const Y
       throw doc.error(node, what + ": missing 'reflectance' (or 'emissivity', from which ρ = 1 − ε)");
     }
     c.initial_exitance[i] = node["initial_exitance"]
-                                ? doc.number(node["initial_exitance"], what + ".initial_exitance (W/m²)", -kHuge, kHuge)
+                                ? doc.number(node["initial_exitance"], what + ".initial_exitance (W/m²)", -kMaxExitance, kMaxExitance)
                                 : 0.0;
   }
   if (with_emissivity != 0 && with_emissivity != n)
