@@ -262,3 +262,27 @@ thermal:
   CHECK(r.err.find("'plate'") == std::string::npos);
   CHECK_FALSE(fs::exists(dir.path / "out.h5"));
 }
+
+TEST_CASE("suspicious thermal input is run but warned about: a shell torn by a T-junction, a set point in °C") {
+  TempDir dir;
+  // Two OBJ groups meeting along x = 1, the right one split at (1, 0.5): no edge coincides.
+  dir.write("t.obj",
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\nv 1 0.5 0\n"
+            "g left\nf 1 2 3\nf 1 3 4\ng right\nf 2 5 7\nf 7 5 6\nf 7 6 3\n");
+  dir.write("case.yaml", R"(
+name: suspicious
+materials:
+  black: {emissivity: 0.9, absorptivity: 0.9}
+  al: {conductivity: 167.0, density: 2700.0, specific_heat: 896.0}
+geometry:
+  - mesh: {name: m, file: t.obj, groups: true, front: black, shell: {material: al, thickness: 0.002}}
+solver: {view_factors: {rays: 500, seed: 1}}
+thermal:
+  heaters: [{name: h, node: m.left, power: 5.0, on_below: 5.0, off_above: 10.0}]
+)");
+  const Run r = runRadnet("run case.yaml -o out.h5", dir);
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+  CHECK(r.err.find("warning: geometry[0].mesh.shell: the front nodes fall into 2 pieces") != std::string::npos);
+  CHECK(r.err.find("warning: thermal.heaters[0]: on_below 5.000000 K is below 100 K") != std::string::npos);
+}

@@ -4,8 +4,39 @@
 #include "geometry/shell.hpp"
 
 #include <cmath>
+#include <map>
+#include <set>
 
 namespace radnet::cases {
+namespace {
+
+// A shell whose nodes on one side fall into pieces that no in-plane conductor joins is
+// legal (separate parts in one mesh) but usually means edges that do not coincide, such as
+// T-junctions between different subdivisions: say so rather than conduct nothing silently.
+void warnIfDisconnected(const GeometryCase& c, const ShellSpec& shell, const geometry::ShellAdjacency& adj,
+                        ThermalSettings& ts) {
+  std::map<int, int> parent;  // node → representative, over the shell's nodes
+  for (int f = shell.first_face; f < shell.end_face; ++f)
+    for (int node : {c.scene.faces()[static_cast<size_t>(f)].front_node, c.scene.faces()[static_cast<size_t>(f)].back_node})
+      if (node >= 0) parent.emplace(node, node);
+  auto find = [&](int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (const auto& nb : adj.neighbours) parent[find(nb.a)] = find(nb.b);
+  for (int side : {+1, -1}) {
+    std::set<int> pieces;
+    for (const auto& [node, rep] : parent)
+      if (c.scene.nodes()[static_cast<size_t>(node)].side == side) pieces.insert(find(node));
+    if (pieces.size() > 1)
+      ts.warnings.push_back(shell.what + ": the " + (side > 0 ? "front" : "back") + " nodes fall into " +
+                            std::to_string(pieces.size()) +
+                            " pieces that no in-plane conductor joins (triangle edges that do not coincide, e.g. "
+                            "T-junctions between different subdivisions?)");
+  }
+}
+
+}  // namespace
 
 void applyShells(GeometryCase& c) {
   for (const ShellSpec& shell : c.shells) {
@@ -38,6 +69,7 @@ void applyShells(GeometryCase& c) {
       ts.conductors.emplace_back(nb.a, nb.b, g);
       ts.conductors.emplace_back(nb.b, nb.a, g);
     }
+    warnIfDisconnected(c, shell, adj, ts);
     for (const auto& fb : adj.front_back) {
       const double g = k * fb.area_m2 / t;
       ts.conductors.emplace_back(fb.front, fb.back, g);

@@ -52,6 +52,9 @@ void parseHeaters(const YamlDocument& doc, const YAML::Node& list, ThermalSettin
     if (!(h.off_above_k > h.on_below_k))
       throw doc.error(off, what + ".off_above: must lie above on_below (" + std::to_string(h.on_below_k) +
                                " K); a thermostat needs a dead band between switching on and off");
+    if (h.on_below_k < 100.0)  // legal for a cryogenic stage, but far likelier °C written for K
+      s.warnings.push_back(what + ": on_below " + std::to_string(h.on_below_k) +
+                           " K is below 100 K; temperatures are in kelvin (5 °C is 278.15)");
     s.heaters.push_back(h);
   }
 }

@@ -37,6 +37,7 @@ struct ThermalSettings {
   std::optional<double> duration_s;                 ///< a transient without an orbit, s
   double output_step_s = 0.0;                       ///< its output interval, s
   solver::ThermalOptions options;
+  std::vector<std::string> warnings;  ///< accepted but suspicious input, printed with the run's progress
   int nodeCount() const { return static_cast<int>(node_names.size()); }
   bool isLumped(int i) const { return i >= radiative_nodes; }
   bool isTransient() const { return transient_orbits || periodic || duration_s; }

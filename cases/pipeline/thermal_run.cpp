@@ -155,6 +155,7 @@ HeatBalance heatBalance(const solver::ThermalNetwork& net, const solver::Thermal
 
 ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFactors& exchange, const SweepResult* sweep,
                            StageTimings& timings, std::ostream& progress) {
+  for (const std::string& w : ts.warnings) progress << "radnet: warning: " << w << "\n";
   const solver::ThermalNetwork net = thermalNetwork(ts, exchange);
   checkDetermined(ts, net);
   StageTimer timer(timings, Stage::Thermal);
