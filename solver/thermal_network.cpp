@@ -157,9 +157,11 @@ Eigen::VectorXd conductedHeat(const ThermalNetwork& net, const Eigen::VectorXd& 
   return g;
 }
 
-Eigen::VectorXd netHeat(const ThermalNetwork& net, const Eigen::VectorXd& t, const Eigen::VectorXd& q) {
+Eigen::VectorXd netHeat(const ThermalNetwork& net, const Eigen::VectorXd& t, const Eigen::VectorXd& q,
+                        const Eigen::VectorXd* gr_row_sum) {
   const Eigen::VectorXd t4 = t.array().square().square();
-  return q + conductedHeat(net, t) + kStefanBoltzmann * (net.gr * t4 - net.gr.rowwise().sum().cwiseProduct(t4)) -
+  const Eigen::VectorXd gr_row = gr_row_sum ? *gr_row_sum : Eigen::VectorXd(net.gr.rowwise().sum());
+  return q + conductedHeat(net, t) + kStefanBoltzmann * (net.gr * t4 - gr_row.cwiseProduct(t4)) -
          kStefanBoltzmann * net.gr_space.cwiseProduct((t4.array() - std::pow(net.space_temperature, 4)).matrix());
 }
 

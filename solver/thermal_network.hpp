@@ -87,7 +87,9 @@ Eigen::VectorXd dissipationAt(const ThermalNetwork& net, double t_s, double sunl
 
 /// Heat balance G(T) of every node, W, for applied powers q (environment + dissipation +
 /// heaters) (n), W.
-Eigen::VectorXd netHeat(const ThermalNetwork& net, const Eigen::VectorXd& t, const Eigen::VectorXd& q);
+/// @param gr_row_sum  Σ_j GR_ij when the caller keeps it (an O(n²) sum a Newton loop need not repeat)
+Eigen::VectorXd netHeat(const ThermalNetwork& net, const Eigen::VectorXd& t, const Eigen::VectorXd& q,
+                        const Eigen::VectorXd* gr_row_sum = nullptr);
 /// Net conduction into every node, Σ_j K_ij(T̄) (T_j − T_i), W.
 Eigen::VectorXd conductedHeat(const ThermalNetwork& net, const Eigen::VectorXd& t);
 /// ∂G/∂T (n×n), W/K.

@@ -22,7 +22,8 @@ Residual residual(const ImplicitSystem& s, const Eigen::VectorXd& t, const Eigen
   Eigen::VectorXd q = s.q;
   for (Eigen::Index k = 0; k < a; ++k) q[net.heaters[static_cast<size_t>(s.controlled[static_cast<size_t>(k)])].node] += u[k];
   Residual out{Eigen::VectorXd(n + a), Eigen::VectorXd(n + a), Eigen::VectorXd::Zero(n + a)};
-  out.r.head(n) = -s.hb * netHeat(net, t, q);
+  const Eigen::VectorXd* gr_row = s.cache && s.cache->gr_row_sum.size() == n ? &s.cache->gr_row_sum : nullptr;
+  out.r.head(n) = -s.hb * netHeat(net, t, q, gr_row);
   if (frozen) {
     out.scale = frozen->scale;
     out.noise = frozen->noise;
@@ -130,6 +131,7 @@ NewtonOutcome solveImplicit(const ImplicitSystem& s, Eigen::VectorXd& t, Eigen::
   const Eigen::Index n = t.size(), a = u.size();
   for (Eigen::Index i = 0; i < n; ++i)
     if (s.net.isFixed(i)) t[i] = s.net.fixed_temperature[i];
+  if (s.cache && s.cache->gr_row_sum.size() != n) s.cache->gr_row_sum = s.net.gr.rowwise().sum();
   JacobianCache* cache = a == 0 && opt.reuse_jacobian ? s.cache : nullptr;
   NewtonOutcome out;
   Residual res = residual(s, t, u);

@@ -20,6 +20,7 @@ namespace radnet::solver::detail {
 /// not. For a dense n-node network a factorisation costs O(n³), a solve with it O(n²).
 struct JacobianCache {
   Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+  Eigen::VectorXd gr_row_sum;  ///< Σ_j GR_ij of the network, kept with it (O(n²) to form)
   double hb = 0.0;     ///< the h β it was factorised for (a BDF2 step of another length needs another)
   bool valid = false;  ///< only for systems without controlled heaters
 };
