@@ -120,6 +120,8 @@ ViewFactorResult computeViewFactors(const RayCaster& caster, const ViewFactorOpt
   if (!(opt.target_error >= 0)) throw std::invalid_argument("target error must be >= 0");
   const Scene& scene = caster.scene();
   const int n = static_cast<int>(scene.nodes().size());
+  if (!opt.cast_rows.empty() && opt.cast_rows.size() != static_cast<size_t>(n))
+    throw std::invalid_argument("cast_rows must have one entry per node");
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<std::vector<std::pair<int, double>>> rows(static_cast<size_t>(n)), errors(static_cast<size_t>(n));
   ViewFactorResult res;
@@ -131,8 +133,9 @@ ViewFactorResult computeViewFactors(const RayCaster& caster, const ViewFactorOpt
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
 #endif
   for (int i = 0; i < n; ++i) {
-    double space[2], blocked[2];
-    computeViewFactorRow(caster, i, opt, rows[static_cast<size_t>(i)], errors[static_cast<size_t>(i)], space, blocked,
+    double space[2] = {0, 0}, blocked[2] = {0, 0};
+    if (opt.cast_rows.empty() || opt.cast_rows[static_cast<size_t>(i)])
+      computeViewFactorRow(caster, i, opt, rows[static_cast<size_t>(i)], errors[static_cast<size_t>(i)], space, blocked,
                          res.rays[static_cast<size_t>(i)]);
     res.space[i] = space[0];
     res.space_error[i] = space[1];

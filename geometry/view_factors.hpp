@@ -35,6 +35,9 @@ struct ViewFactorOptions {
   int replicas = 32;
   Sampling sampling = Sampling::Sobol;
   int threads = 0;  ///< 0: OpenMP's default
+  /// Nodes that cast (empty: all). The others' rows come out empty with 0 rays; the
+  /// deterministic method's `auto` mode casts only the rows it leaves to sampling.
+  std::vector<char> cast_rows;
   /// Called as nodes finish (from one thread at a time): (nodes done, nodes total).
   std::function<void(int, int)> progress;
 };

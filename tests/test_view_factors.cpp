@@ -2,41 +2,25 @@
 // Tolerance: "3σ" plus the stated bias of the facetted geometry where a curved surface is
 // involved. σ is estimated from 32 randomised-QMC replicas, so (F̂ − F)/σ follows Student's
 // t with 31 degrees of freedom; its 99.73 % quantile (the normal 3σ coverage) is 3.29.
-#include "geometry/contour_view_factors.hpp"
+#include "geometry/exact_view_factors.hpp"
 #include "geometry/primitives.hpp"
 #include "geometry/reciprocity.hpp"
 #include "geometry/view_factors.hpp"
+#include "tests/howell.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
 
 using namespace radnet::geometry;
+using namespace radnet;
 
 namespace {
 
 constexpr double kThreeSigma = 3.29;  // t(31) quantile of the normal 3σ coverage
 
-// Howell C-11: directly opposed parallel rectangles a × b at distance c.
-double parallelRectangles(double a, double b, double c) {
-  const double x = a / c, y = b / c;
-  const double x1 = 1 + x * x, y1 = 1 + y * y;
-  return 2.0 / (M_PI * x * y) *
-         (std::log(std::sqrt(x1 * y1 / (1 + x * x + y * y))) + x * std::sqrt(y1) * std::atan(x / std::sqrt(y1)) +
-          y * std::sqrt(x1) * std::atan(y / std::sqrt(x1)) - x * std::atan(x) - y * std::atan(y));
-}
-
-// Howell C-14: perpendicular rectangles with a common edge of length l, widths w (from) and h (to).
-double perpendicularRectangles(double l, double w, double h) {
-  const double H = h / l, W = w / l;
-  const double a = (1 + W * W) * (1 + H * H) / (1 + W * W + H * H);
-  const double b = W * W * (1 + W * W + H * H) / ((1 + W * W) * (W * W + H * H));
-  const double c = H * H * (1 + H * H + W * W) / ((1 + H * H) * (H * H + W * W));
-  return 1.0 / (M_PI * W) *
-         (W * std::atan(1 / W) + H * std::atan(1 / H) -
-          std::sqrt(H * H + W * W) * std::atan(1 / std::sqrt(H * H + W * W)) +
-          0.25 * std::log(a * std::pow(b, W * W) * std::pow(c, H * H)));
-}
+using howell::parallelRectangles;
+using howell::perpendicularRectangles;
 
 ViewFactorResult cast(const Scene& scene, std::int64_t rays, std::uint64_t seed = 1,
                       Sampling sampling = Sampling::Sobol) {
@@ -93,10 +77,9 @@ TEST_CASE("coaxial parallel discs, radius 1, distance 1: F = (3 − √5)/2 = 0.
   const double exact = (3.0 - std::sqrt(5.0)) / 2.0;
   // Bias of the 64-gon against the circle, measured by the deterministic method on the
   // same facets: |F_facetted − F_circle| < 2e-4 (the polygon's area equals the circle's).
-  RayCaster caster(s);
-  const ContourResult det = contourViewFactors(caster, ContourOptions{1e-8, 10, 0});
-  INFO("deterministic on the facetted discs: " << det.view_factors(0, 1));
-  CHECK(std::abs(det.view_factors(0, 1) - exact) < 2e-4);
+  const ExactResult det = exactViewFactors(s, ExactOptions::withTolerance(1e-8));
+  INFO("deterministic on the facetted discs: " << det.view_factors.coeff(0, 1));
+  CHECK(std::abs(det.view_factors.coeff(0, 1) - exact) < 2e-4);
   const ViewFactorResult r = cast(s, 200000);
   checkWithin3Sigma(r, 0, 1, exact, 2e-4);
 }
@@ -144,14 +127,14 @@ TEST_CASE("occlusion: a plate halfway between two squares changes F as the deter
   ViewFactorOptions opt;
   opt.rays_per_node = 400000;
   const ViewFactorResult mc = computeViewFactors(caster, opt);
-  const ContourResult det = contourViewFactors(caster, ContourOptions{1e-5, 4, 4});
+  const ExactResult det = exactViewFactors(s, ExactOptions::withTolerance(1e-7));
   const double unblocked = parallelRectangles(1, 1, 1);
   INFO("MC " << mc.view_factors.coeff(0, 1) << " ± " << mc.standard_error.coeff(0, 1) << ", deterministic "
-             << det.view_factors(0, 1) << " (error estimate " << det.error_estimate(0, 1) << ")");
+             << det.view_factors.coeff(0, 1) << " (error estimate " << det.standard_error.coeff(0, 1) << ")");
   CHECK(mc.view_factors.coeff(0, 1) < unblocked - 0.02);  // the blocker takes a visible share
-  // Sampled visibility (4 shadow rays per receiving triangle, 2 × 2 receiver cells split in
-  // two) has an error of order 1e-3 here; compare within that plus 3σ.
-  checkWithin3Sigma(mc, 0, 1, det.view_factors(0, 1), 3e-3);
+  // The exact method's error (≤ 1e-7) is far below the rays' σ: compare within 3σ.
+  checkWithin3Sigma(mc, 0, 1, det.view_factors.coeff(0, 1));
+  checkWithin3Sigma(mc, 0, 2, det.view_factors.coeff(0, 2));
   // Rays stopped by the blocker's sides count as the blocker's, not as space.
   CHECK(mc.view_factors.coeff(0, 2) > 0.05);
 }
@@ -240,25 +223,4 @@ TEST_CASE("reproducible: same seed and any thread count give the same bits, and 
   CHECK(adaptive.rays[0] < (1 << 22));
   CHECK(adaptive.standard_error.coeff(0, 1) <= 1e-3);
   CHECK(std::abs(adaptive.view_factors.coeff(0, 1) - parallelRectangles(1, 1, 1)) <= 3e-3);
-}
-
-TEST_CASE("deterministic contour method: exact for unoccluded analytic pairs") {
-  const Scene squares = parallelSquares();
-  RayCaster caster(squares);  // the caster keeps a reference: the scene must outlive it
-  const ContourResult det = contourViewFactors(caster, ContourOptions{1e-9, 10, 0});
-  CHECK(det.view_factors(0, 1) == Approx(parallelRectangles(1, 1, 1)).margin(2e-6));
-  Scene p;
-  p.addSurface("a", "a", rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 1, 1), "a", "");
-  p.addSurface("b", "b", rectangle(Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, 0), 1, 1), "b", "");
-  RayCaster pc(p);
-  const ContourResult perp = contourViewFactors(pc, ContourOptions{1e-9, 12, 0});
-  CHECK(perp.view_factors(0, 1) == Approx(perpendicularRectangles(1, 1, 1)).margin(2e-6));
-  // Point under the centre of a unit square at height 1: four corner cases of Howell B-3,
-  // F = (1/2π)[A/√(1+A²) tan⁻¹(B/√(1+A²)) + B/√(1+B²) tan⁻¹(A/√(1+B²))] with A = B = 0.5.
-  const double quadrant = (1.0 / (2 * M_PI)) * 2.0 * (0.5 / std::sqrt(1.25)) * std::atan(0.5 / std::sqrt(1.25));
-  const double exact = 4.0 * quadrant;
-  const double f =
-      pointToTriangle(Vec3(0.5, 0.5, 0), Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(1, 1, 1), Vec3(0, 0, -1)) +
-      pointToTriangle(Vec3(0.5, 0.5, 0), Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(1, 1, 1), Vec3(0, 1, 1), Vec3(0, 0, -1));
-  CHECK(f == Approx(exact).epsilon(1e-12));
 }

@@ -3,7 +3,12 @@
 namespace radnet::cases {
 
 const char* toString(ViewFactorMethod method) {
-  return method == ViewFactorMethod::MonteCarlo ? "monte_carlo" : "contour";
+  switch (method) {
+    case ViewFactorMethod::Auto: return "auto";
+    case ViewFactorMethod::Exact: return "exact";
+    case ViewFactorMethod::MonteCarlo: return "monte_carlo";
+  }
+  return "?";
 }
 
 solver::SolverSettings parseSolverSettings(const YamlDocument& doc, const YAML::Node& node) {
@@ -30,7 +35,8 @@ ViewFactorSettings parseViewFactorSettings(const YamlDocument& doc, const YAML::
   if (!vf) return s;
   const std::string what = "solver.view_factors";
   geometry::ViewFactorOptions& mc = s.monte_carlo;
-  doc.expectMap(vf, what, {"rays", "seed", "target_error", "replicas", "sampling", "method", "tolerance"});
+  doc.expectMap(vf, what,
+                {"rays", "seed", "target_error", "replicas", "sampling", "method", "tolerance", "max_blockers"});
   if (vf["rays"]) mc.rays_per_node = doc.integer(vf["rays"], what + ".rays", 64, 2000000000LL);
   if (vf["seed"]) mc.seed = static_cast<std::uint64_t>(doc.integer(vf["seed"], what + ".seed", 0, 1LL << 62));
   if (vf["target_error"]) mc.target_error = doc.number(vf["target_error"], what + ".target_error", 1e-7, 0.5);
@@ -40,11 +46,19 @@ ViewFactorSettings parseViewFactorSettings(const YamlDocument& doc, const YAML::
     mc.sampling = doc.choice(vf["sampling"], what + ".sampling", {"sobol", "random"}) == "sobol"
                       ? geometry::Sampling::Sobol
                       : geometry::Sampling::Random;
-  if (vf["method"])
-    s.method = doc.choice(vf["method"], what + ".method", {"monte_carlo", "contour"}) == "monte_carlo"
-                   ? ViewFactorMethod::MonteCarlo
-                   : ViewFactorMethod::Contour;
-  if (vf["tolerance"]) s.contour.tolerance = doc.number(vf["tolerance"], what + ".tolerance", 1e-12, 0.1);
+  if (vf["method"]) {
+    // "contour" was the earlier deterministic method; the exact method replaces it.
+    const std::string m = doc.choice(vf["method"], what + ".method", {"auto", "exact", "monte_carlo", "contour"});
+    s.method = m == "auto" ? ViewFactorMethod::Auto
+               : m == "monte_carlo" ? ViewFactorMethod::MonteCarlo
+                                    : ViewFactorMethod::Exact;
+  }
+  if (vf["tolerance"]) s.exact.tolerance = doc.number(vf["tolerance"], what + ".tolerance", 1e-12, 0.1);
+  if (vf["max_blockers"]) {
+    if (s.method != ViewFactorMethod::Auto)
+      throw doc.error(vf["max_blockers"], what + ".max_blockers applies to method: auto only");
+    s.exact.max_blockers = static_cast<int>(doc.integer(vf["max_blockers"], what + ".max_blockers", 0, 1000000));
+  }
   return s;
 }
 

@@ -2,22 +2,24 @@
 // The `solver:` block of a case: the network solve (rank, tolerance, refinement,
 // eigensolver; both case forms) and, for geometry cases, how view factors are computed.
 #include "cases/config/yaml_document.hpp"
-#include "geometry/contour_view_factors.hpp"
+#include "geometry/exact_view_factors.hpp"
 #include "geometry/view_factors.hpp"
 #include "solver/settings.hpp"
 
 namespace radnet::cases {
 
-enum class ViewFactorMethod { MonteCarlo, Contour };
+/// Auto: exact for pairs with few blockers, ray casting for the rows of the rest; Exact:
+/// every pair deterministic; MonteCarlo: every row by ray casting.
+enum class ViewFactorMethod { Auto, Exact, MonteCarlo };
 
-/// Case-file spelling: "monte_carlo" or "contour".
+/// Case-file spelling: "auto", "exact" or "monte_carlo".
 const char* toString(ViewFactorMethod method);
 
 /// `solver.view_factors` of a geometry case.
 struct ViewFactorSettings {
-  ViewFactorMethod method = ViewFactorMethod::MonteCarlo;
+  ViewFactorMethod method = ViewFactorMethod::Auto;
   geometry::ViewFactorOptions monte_carlo;  ///< rays, seed, target error, replicas, sampling
-  geometry::ContourOptions contour;         ///< quadrature tolerance
+  geometry::ExactOptions exact;             ///< tolerance; max_blockers (auto only)
 };
 
 /// Parses `solver:` (defaults when absent). `view_factors` is accepted here and read by

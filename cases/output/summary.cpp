@@ -183,7 +183,11 @@ void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std
     printNodeTemperatures(r.thermal->node_names, r.thermal->temperature(), out);
     printHeatBalance(*r.thermal, r.sweep ? &*r.sweep : nullptr, out);
   }
-  out << "view factors: " << r.total_rays << " rays, correction ≤ " << r.correction.max_change << " ("
+  out << "view factors: ";
+  if (r.exact)
+    out << r.exact->pairs_unoccluded + r.exact->pairs_occluded << " patch pairs exact ("
+        << r.exact->pairs_occluded << " occluded), " << r.exact->sampled_rows << " rows by rays, ";
+  out << r.total_rays << " rays, correction ≤ " << r.correction.max_change << " ("
       << r.correction.max_change_sigma << " σ); closure error " << r.correction.max_closure_error << "\n";
   out << "eigenpairs: rank " << r.radiative.pairs.rank() << " (" << solver::toString(r.radiative.pairs.method)
       << "); exchange factors: " << ex.method << "\n";

@@ -4,7 +4,7 @@
 #include "cases/pipeline/progress.hpp"
 #include "cases/pipeline/radiative_network.hpp"
 #include "cases/pipeline/thermal_run.hpp"
-#include "geometry/contour_view_factors.hpp"
+#include "geometry/exact_view_factors.hpp"
 #include "geometry/view_factors.hpp"
 #include "solver/policy.hpp"
 
@@ -13,38 +13,67 @@
 namespace radnet::cases {
 namespace {
 
-// F by ray casting or contour integration, then the variance-weighted reciprocity and
+geometry::ViewFactorResult castRays(const GeometryCase& c, const geometry::RayCaster& caster,
+                                   std::vector<char> rows, bool show_progress, std::ostream& progress) {
+  geometry::ViewFactorOptions opt = c.view_factors.monte_carlo;
+  const bool some = !rows.empty();
+  opt.cast_rows = std::move(rows);
+  if (show_progress) opt.progress = progressBar(progress, some ? "view factors (rays)" : "view factors", "nodes");
+  return geometry::computeViewFactors(caster, opt);
+}
+
+// F by the exact method, with the rows it leaves to sampling (auto) cast as rays.
+geometry::ViewFactorEstimate exactStage(const GeometryCase& c, const geometry::RayCaster& caster,
+                                        GeometryRunResult& r, Eigen::VectorXd& rays, bool show_progress,
+                                        std::ostream& progress) {
+  geometry::ExactOptions opt = c.view_factors.exact;
+  const bool automatic = c.view_factors.method == ViewFactorMethod::Auto;
+  opt.max_blockers = !automatic ? -1 : (opt.max_blockers >= 0 ? opt.max_blockers : geometry::kAutoMaxBlockers);
+  opt.max_patches = automatic ? geometry::kAutoMaxPatches : -1;
+  opt.row_sampling_seconds =
+      automatic ? double(c.view_factors.monte_carlo.rays_per_node) * geometry::kSecondsPerRay : 0.0;
+  if (show_progress) opt.progress = progressBar(progress, "view factors", "patches");
+  const geometry::ExactResult ex = geometry::exactViewFactors(c.scene, opt);
+  r.exact = ExactViewFactorStats{ex.patches, ex.pairs_culled, ex.pairs_unoccluded, ex.pairs_occluded, 0, ex.seconds};
+  // An exact row's entries are good to the tolerance: that is its variance floor.
+  rays.setConstant(1.0 / opt.tolerance);
+  geometry::ViewFactorEstimate estimate = ex;
+  for (char row : ex.sampled_rows) r.exact->sampled_rows += row;
+  if (r.exact->sampled_rows == 0) return estimate;
+  const geometry::ViewFactorResult vf = castRays(c, caster, ex.sampled_rows, show_progress, progress);
+  for (Eigen::Index i = 0; i < rays.size(); ++i)
+    if (ex.sampled_rows[static_cast<size_t>(i)]) rays[i] = double(vf.rays[static_cast<size_t>(i)]);
+  r.total_rays = vf.total_rays;
+  r.rays_per_second = vf.seconds > 0 ? double(vf.total_rays) / vf.seconds : 0.0;
+  return geometry::withSampledRows(estimate, vf, ex.sampled_rows);
+}
+
+// F by ray casting or the exact method, then the variance-weighted reciprocity and
 // closure correction (docs/geometry.md).
 void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, const Eigen::VectorXd& area,
                      GeometryRunResult& r, bool show_progress, std::ostream& progress) {
   const Eigen::Index n = area.size();
   StageTimer timer(r.timings, Stage::ViewFactors);
   Eigen::VectorXd rays(n);
+  geometry::ViewFactorEstimate estimate;
   if (c.view_factors.method == ViewFactorMethod::MonteCarlo) {
-    geometry::ViewFactorOptions opt = c.view_factors.monte_carlo;
-    if (show_progress) opt.progress = progressBar(progress, "view factors", "nodes");
-    const geometry::ViewFactorResult vf = geometry::computeViewFactors(caster, opt);
-    r.raw_view_factors = vf.denseViewFactors();
-    r.view_factor_stderr = vf.denseStandardError();
+    const geometry::ViewFactorResult vf = castRays(c, caster, {}, show_progress, progress);
     for (Eigen::Index i = 0; i < n; ++i) rays[i] = double(vf.rays[static_cast<size_t>(i)]);
     r.total_rays = vf.total_rays;
     r.rays_per_second = vf.seconds > 0 ? double(vf.total_rays) / vf.seconds : 0.0;
-    r.correction = geometry::enforceReciprocity(area, vf, rays);
+    estimate = vf;
   } else {
-    const geometry::ContourResult det = geometry::contourViewFactors(caster, c.view_factors.contour);
-    r.raw_view_factors = det.view_factors;
-    r.view_factor_stderr = det.error_estimate;
-    // Quadrature: a resolution of 1e6 "rays" makes the variance floor negligible.
-    rays.setConstant(1e6);
-    geometry::ViewFactorEstimate estimate;
-    estimate.view_factors = det.view_factors.sparseView();
-    estimate.standard_error = det.error_estimate.sparseView();
-    estimate.space = det.space;
-    estimate.space_error = estimate.blocked = estimate.blocked_error = Eigen::VectorXd::Zero(n);
-    r.correction = geometry::enforceReciprocity(area, estimate, rays);
+    estimate = exactStage(c, caster, r, rays, show_progress, progress);
   }
+  r.raw_view_factors = Eigen::MatrixXd(estimate.view_factors);
+  r.view_factor_stderr = Eigen::MatrixXd(estimate.standard_error);
+  r.correction = geometry::enforceReciprocity(area, estimate, rays);
   timer.stop();
-  progress << "radnet: view factors: " << r.total_rays << " rays"
+  progress << "radnet: view factors (" << toString(c.view_factors.method) << "): ";
+  if (r.exact)
+    progress << r.exact->pairs_unoccluded << " unoccluded and " << r.exact->pairs_occluded
+             << " occluded patch pairs exact, " << r.exact->sampled_rows << " rows left to rays, ";
+  progress << r.total_rays << " rays"
            << (r.rays_per_second > 0 ? " (" + std::to_string(static_cast<long long>(r.rays_per_second)) + " rays/s)"
                                      : "")
            << ", reciprocity/closure correction moved F by at most " << r.correction.max_change << " ("

@@ -76,11 +76,20 @@ struct NetworkRunResult {
   StageTimings timings;
 };
 
+/// What the exact view-factor method did (methods exact and auto).
+struct ExactViewFactorStats {
+  int patches = 0;
+  std::int64_t pairs_culled = 0, pairs_unoccluded = 0, pairs_occluded = 0;
+  int sampled_rows = 0;  ///< rows left to ray casting
+  double seconds = 0.0;
+};
+
 /// A geometry-form run.
 struct GeometryRunResult {
   Eigen::MatrixXd raw_view_factors;    ///< before the correction, –
-  Eigen::MatrixXd view_factor_stderr;  ///< σ (Monte Carlo) or quadrature error estimate (contour), –
+  Eigen::MatrixXd view_factor_stderr;  ///< σ (rays) or the error estimate (exact), –
   geometry::ReciprocityCorrection correction;
+  std::optional<ExactViewFactorStats> exact;
   std::int64_t total_rays = 0;
   double rays_per_second = 0.0;
   Eigen::VectorXi triangle_node;  ///< node of each triangle: its front side's, else its back side's

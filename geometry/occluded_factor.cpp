@@ -1,0 +1,139 @@
+#include "geometry/occluded_factor.hpp"
+
+#include <array>
+#include <cmath>
+
+namespace radnet::geometry {
+namespace {
+
+// Dunavant (1985) degree-5 rule on a triangle: barycentric points and weights (sum 1).
+struct QuadPoint {
+  double l0, l1, l2, w;
+};
+const std::array<QuadPoint, 7> kRule = {{
+    {1.0 / 3, 1.0 / 3, 1.0 / 3, 0.225},
+    {0.059715871789770, 0.470142064105115, 0.470142064105115, 0.132394152788506},
+    {0.470142064105115, 0.059715871789770, 0.470142064105115, 0.132394152788506},
+    {0.470142064105115, 0.470142064105115, 0.059715871789770, 0.132394152788506},
+    {0.797426985353087, 0.101286507323456, 0.101286507323456, 0.125939180544827},
+    {0.101286507323456, 0.797426985353087, 0.101286507323456, 0.125939180544827},
+    {0.101286507323456, 0.101286507323456, 0.797426985353087, 0.125939180544827},
+}};
+
+struct Tri {
+  Vec3 a, b, c;
+  double area() const { return 0.5 * (b - a).cross(c - a).norm(); }
+};
+
+// The half-spaces whose intersection is a blocker's shadow seen from a point: inside
+// every plane through the point and an edge, and beyond the blocker's own plane.
+// Stored as "lit" sides: m·x ≥ c is outside the shadow.
+struct ShadowPlanes {
+  std::vector<Vec3> m;
+  std::vector<double> c;
+  int count = 0;
+};
+
+bool shadowOf(const Vec3& p, const Occluder& b, ShadowPlanes& s) {
+  const double dp = b.normal.dot(p) - b.offset;
+  const double scale = (b.hi - b.lo).norm();
+  if (std::abs(dp) <= 1e-12 * scale) return false;  // the point is in the blocker's plane
+  const size_t m = b.polygon.size();
+  s.m.resize(m + 1);
+  s.c.resize(m + 1);
+  Vec3 centre = Vec3::Zero();
+  for (const Vec3& v : b.polygon) centre += v;
+  centre /= double(m);
+  s.count = 0;
+  for (size_t k = 0; k < m; ++k) {
+    Vec3 n = (b.polygon[k] - p).cross(b.polygon[(k + 1) % m] - p);
+    if (n.dot(centre - p) > 0) n = -n;
+    s.m[static_cast<size_t>(s.count)] = n;
+    s.c[static_cast<size_t>(s.count++)] = n.dot(p);
+  }
+  const double sign = dp > 0 ? 1.0 : -1.0;
+  s.m[static_cast<size_t>(s.count)] = sign * b.normal;
+  s.c[static_cast<size_t>(s.count++)] = sign * b.offset;
+  return true;
+}
+
+// Cuts the shadow out of every piece: each plane in turn splits off the lit part, and
+// what is inside all of them is dropped.
+void cutShadow(const ShadowPlanes& s, std::vector<Loop>& pieces, std::vector<Loop>& scratch) {
+  scratch.clear();
+  Loop lit, dark;
+  for (Loop& piece : pieces) {
+    Loop current = std::move(piece);
+    for (int k = 0; k < s.count && !current.empty(); ++k) {
+      splitByPlane(current, s.m[static_cast<size_t>(k)], s.c[static_cast<size_t>(k)], lit, dark);
+      if (!lit.empty()) scratch.push_back(lit);
+      current.swap(dark);
+    }
+  }
+  pieces.swap(scratch);
+}
+
+class EmitterQuadrature {
+ public:
+  explicit EmitterQuadrature(const OccludedPair& pair) : pair_(pair) {}
+
+  double rule(const Tri& t) {
+    const double area = t.area();
+    double acc = 0.0;
+    for (const auto& q : kRule) acc += q.w * visibleFactor(q.l0 * t.a + q.l1 * t.b + q.l2 * t.c, pair_);
+    evaluations += static_cast<long long>(kRule.size());
+    return acc * area;
+  }
+
+  void adapt(const Tri& t, double coarse, double tol, int depth, int max_depth, FactorEstimate& out) {
+    const Vec3 ab = 0.5 * (t.a + t.b), bc = 0.5 * (t.b + t.c), ca = 0.5 * (t.c + t.a);
+    const std::array<Tri, 4> kids = {{{t.a, ab, ca}, {ab, t.b, bc}, {ca, bc, t.c}, {ab, bc, ca}}};
+    std::array<double, 4> parts{};
+    double fine = 0.0;
+    for (size_t k = 0; k < 4; ++k) fine += parts[k] = rule(kids[k]);
+    const double diff = std::abs(fine - coarse);
+    if (diff <= tol || depth >= max_depth) {
+      out.value += fine;
+      out.error += diff;
+      return;
+    }
+    for (size_t k = 0; k < 4; ++k) adapt(kids[k], parts[k], 0.25 * tol, depth + 1, max_depth, out);
+  }
+  long long evaluations = 0;
+
+ private:
+  const OccludedPair& pair_;
+};
+
+}  // namespace
+
+double visibleFactor(const Vec3& point, const OccludedPair& pair) {
+  thread_local std::vector<Loop> pieces, scratch;
+  pieces.assign(pair.receiver->begin(), pair.receiver->end());
+  thread_local ShadowPlanes planes;
+  for (const Occluder* b : pair.blockers) {
+    if (pieces.empty()) break;
+    if (shadowOf(point, *b, planes)) cutShadow(planes, pieces, scratch);
+  }
+  double f = 0.0;
+  for (const Loop& piece : pieces) f += pointToConvexPolygon(point, pair.emitter_normal, piece);
+  return f;
+}
+
+FactorEstimate occludedExchangeArea(const OccludedPair& pair, double tolerance, int max_depth) {
+  FactorEstimate out;
+  std::vector<Tri> tris;
+  double total = 0.0;
+  for (const Loop& piece : *pair.emitter)
+    for (size_t k = 1; k + 1 < piece.size(); ++k) {
+      tris.push_back({piece[0], piece[k], piece[k + 1]});
+      total += tris.back().area();
+    }
+  if (total <= 0) return out;
+  EmitterQuadrature q(pair);
+  for (const Tri& t : tris) q.adapt(t, q.rule(t), tolerance * t.area() / total, 0, max_depth, out);
+  out.evaluations = q.evaluations;
+  return out;
+}
+
+}  // namespace radnet::geometry
