@@ -38,6 +38,13 @@ bench: build
 	./$(BUILD_DIR)/bench/bench_view_factors docs/view-factor-benchmark.md
 	./$(BUILD_DIR)/bench/bench_loads docs/loads-benchmark.md
 	./$(BUILD_DIR)/bench/bench_thermal docs/thermal-benchmark.md
+	# View3D, the reference open tool, built only to run beside radnet (never linked).
+	if [ -x ../shared/peers/view3d/build.sh ] || [ -f ../shared/peers/view3d/build.sh ]; then \
+	  bash ../shared/peers/view3d/build.sh $(BUILD_DIR)/view3d >/dev/null; fi
+	./$(BUILD_DIR)/bench/bench_exact_view_factors docs/exact-view-factor-benchmark.md \
+	  docs/exact-view-factor-benchmark.csv $$( [ -x $(BUILD_DIR)/view3d/view3d ] && echo $(BUILD_DIR)/view3d/view3d )
+	/usr/bin/python3 bench/plot_exact_benchmark.py docs/exact-view-factor-benchmark.csv \
+	  docs/exact-view-factor-benchmark.png
 
 clean:
 	rm -rf $(BUILD_DIR) build-sanitize

@@ -118,7 +118,7 @@ class PairSolver {
   }
   size_t blockers() const { return blockers_.size(); }
 
-  FactorEstimate integrate(PairKind kind) const {
+  FactorEstimate integrate(PairKind kind) {
     const Patch &p = s_.patches[a_], &q = s_.patches[b_];
     // This pair's share of the target on F_ij and F_ji alike (see docs/geometry.md).
     const double area_i = p.node >= 0 ? s_.node_area[static_cast<size_t>(p.node)] : p.area_m2;
@@ -129,7 +129,7 @@ class PairSolver {
       const PlanarRegion qr = clip_q_ ? PlanarRegion{q_pieces_, q.region.normal} : q.region;
       return polygonExchangeArea(pr, qr, tol);
     }
-    OccludedPair pair{&p_pieces_, p.region.normal, &q_pieces_, {}};
+    OccludedPair pair{&p_pieces_, p.region.normal, &q_pieces_, {}, {}};
     for (int id : blockers_) pair.blockers.push_back(&s_.index.occluders()[static_cast<size_t>(id)]);
     return occludedExchangeArea(pair, tol, opt_.max_depth);
   }

@@ -1,5 +1,6 @@
 #include "geometry/occluded_factor.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -34,20 +35,15 @@ struct ShadowPlanes {
   int count = 0;
 };
 
-bool shadowOf(const Vec3& p, const Occluder& b, ShadowPlanes& s) {
-  const double dp = b.normal.dot(p) - b.offset;
-  const double scale = (b.hi - b.lo).norm();
-  if (std::abs(dp) <= 1e-12 * scale) return false;  // the point is in the blocker's plane
+bool shadowOf(const Vec3& p, double dp, const Occluder& b, ShadowPlanes& s) {
   const size_t m = b.polygon.size();
   s.m.resize(m + 1);
   s.c.resize(m + 1);
-  Vec3 centre = Vec3::Zero();
-  for (const Vec3& v : b.polygon) centre += v;
-  centre /= double(m);
   s.count = 0;
+  const Vec3 to_centre = b.centre - p;
   for (size_t k = 0; k < m; ++k) {
     Vec3 n = (b.polygon[k] - p).cross(b.polygon[(k + 1) % m] - p);
-    if (n.dot(centre - p) > 0) n = -n;
+    if (n.dot(to_centre) > 0) n = -n;
     s.m[static_cast<size_t>(s.count)] = n;
     s.c[static_cast<size_t>(s.count++)] = n.dot(p);
   }
@@ -57,12 +53,23 @@ bool shadowOf(const Vec3& p, const Occluder& b, ShadowPlanes& s) {
   return true;
 }
 
-// Cuts the shadow out of every piece: each plane in turn splits off the lit part, and
-// what is inside all of them is dropped.
+bool litByOnePlane(const ShadowPlanes& s, const Loop& piece) {
+  for (int k = 0; k < s.count; ++k) {
+    const Vec3& m = s.m[static_cast<size_t>(k)];
+    const double c = s.c[static_cast<size_t>(k)];
+    if (std::all_of(piece.begin(), piece.end(), [&](const Vec3& v) { return m.dot(v) >= c; })) return true;
+  }
+  return false;
+}
+
 void cutShadow(const ShadowPlanes& s, std::vector<Loop>& pieces, std::vector<Loop>& scratch) {
   scratch.clear();
-  Loop lit, dark;
+  thread_local Loop lit, dark;
   for (Loop& piece : pieces) {
+    if (litByOnePlane(s, piece)) {  // the shadow misses this piece: keep it whole
+      scratch.push_back(std::move(piece));
+      continue;
+    }
     Loop current = std::move(piece);
     for (int k = 0; k < s.count && !current.empty(); ++k) {
       splitByPlane(current, s.m[static_cast<size_t>(k)], s.c[static_cast<size_t>(k)], lit, dark);
@@ -111,17 +118,34 @@ double visibleFactor(const Vec3& point, const OccludedPair& pair) {
   thread_local std::vector<Loop> pieces, scratch;
   pieces.assign(pair.receiver->begin(), pair.receiver->end());
   thread_local ShadowPlanes planes;
-  for (const Occluder* b : pair.blockers) {
-    if (pieces.empty()) break;
-    if (shadowOf(point, *b, planes)) cutShadow(planes, pieces, scratch);
+  for (size_t k = 0; k < pair.blockers.size() && !pieces.empty(); ++k) {
+    const Occluder& b = *pair.blockers[k];
+    const double dp = b.normal.dot(point) - b.offset;
+    // In the blocker's plane, or on the same side as the whole receiver: no shadow.
+    if (std::abs(dp) <= 1e-12 * (b.hi - b.lo).norm()) continue;
+    const int side = pair.receiver_side.empty() ? 0 : pair.receiver_side[k];
+    if ((side > 0 && dp > 0) || (side < 0 && dp < 0)) continue;
+    shadowOf(point, dp, b, planes);
+    cutShadow(planes, pieces, scratch);
   }
   double f = 0.0;
   for (const Loop& piece : pieces) f += pointToConvexPolygon(point, pair.emitter_normal, piece);
   return f;
 }
 
-FactorEstimate occludedExchangeArea(const OccludedPair& pair, double tolerance, int max_depth) {
+FactorEstimate occludedExchangeArea(OccludedPair& pair, double tolerance, int max_depth) {
   FactorEstimate out;
+  pair.receiver_side.clear();
+  for (const Occluder* b : pair.blockers) {
+    bool front = true, back = true;
+    for (const Loop& piece : *pair.receiver)
+      for (const Vec3& v : piece) {
+        const double d = b->normal.dot(v) - b->offset;
+        front = front && d >= 0;
+        back = back && d <= 0;
+      }
+    pair.receiver_side.push_back(front ? +1 : (back ? -1 : 0));
+  }
   std::vector<Tri> tris;
   double total = 0.0;
   for (const Loop& piece : *pair.emitter)

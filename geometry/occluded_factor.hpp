@@ -17,12 +17,15 @@ struct OccludedPair {
   Vec3 emitter_normal;                          ///< P's side normal
   const std::vector<Loop>* receiver = nullptr;  ///< convex pieces of Q, in front of P's plane
   std::vector<const Occluder*> blockers;
+  /// Per blocker: +1 when the whole receiver lies on its front side, −1 behind, 0 across
+  /// (filled by occludedExchangeArea). A point on the receiver's side casts no shadow there.
+  std::vector<int> receiver_side;
 };
 
 /// A_P F_PQ (m²) and its quadrature error estimate.
 /// @param tolerance  absolute target on A_P F_PQ, m²
 /// @param max_depth  deepest 4-way split of an emitter triangle
-FactorEstimate occludedExchangeArea(const OccludedPair& pair, double tolerance, int max_depth);
+FactorEstimate occludedExchangeArea(OccludedPair& pair, double tolerance, int max_depth);
 
 /// The form factor from a point of P to the part of Q it sees past the blockers.
 double visibleFactor(const Vec3& point, const OccludedPair& pair);

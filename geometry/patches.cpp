@@ -119,7 +119,11 @@ void mergeGroup(const Group& g, std::vector<Loop>& loops, std::vector<Loop>& pie
       if (merged.size() >= 3) loops.push_back(std::move(merged));
     }
   }
-  if (loops.size() == 1 && isConvex(loops[0], g.normal)) {
+  // Separate convex outlines (no holes: every loop counter-clockwise) are their own pieces.
+  const bool convex_outlines = !loops.empty() && std::all_of(loops.begin(), loops.end(), [&](const Loop& l) {
+    return isConvex(l, g.normal) && signedArea(l, g.normal) > 0;
+  });
+  if (convex_outlines) {
     pieces = loops;
     return;
   }
@@ -187,6 +191,9 @@ std::vector<Occluder> buildOccluders(const Scene& scene) {
       o.normal = g.normal;
       o.offset = g.normal.dot(piece[0]);
       boundingBox({piece}, o.lo, o.hi);
+      o.centre = Vec3::Zero();
+      for (const Vec3& v : piece) o.centre += v;
+      o.centre /= double(piece.size());
       o.polygon = std::move(piece);
       out.push_back(std::move(o));
     }

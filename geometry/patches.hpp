@@ -28,6 +28,7 @@ struct Occluder {
   Vec3 normal;   ///< unit, either side
   double offset = 0.0;
   Vec3 lo, hi;
+  Vec3 centre;  ///< vertex mean (inside: a convex polygon's)
 };
 
 /// One patch per (node side, plane); merged boundaries where the triangles chain into

@@ -286,3 +286,36 @@ thermal:
   CHECK(r.err.find("warning: geometry[0].mesh.shell: the front nodes fall into 2 pieces") != std::string::npos);
   CHECK(r.err.find("warning: thermal.heaters[0]: on_below 5.000000 K is below 100 K") != std::string::npos);
 }
+
+TEST_CASE("view-factor methods end to end: auto and exact integrate the blocked squares, monte_carlo casts") {
+  // The case of the occluder test above; View3D's F = 0.0995063 (7 digits).
+  const std::string body = R"(
+materials:
+  black: {emissivity: 1.0, absorptivity: 1.0}
+geometry:
+  - rectangle: {name: a, origin: [0, 0, 0], u: [1, 0, 0], v: [0, 1, 0], front: black}
+  - rectangle: {name: b, origin: [0, 0, 1], u: [0, 1, 0], v: [1, 0, 0], front: black}
+  - rectangle: {name: shade, origin: [0.25, 0.25, 0.5], u: [0.5, 0, 0], v: [0, 0.5, 0]}
+)";
+  for (const std::string method : {"auto", "exact", "contour", "monte_carlo"}) {
+    TempDir dir;
+    const hid_t file = runAndOpen(dir, "name: methods\n" + body + "solver: {view_factors: {method: " + method +
+                                           ", rays: 100000, tolerance: 1.0e-7}}\n");
+    INFO(method);
+    const H5Data raw = readDataset(file, "/network/view_factors_raw");
+    const H5Data se = readDataset(file, "/network/view_factor_stderr");
+    const std::string written = readStringAttribute(file, "/network", "method");
+    if (method == "monte_carlo") {
+      CHECK(written == "monte_carlo");
+      CHECK(readDoubleAttribute(file, "/network", "rays_total") > 0);
+      CHECK(std::abs(raw.values[1] - 0.0995063) <= 3.29 * se.values[1]);  // t(31) 99.73 %
+    } else {
+      CHECK(written == (method == "auto" ? "auto" : "exact"));
+      CHECK(readDoubleAttribute(file, "/network", "exact_pairs_occluded") == 1.0);
+      CHECK(readDoubleAttribute(file, "/network", "rows_sampled") == 0.0);
+      CHECK(std::abs(raw.values[1] - 0.0995063) <= 1e-7 + 5e-8);  // tolerance + the reference's rounding
+      CHECK(se.values[1] <= 1e-7);
+    }
+    H5Fclose(file);
+  }
+}
