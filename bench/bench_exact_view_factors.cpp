@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -182,10 +183,11 @@ int main(int argc, char** argv) {
   // agree to 1e-12; View3D gives 0.0995063 to its 7 digits).
   const double blocked_ref =
       exactViewFactors(sceneOf(blockedSquares(), 1), ExactOptions::withTolerance(1e-12)).view_factors.coeff(0, 1);
-  for (int sub : {1, 8, 16, 32}) {
-    const std::string name = "room " + std::to_string(sub) + "×" + std::to_string(sub);
-    const Scene s = sceneOf(roomFaces(), sub);
-    for (double tol : {1e-4, 1e-6, 1e-9}) {
+  // Both tools on one scene: radnet at each tolerance, View3D at each eps.
+  auto measure = [&](const std::string& name, const std::vector<Rect>& rects, int sub, int nodes,
+                     const std::vector<double>& tolerances, const std::function<double(const Eigen::MatrixXd&)>& error) {
+    const Scene s = sceneOf(rects, sub);
+    for (double tol : tolerances) {
       ExactOptions opt = ExactOptions::withTolerance(tol);
       opt.threads = 1;
       const auto t0 = std::chrono::steady_clock::now();
@@ -193,40 +195,23 @@ int main(int argc, char** argv) {
       const double dt = since(t0);
       std::ostringstream set;
       set << "tolerance " << tol;
-      rows.push_back({name, "radnet exact", set.str(), dt, (Eigen::MatrixXd(r.view_factors) - room_ref).cwiseAbs().maxCoeff()});
+      rows.push_back({name, "radnet exact", set.str(), dt, error(Eigen::MatrixXd(r.view_factors))});
     }
-    if (!view3d.empty())
-      for (double eps : {1e-4, 1e-6}) {
-        Eigen::MatrixXd f;
-        double dt = 0;
-        if (!runView3d(view3d, dir, roomFaces(), sub, eps, 6, f, dt)) continue;
-        std::ostringstream set;
-        set << "eps " << eps;
-        rows.push_back({name, "View3D 4.0", set.str(), dt, (f - room_ref).cwiseAbs().maxCoeff()});
-      }
-  }
-  {
-    const Scene s = sceneOf(blockedSquares(), 1);
-    for (double tol : {1e-4, 1e-6, 1e-8}) {
-      ExactOptions opt = ExactOptions::withTolerance(tol);
-      opt.threads = 1;
-      const auto t0 = std::chrono::steady_clock::now();
-      const ExactResult r = exactViewFactors(s, opt);
-      const double dt = since(t0);
+    if (view3d.empty()) return;
+    for (double eps : {1e-4, 1e-6}) {
+      Eigen::MatrixXd f;
+      double dt = 0;
+      if (!runView3d(view3d, dir, rects, sub, eps, nodes, f, dt)) continue;
       std::ostringstream set;
-      set << "tolerance " << tol;
-      rows.push_back({"blocked squares", "radnet exact", set.str(), dt, std::abs(r.view_factors.coeff(0, 1) - blocked_ref)});
+      set << "eps " << eps;
+      rows.push_back({name, "View3D 4.0", set.str(), dt, error(f)});
     }
-    if (!view3d.empty())
-      for (double eps : {1e-4, 1e-6}) {
-        Eigen::MatrixXd f;
-        double dt = 0;
-        if (!runView3d(view3d, dir, blockedSquares(), 1, eps, 2, f, dt)) continue;
-        std::ostringstream set;
-        set << "eps " << eps;
-        rows.push_back({"blocked squares", "View3D 4.0", set.str(), dt, std::abs(f(0, 1) - blocked_ref)});
-      }
-  }
+  };
+  for (int sub : {1, 8, 16, 32})
+    measure("room " + std::to_string(sub) + "×" + std::to_string(sub), roomFaces(), sub, 6, {1e-4, 1e-6, 1e-9},
+            [&](const Eigen::MatrixXd& f) { return (f - room_ref).cwiseAbs().maxCoeff(); });
+  measure("blocked squares", blockedSquares(), 1, 2, {1e-4, 1e-6, 1e-8},
+          [&](const Eigen::MatrixXd& f) { return std::abs(f(0, 1) - blocked_ref); });
   fs::remove_all(dir);
   // Satellites: the exact method (every pair) against rays at 4,000 per node; the error of
   // the rays is measured against the exact answer, the exact one is its own estimate.

@@ -3,6 +3,7 @@
 // View3D figures quoted in issue 3. Writes Markdown to the given file.
 #include "geometry/exact_view_factors.hpp"
 #include "geometry/primitives.hpp"
+#include "tests/room_scene.hpp"
 #include "geometry/view_factors.hpp"
 
 #include <sys/resource.h>
@@ -52,17 +53,7 @@ double parallelRectangles(double a, double b, double c) {
           y * std::sqrt(x1) * std::atan(y / std::sqrt(x1)) - x * std::atan(x) - y * std::atan(y));
 }
 
-Scene room(int sub) {
-  Scene s;
-  const double lx = 5.0, ly = 3.0, lz = 2.5;
-  s.addSurface("ceiling", "c", rectangle(Vec3(0, 0, lz), Vec3(0, ly, 0), Vec3(lx, 0, 0), sub, sub), "ceiling", "");
-  s.addSurface("end1", "e1", rectangle(Vec3(0, 0, 0), Vec3(0, ly, 0), Vec3(0, 0, lz), sub, sub), "end1", "");
-  s.addSurface("end2", "e2", rectangle(Vec3(lx, 0, 0), Vec3(0, 0, lz), Vec3(0, ly, 0), sub, sub), "end2", "");
-  s.addSurface("side1", "s1", rectangle(Vec3(0, 0, 0), Vec3(0, 0, lz), Vec3(lx, 0, 0), sub, sub), "side1", "");
-  s.addSurface("side2", "s2", rectangle(Vec3(0, ly, 0), Vec3(lx, 0, 0), Vec3(0, 0, lz), sub, sub), "side2", "");
-  s.addSurface("floor", "f", rectangle(Vec3(0, 0, 0), Vec3(lx, 0, 0), Vec3(0, ly, 0), sub, sub), "floor", "");
-  return s;
-}
+Scene room(int sub) { return radnet::test::paperRoom(sub); }
 
 }  // namespace
 

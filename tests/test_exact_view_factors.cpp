@@ -8,6 +8,7 @@
 #include "geometry/patches.hpp"
 #include "geometry/polygon_factor.hpp"
 #include "geometry/primitives.hpp"
+#include "tests/room_scene.hpp"
 #include "tests/howell.hpp"
 
 #include <catch2/catch.hpp>
@@ -24,17 +25,7 @@ PlanarRegion square(const Vec3& origin, const Vec3& u, const Vec3& v) {
   return {{{origin, origin + u, origin + u + v, origin + v}}, u.cross(v).normalized()};
 }
 
-Scene room(int sub) {
-  Scene s;
-  const double lx = 5.0, ly = 3.0, lz = 2.5;
-  s.addSurface("ceiling", "c", rectangle(Vec3(0, 0, lz), Vec3(0, ly, 0), Vec3(lx, 0, 0), sub, sub), "ceiling", "");
-  s.addSurface("end1", "e1", rectangle(Vec3(0, 0, 0), Vec3(0, ly, 0), Vec3(0, 0, lz), sub, sub), "end1", "");
-  s.addSurface("end2", "e2", rectangle(Vec3(lx, 0, 0), Vec3(0, 0, lz), Vec3(0, ly, 0), sub, sub), "end2", "");
-  s.addSurface("side1", "s1", rectangle(Vec3(0, 0, 0), Vec3(0, 0, lz), Vec3(lx, 0, 0), sub, sub), "side1", "");
-  s.addSurface("side2", "s2", rectangle(Vec3(0, ly, 0), Vec3(lx, 0, 0), Vec3(0, 0, lz), sub, sub), "side2", "");
-  s.addSurface("floor", "f", rectangle(Vec3(0, 0, 0), Vec3(lx, 0, 0), Vec3(0, ly, 0), sub, sub), "floor", "");
-  return s;
-}
+Scene room(int sub) { return radnet::test::paperRoom(sub); }
 
 Scene occludedSquares(int sub) {
   Scene s;
