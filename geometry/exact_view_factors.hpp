@@ -51,7 +51,8 @@ struct ExactOptions {
 
 struct ExactResult : ViewFactorEstimate {
   int patches = 0;
-  std::int64_t pairs_culled = 0;      ///< behind a plane, or both sides inactive
+  std::int64_t pairs_culled = 0;      ///< behind a plane, or neither row integrated
+  std::int64_t pairs_hidden = 0;      ///< one occluder hides all of one from all of the other
   std::int64_t pairs_unoccluded = 0;  ///< exact contour integral
   std::int64_t pairs_occluded = 0;    ///< quadrature with exact point visibility
   /// Per node: 1 when its row is left to ray casting (empty here, space and blocked 0).

@@ -1,5 +1,7 @@
 #include "geometry/patches.hpp"
 
+#include "geometry/vertex_welder.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -32,14 +34,10 @@ PlaneKey planeKey(long tag, const Vec3& n, double offset, double extent) {
 
 // Boundary loops of a set of triangles: directed edges that no neighbour runs backwards,
 // chained. Empty when they do not chain into simple loops (T-junctions, bow-ties).
-std::vector<Loop> boundaryLoops(const std::vector<std::array<Vec3, 3>>& triangles) {
-  std::map<std::array<double, 3>, int> ids;
-  std::vector<Vec3> points;
-  auto id = [&](const Vec3& p) {
-    const auto [it, fresh] = ids.emplace(std::array<double, 3>{p.x(), p.y(), p.z()}, static_cast<int>(points.size()));
-    if (fresh) points.push_back(p);
-    return it->second;
-  };
+std::vector<Loop> boundaryLoops(const std::vector<std::array<Vec3, 3>>& triangles, double weld_tolerance) {
+  // Cells meshed one by one meet at corners computed in different ways: weld them.
+  VertexWelder welder(weld_tolerance);
+  auto id = [&](const Vec3& p) { return welder.id(p); };
   std::map<std::pair<int, int>, int> edges;  // directed edge → net count
   for (const auto& t : triangles)
     for (int k = 0; k < 3; ++k) {
@@ -64,7 +62,7 @@ std::vector<Loop> boundaryLoops(const std::vector<std::array<Vec3, 3>>& triangle
     do {
       const auto it = next.find(v);
       if (it == next.end()) return {};
-      loop.push_back(points[static_cast<size_t>(v)]);
+      loop.push_back(welder.point(v));
       v = it->second;
       next.erase(it);
     } while (v != start);
@@ -110,11 +108,11 @@ Loop asLoop(const std::array<Vec3, 3>& t) { return {t[0], t[1], t[2]}; }
 
 // Merged loops of a group, and convex pieces: the merged loop itself when it is one convex
 // polygon, the triangles otherwise.
-void mergeGroup(const Group& g, std::vector<Loop>& loops, std::vector<Loop>& pieces) {
+void mergeGroup(const Group& g, double weld_tolerance, std::vector<Loop>& loops, std::vector<Loop>& pieces) {
   loops.clear();
   pieces.clear();
   if (g.triangles.size() > 1) {
-    for (const Loop& l : boundaryLoops(g.triangles)) {
+    for (const Loop& l : boundaryLoops(g.triangles, weld_tolerance)) {
       Loop merged = mergeCollinear(l);
       if (merged.size() >= 3) loops.push_back(std::move(merged));
     }
@@ -159,7 +157,7 @@ std::vector<Patch> buildPatches(const Scene& scene) {
     Patch p;
     p.node = node_of[key];
     p.region.normal = g.normal;
-    mergeGroup(g, p.region.loops, p.pieces);
+    mergeGroup(g, 1e-9 * extent, p.region.loops, p.pieces);
     for (const Loop& piece : p.pieces) p.area_m2 += signedArea(piece, g.normal);
     p.offset = g.normal.dot(g.triangles[0][0]);
     p.faces = static_cast<int>(g.triangles.size());
@@ -185,7 +183,7 @@ std::vector<Occluder> buildOccluders(const Scene& scene) {
   std::vector<Occluder> out;
   for (const auto& [key, g] : groups) {
     std::vector<Loop> loops, pieces;
-    mergeGroup(g, loops, pieces);
+    mergeGroup(g, 1e-9 * extent, loops, pieces);
     for (Loop& piece : pieces) {
       Occluder o;
       o.normal = g.normal;

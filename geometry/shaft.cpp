@@ -152,4 +152,38 @@ void pairBlockers(const OccluderIndex& index, const Patch& p, const std::vector<
   }
 }
 
+namespace {
+
+// Whether the segment a–b crosses the convex polygon strictly inside (by more than tol).
+bool segmentThrough(const Occluder& o, const Vec3& a, const Vec3& b, double tol) {
+  const double da = o.normal.dot(a) - o.offset, db = o.normal.dot(b) - o.offset;
+  if (!((da > tol && db < -tol) || (da < -tol && db > tol))) return false;
+  const Vec3 x = a + (da / (da - db)) * (b - a);
+  const size_t m = o.polygon.size();
+  for (size_t k = 0; k < m; ++k) {
+    const Vec3 e = o.polygon[(k + 1) % m] - o.polygon[k];
+    // Inside: to the left of every edge about the normal, by more than tol.
+    const Vec3 inward = o.normal.cross(e);
+    const double side = inward.dot(x - o.polygon[k]) / std::max(inward.norm(), 1e-300);
+    if (side <= tol) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool fullyOccludes(const Occluder& o, const std::vector<Loop>& p_pieces, const std::vector<Loop>& q_pieces,
+                   double tol) {
+  // The occluder's loop is counter-clockwise about its normal by construction; orient the
+  // inside test the same way whichever way it turns.
+  Occluder oriented = o;
+  if (signedArea(o.polygon, o.normal) < 0) oriented.normal = -o.normal, oriented.offset = -o.offset;
+  for (const Loop& pl : p_pieces)
+    for (const Vec3& a : pl)
+      for (const Loop& ql : q_pieces)
+        for (const Vec3& b : ql)
+          if (!segmentThrough(oriented, a, b, tol)) return false;
+  return true;
+}
+
 }  // namespace radnet::geometry

@@ -36,4 +36,11 @@ void pairBlockers(const OccluderIndex& index, const Patch& p, const std::vector<
                   const std::vector<Loop>& q_pieces, double tolerance, std::vector<int>& candidates,
                   std::vector<int>& blockers);
 
+/// Whether one convex occluder hides all of q from all of p: every segment between a
+/// vertex of p and a vertex of q passes through its interior. (For fixed q the points of
+/// P's plane whose segment to q crosses the occluder form a convex cone section, so the
+/// vertices decide; then the same holds for q.) Touching is not hiding.
+bool fullyOccludes(const Occluder& o, const std::vector<Loop>& p_pieces, const std::vector<Loop>& q_pieces,
+                   double tolerance);
+
 }  // namespace radnet::geometry

@@ -1,5 +1,7 @@
 #include "geometry/shell.hpp"
 
+#include "geometry/vertex_welder.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -7,37 +9,6 @@
 
 namespace radnet::geometry {
 namespace {
-
-// Vertices of the faces welded within a tolerance: a grid of cells of that size, each
-// position looked up in its cell and the 26 around it.
-class VertexWelder {
- public:
-  explicit VertexWelder(double tolerance) : tol_(tolerance) {}
-  int id(const Vec3& p) {
-    const std::array<long, 3> c = cell(p);
-    for (long dx = -1; dx <= 1; ++dx)
-      for (long dy = -1; dy <= 1; ++dy)
-        for (long dz = -1; dz <= 1; ++dz) {
-          const auto it = cells_.find({c[0] + dx, c[1] + dy, c[2] + dz});
-          if (it == cells_.end()) continue;
-          for (int v : it->second)
-            if ((points_[static_cast<size_t>(v)] - p).norm() <= tol_) return v;
-        }
-    points_.push_back(p);
-    const int v = static_cast<int>(points_.size()) - 1;
-    cells_[c].push_back(v);
-    return v;
-  }
-
- private:
-  std::array<long, 3> cell(const Vec3& p) const {
-    return {std::lround(std::floor(p.x() / tol_)), std::lround(std::floor(p.y() / tol_)),
-            std::lround(std::floor(p.z() / tol_))};
-  }
-  double tol_;
-  std::vector<Vec3> points_;
-  std::map<std::array<long, 3>, std::vector<int>> cells_;
-};
 
 struct SharedEdges {
   double length = 0.0;

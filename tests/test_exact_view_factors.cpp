@@ -188,3 +188,32 @@ TEST_CASE("patches: coplanar triangles of a node merge, a curved surface stays f
   CHECK(plate == 2);
   CHECK(can == 12);  // one patch per flat facet strip of the cylinder
 }
+
+TEST_CASE("exact method: cells added one by one weld into one patch; a plate that hides all is no integral") {
+  // One node of 5 × 5 cells, each its own surface whose corners are computed afresh (they
+  // differ in the last bits from their neighbours'): one patch of four corners.
+  Scene s;
+  const int m = 5;
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < m; ++j)
+      s.addSurface("cell" + std::to_string(i) + std::to_string(j), "cell",
+                   rectangle(Vec3(0.3 * i / m, 0.7 * j / m, 0), Vec3(0.3 / m, 0, 0), Vec3(0, 0.7 / m, 0), 1, 1), "a", "");
+  // A 2 × 2 plate at z = 0.5 hides the whole of b (z = 1) from the whole of a.
+  s.addSurface("plate", "plate", rectangle(Vec3(-0.85, -0.65, 0.5), Vec3(2, 0, 0), Vec3(0, 2, 0), 1, 1), "", "");
+  s.addSurface("b", "b", rectangle(Vec3(0, 0, 1), Vec3(0, 0.7, 0), Vec3(0.3, 0, 0), 1, 1), "b", "");
+  int merged = 0;
+  for (const Patch& p : buildPatches(s))
+    if (p.node == 0) {
+      ++merged;
+      CHECK(p.region.loops.size() == 1);
+      CHECK(p.region.loops[0].size() == 4);
+    }
+  CHECK(merged == 1);
+  const ExactResult r = exactViewFactors(s, ExactOptions::withTolerance(1e-8));
+  CHECK(r.pairs_hidden >= 1);
+  CHECK(r.view_factors.coeff(0, 1) == 0.0);
+  // All of a's view upwards ends on the plate's lower side: blocked, nothing to space but
+  // what passes its edges (the plate subtends less than the hemisphere).
+  CHECK(r.blocked[0] > 0.5);
+  CHECK(r.blocked[0] + r.space[0] == Approx(1.0).margin(1e-7));
+}

@@ -34,7 +34,8 @@ geometry::ViewFactorEstimate exactStage(const GeometryCase& c, const geometry::R
       automatic ? double(c.view_factors.monte_carlo.rays_per_node) * geometry::kSecondsPerRay : 0.0;
   if (show_progress) opt.progress = progressBar(progress, "view factors", "patches");
   const geometry::ExactResult ex = geometry::exactViewFactors(c.scene, opt);
-  r.exact = ExactViewFactorStats{ex.patches, ex.pairs_culled, ex.pairs_unoccluded, ex.pairs_occluded, 0, ex.seconds};
+  r.exact = ExactViewFactorStats{ex.patches,        ex.pairs_culled, ex.pairs_hidden, ex.pairs_unoccluded,
+                                 ex.pairs_occluded, 0,               ex.seconds};
   // An exact row's entries are good to the tolerance: that is its variance floor.
   rays.setConstant(1.0 / opt.tolerance);
   geometry::ViewFactorEstimate estimate = ex;

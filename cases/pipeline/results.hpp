@@ -79,7 +79,7 @@ struct NetworkRunResult {
 /// What the exact view-factor method did (methods exact and auto).
 struct ExactViewFactorStats {
   int patches = 0;
-  std::int64_t pairs_culled = 0, pairs_unoccluded = 0, pairs_occluded = 0;
+  std::int64_t pairs_culled = 0, pairs_hidden = 0, pairs_unoccluded = 0, pairs_occluded = 0;
   int sampled_rows = 0;  ///< rows left to ray casting
   double seconds = 0.0;
 };
