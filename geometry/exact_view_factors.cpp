@@ -185,10 +185,24 @@ void assemble(const std::vector<Patch>& patches, const std::vector<std::vector<P
   }
 }
 
+// Patches whose rows are integrated; a pair is visited from its exact side: for exact a,
+// every b that is sampled or comes after a.
+std::vector<int> exactPatches(const ExactScene& scene) {
+  std::vector<int> out;
+  for (size_t a = 0; a < scene.patches.size(); ++a)
+    if (!scene.sampled[a]) out.push_back(static_cast<int>(a));
+  return out;
+}
+
+bool visitedFrom(const ExactScene& scene, int a, int b) {
+  return b != a && (scene.sampled[static_cast<size_t>(b)] || b > a);
+}
+
 // Method auto's plan: rows whose pairs would cost more to integrate than to cast, or that
 // have a pair of more than max_blockers blockers, are marked for sampling.
 void planRows(ExactScene& scene, const ExactOptions& opt, std::vector<char>& rows, int threads) {
   const int np = static_cast<int>(scene.patches.size());
+  const std::vector<int> exact = exactPatches(scene);
   const size_t n = rows.size();
   std::vector<std::int64_t> cost(n, 0);
   std::vector<char> crowded(n, 0);
@@ -202,8 +216,10 @@ void planRows(ExactScene& scene, const ExactOptions& opt, std::vector<char>& row
 #ifdef _OPENMP
 #pragma omp for schedule(dynamic, 16)
 #endif
-    for (int a = 0; a < np; ++a)
-      for (int b = a + 1; b < np; ++b) {
+    for (size_t k = 0; k < exact.size(); ++k)
+      for (int b = 0; b < np; ++b) {
+        const int a = exact[k];
+        if (!visitedFrom(scene, a, b)) continue;
         const PairKind kind = solver.classify(static_cast<size_t>(a), static_cast<size_t>(b));
         const std::int64_t us = pairMicroseconds(kind, solver.blockers());
         for (int node : {scene.patches[static_cast<size_t>(a)].node, scene.patches[static_cast<size_t>(b)].node}) {
@@ -235,6 +251,7 @@ struct PairCounts {
 PairCounts integratePairs(const ExactScene& scene, const ExactOptions& opt, int threads,
                           std::vector<std::vector<PairValue>>& values) {
   const int np = static_cast<int>(scene.patches.size());
+  const std::vector<int> exact = exactPatches(scene);
   std::int64_t culled = 0, hidden = 0, unoccluded = 0, occluded = 0;
   long long evaluations = 0;
   int finished = 0;
@@ -246,8 +263,10 @@ PairCounts integratePairs(const ExactScene& scene, const ExactOptions& opt, int 
 #ifdef _OPENMP
 #pragma omp for schedule(dynamic, 1)
 #endif
-    for (int a = 0; a < np; ++a) {
-      for (int b = a + 1; b < np; ++b) {
+    for (size_t k = 0; k < exact.size(); ++k) {
+      const int a = exact[k];
+      for (int b = 0; b < np; ++b) {
+        if (!visitedFrom(scene, a, b)) continue;
         const PairKind kind = solver.classify(static_cast<size_t>(a), static_cast<size_t>(b));
         if (kind != PairKind::Unoccluded && kind != PairKind::Occluded) {
           (kind == PairKind::Hidden ? hidden : culled) += 1;
@@ -263,7 +282,7 @@ PairCounts integratePairs(const ExactScene& scene, const ExactOptions& opt, int 
 #endif
       {
         ++finished;
-        if (opt.progress) opt.progress(finished, np);
+        if (opt.progress) opt.progress(finished, static_cast<int>(exact.size()));
       }
     }
   }
