@@ -36,6 +36,12 @@ geometry::ViewFactorEstimate exactStage(const GeometryCase& c, const geometry::R
   const geometry::ExactResult ex = geometry::exactViewFactors(c.scene, opt);
   r.exact = ExactViewFactorStats{ex.patches,        ex.pairs_culled, ex.pairs_hidden, ex.pairs_unoccluded,
                                  ex.pairs_occluded, 0,               ex.seconds};
+  // The quadrature stops at max_depth: say so when an estimate stayed above the target.
+  const double worst = ex.standard_error.nonZeros() ? ex.standard_error.coeffs().maxCoeff() : 0.0;
+  if (worst > opt.tolerance)
+    progress << "radnet: warning: exact view factors: the largest error estimate " << worst
+             << " exceeds solver.view_factors.tolerance " << opt.tolerance
+             << " (occluded pairs reached the refinement limit); /network/view_factor_stderr has it per entry\n";
   // An exact row's entries are good to the tolerance: that is its variance floor.
   rays.setConstant(1.0 / opt.tolerance);
   geometry::ViewFactorEstimate estimate = ex;
