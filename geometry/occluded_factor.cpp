@@ -112,6 +112,37 @@ class EmitterQuadrature {
   const OccludedPair& pair_;
 };
 
+// The emitter's pieces split along the lines where a blocker stands on it or passes
+// through it: across such a line the view jumps (a wall on a plate hides the far side from the plate outside it),
+// and a quadrature rule must not straddle the jump.
+std::vector<Loop> emitterPieces(const OccludedPair& pair) {
+  std::vector<Loop> pieces = *pair.emitter;
+  if (pieces.empty()) return pieces;
+  const Vec3& n = pair.emitter_normal;
+  const double offset = n.dot(pieces[0][0]);
+  std::vector<Loop> next;
+  Loop a, b;
+  for (const Occluder* blocker : pair.blockers) {
+    const double scale = (blocker->hi - blocker->lo).norm();
+    // Standing on the emitter's plane, or passing through it.
+    double lowest = 1e300, highest = -1e300;
+    for (const Vec3& v : blocker->polygon) {
+      lowest = std::min(lowest, n.dot(v) - offset);
+      highest = std::max(highest, n.dot(v) - offset);
+    }
+    const bool touches = lowest <= 1e-9 * scale && highest >= -1e-9 * scale;
+    if (!touches || std::abs(std::abs(blocker->normal.dot(n)) - 1.0) < 1e-12) continue;  // parallel: no line
+    next.clear();
+    for (const Loop& piece : pieces) {
+      splitByPlane(piece, blocker->normal, blocker->offset, a, b);
+      if (!a.empty()) next.push_back(a);
+      if (!b.empty()) next.push_back(b);
+    }
+    pieces.swap(next);
+  }
+  return pieces;
+}
+
 }  // namespace
 
 double visibleFactor(const Vec3& point, const OccludedPair& pair) {
@@ -148,7 +179,7 @@ FactorEstimate occludedExchangeArea(OccludedPair& pair, double tolerance, int ma
   }
   std::vector<Tri> tris;
   double total = 0.0;
-  for (const Loop& piece : *pair.emitter)
+  for (const Loop& piece : emitterPieces(pair))
     for (size_t k = 1; k + 1 < piece.size(); ++k) {
       tris.push_back({piece[0], piece[k], piece[k + 1]});
       total += tris.back().area();

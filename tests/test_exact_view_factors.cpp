@@ -217,3 +217,20 @@ TEST_CASE("exact method: cells added one by one weld into one patch; a plate tha
   CHECK(r.blocked[0] > 0.5);
   CHECK(r.blocked[0] + r.space[0] == Approx(1.0).margin(1e-7));
 }
+
+TEST_CASE("exact method: walls standing on a plate (the view jumps across their foot) meet C-11") {
+  // An open square tube 0.6 × 0.6 × 0.6 m (outside "tube", inside "inside") on a 2 × 2 m
+  // plate. Only the plate's footprint sees the inside, and it sees the inside walls or the
+  // top opening: F_plate→inside = (A_foot/A_plate)(1 − F_C-11(0.6, 0.6, 0.6)).
+  Scene s;
+  s.addSurface("plate", "plate", rectangle(Vec3(-1, -1, 0), Vec3(2, 0, 0), Vec3(0, 2, 0), 2, 2), "plate", "");
+  const auto faces = boxFaces(Vec3(-0.3, -0.3, 0), Vec3(0.6, 0.6, 0.6), 2);
+  for (int k = 0; k < 4; ++k) s.addSurface(kBoxFaceNames[k], "tube", faces[static_cast<size_t>(k)], "tube", "inside");
+  const ExactResult r = exactViewFactors(s, ExactOptions::withTolerance(1e-6));
+  const double expected = (0.36 / 4.0) * (1.0 - howell::parallelRectangles(0.6, 0.6, 0.6));
+  INFO("F_plate→inside = " << r.view_factors.coeff(0, 2) << " ± " << r.standard_error.coeff(0, 2) << ", expected "
+                           << expected);
+  CHECK(std::abs(r.view_factors.coeff(0, 2) - expected) <= 1e-6);
+  // The inside sees the footprint: F_inside→plate by reciprocity, A_inside = 4 × 0.36.
+  CHECK(std::abs(r.view_factors.coeff(2, 0) - expected * 4.0 / 1.44) <= 1e-6);
+}
