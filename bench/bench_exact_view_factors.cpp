@@ -5,6 +5,7 @@
 // whole process (it reads and writes files), radnet as the call. Errors against Howell's
 // closed forms (room) and the blocker case's converged value.
 //   bench_exact_view_factors OUT.md OUT.csv [VIEW3D]
+#include "bench/bench_support.hpp"
 #include "geometry/exact_view_factors.hpp"
 #include "geometry/primitives.hpp"
 #include "geometry/view_factors.hpp"
@@ -25,6 +26,8 @@
 #include <unistd.h>
 
 using namespace radnet::geometry;
+using radnet::bench::peakMiB;
+using radnet::bench::since;
 namespace howell = radnet::howell;
 namespace fs = std::filesystem;
 
@@ -115,17 +118,6 @@ void writeVs3(const fs::path& path, const std::vector<Rect>& rects, int sub, dou
       }
   }
   out << surfaces.str() << "End of data\n";
-}
-
-// Peak resident memory of this process so far, MiB (Linux reports ru_maxrss in KiB).
-double peakMiB() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return double(u.ru_maxrss) / 1024.0;
-}
-
-double since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 // Runs View3D; returns the node-factor matrix (rows of the combined surfaces) and seconds.

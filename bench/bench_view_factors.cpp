@@ -1,6 +1,7 @@
 // View-factor benchmark: rays per second against scene size, error against time for the
 // analytic cases (RQMC, plain MC, the exact method), and the paper's room against the
 // View3D figures quoted in issue 3. Writes Markdown to the given file.
+#include "bench/bench_support.hpp"
 #include "geometry/exact_view_factors.hpp"
 #include "geometry/primitives.hpp"
 #include "tests/room_scene.hpp"
@@ -16,19 +17,10 @@
 #include <thread>
 
 using namespace radnet::geometry;
+using radnet::bench::peakMiB;
+using radnet::bench::since;
 
 namespace {
-
-// Peak resident memory of this process so far, MiB (Linux reports ru_maxrss in KiB).
-double peakMiB() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return double(u.ru_maxrss) / 1024.0;
-}
-
-double since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // A small satellite: box bus, two solar wings (cells front, paint back), a radiator panel,
 // a dish (spherical cap) on a cylindrical mast. `m` scales the tessellation.
