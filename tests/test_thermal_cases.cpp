@@ -210,20 +210,22 @@ TEST_CASE("periodic transient on the CubeSat: converges within max_orbits, with 
   H5Fclose(file);
 }
 
-TEST_CASE("occluder: a surface naming no material blocks rays and belongs to no node") {
-  // Unit squares 1 m apart with a centred 0.5 m square halfway between that is no node.
-  // Unoccluded F = 0.199825 (Howell C-11); with the blocker 0.0995063 (View3D, 1e-8).
-  TempDir dir;
-  const hid_t file = runAndOpen(dir, R"(
-name: occluder
+// Unit squares 1 m apart with a centred 0.5 m square halfway between that is no node.
+const char* const kBlockedSquares = R"(
 materials:
   black: {emissivity: 1.0, absorptivity: 1.0}
 geometry:
   - rectangle: {name: a, origin: [0, 0, 0], u: [1, 0, 0], v: [0, 1, 0], front: black}
   - rectangle: {name: b, origin: [0, 0, 1], u: [0, 1, 0], v: [1, 0, 0], front: black}
   - rectangle: {name: shade, origin: [0.25, 0.25, 0.5], u: [0.5, 0, 0], v: [0, 0.5, 0]}
-solver: {view_factors: {rays: 400000, seed: 3}}
-)");
+)";
+
+TEST_CASE("occluder: a surface naming no material blocks rays and belongs to no node") {
+  // Unit squares 1 m apart with a centred 0.5 m square halfway between that is no node.
+  // Unoccluded F = 0.199825 (Howell C-11); with the blocker 0.0995063 (View3D, 1e-8).
+  TempDir dir;
+  const hid_t file =
+      runAndOpen(dir, std::string("name: occluder\n") + kBlockedSquares + "solver: {view_factors: {rays: 400000, seed: 3}}\n");
   const H5Data f = readDataset(file, "/network/view_factors");
   const H5Data raw = readDataset(file, "/network/view_factors_raw");
   const H5Data se = readDataset(file, "/network/view_factor_stderr");
@@ -289,14 +291,7 @@ thermal:
 
 TEST_CASE("view-factor methods end to end: auto and exact integrate the blocked squares, monte_carlo casts") {
   // The case of the occluder test above; View3D's F = 0.0995063 (7 digits).
-  const std::string body = R"(
-materials:
-  black: {emissivity: 1.0, absorptivity: 1.0}
-geometry:
-  - rectangle: {name: a, origin: [0, 0, 0], u: [1, 0, 0], v: [0, 1, 0], front: black}
-  - rectangle: {name: b, origin: [0, 0, 1], u: [0, 1, 0], v: [1, 0, 0], front: black}
-  - rectangle: {name: shade, origin: [0.25, 0.25, 0.5], u: [0.5, 0, 0], v: [0, 0.5, 0]}
-)";
+  const std::string body = kBlockedSquares;
   for (const std::string method : {"auto", "exact", "contour", "monte_carlo"}) {
     TempDir dir;
     const hid_t file = runAndOpen(dir, "name: methods\n" + body + "solver: {view_factors: {method: " + method +
