@@ -1,7 +1,10 @@
 #include "geometry/scene.hpp"
 
+#include "geometry/vertex_welder.hpp"
+
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 namespace radnet::geometry {
@@ -62,6 +65,31 @@ std::vector<Face> checkedFaces(const TriangleSoup& soup, const std::string& labe
   return added;
 }
 
+// A closed shell (every edge, welded within 1e-9 of its size, shared by exactly two of its
+// triangles) encloses Σ v0·(v1 × v2)/6; negative: its fronts face inward.
+bool closedInwardShell(const TriangleSoup& soup, double& volume) {
+  Eigen::AlignedBox3d box;
+  for (const Vec3& v : soup.vertices) box.extend(v);
+  VertexWelder welder(1e-9 * std::max(box.diagonal().norm(), 1e-300));
+  std::vector<int> id;
+  for (const Vec3& v : soup.vertices) id.push_back(welder.id(v));
+  std::map<std::pair<int, int>, int> edges;
+  volume = 0.0;
+  for (const auto& t : soup.triangles) {
+    const Vec3 &a = soup.vertices[static_cast<size_t>(t[0])], &b = soup.vertices[static_cast<size_t>(t[1])],
+               &c = soup.vertices[static_cast<size_t>(t[2])];
+    volume += a.dot(b.cross(c)) / 6.0;
+    for (int k = 0; k < 3; ++k) {
+      const int u = id[static_cast<size_t>(t[static_cast<size_t>(k)])];
+      const int v = id[static_cast<size_t>(t[static_cast<size_t>((k + 1) % 3)])];
+      ++edges[{std::min(u, v), std::max(u, v)}];
+    }
+  }
+  for (const auto& [edge, count] : edges)
+    if (count != 2) return false;
+  return volume < 0;
+}
+
 }  // namespace
 
 int Scene::nodeIndex(const std::string& name) const {
@@ -89,6 +117,15 @@ void Scene::addSurface(const std::string& surface, const std::string& label, con
   if (!front_node.empty() && front_node == back_node)
     throw GeometryError(label + ": front and back sides cannot be the same node '" + front_node + "'");
   std::vector<Face> added = checkedFaces(soup, label, warnings_);
+  double volume = 0.0;
+  if (!front_node.empty() && closedInwardShell(soup, volume)) {
+    std::ostringstream w;
+    w << label << ": a closed shell whose front sides face inward (it encloses " << -volume
+      << " m³ with its triangles wound the other way), so front node '" << front_node
+      << "' sees only the inside. For a solid, reverse the triangles' winding in the file; for a cavity, name the node as "
+         "the back side to say so";
+    warnings_.push_back(w.str());
+  }
   const int surface_id = static_cast<int>(surfaces_.size());
   surfaces_.push_back(surface);
   const int front = nodeFor(front_node, +1, label);

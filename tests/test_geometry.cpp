@@ -243,3 +243,25 @@ TEST_CASE("shell adjacency: grid neighbours share their edge at the centroid dis
     }
   CHECK(found);
 }
+
+TEST_CASE("a closed shell whose fronts face inward is reported; outward or named as a cavity is not") {
+  const TriangleSoup ball = sphere(Vec3(0, 0, 0), 1.0, Vec3(0, 0, 1), 0, 180, {}, 6, 12);
+  TriangleSoup flipped = ball;
+  for (auto& t : flipped.triangles) std::swap(t[1], t[2]);
+  auto warned = [](const Scene& s) {
+    for (const auto& w : s.warnings())
+      if (w.find("front sides face inward") != std::string::npos) return true;
+    return false;
+  };
+  Scene outward, inward, cavity, open;
+  outward.addSurface("ball", "ball", ball, "ball", "");
+  inward.addSurface("ball", "mesh 'ball' (ball.stl)", flipped, "ball", "");
+  cavity.addSurface("tank", "tank", flipped, "", "tank.inside");
+  TriangleSoup cap = flipped;  // a hemisphere is no closed shell
+  cap.triangles.resize(cap.triangles.size() / 2);
+  open.addSurface("cap", "cap", cap, "cap", "");
+  CHECK_FALSE(warned(outward));
+  CHECK(warned(inward));
+  CHECK_FALSE(warned(cavity));
+  CHECK_FALSE(warned(open));
+}

@@ -185,6 +185,8 @@ int main(int argc, char** argv) {
   if (*validate)
     return guarded([&] {
       const LoadedCase c = loadCase(validate_case);
+      if (c.geometry)
+        for (const auto& w : c.geometry->scene.warnings()) std::cerr << "radnet: warning: " << w << "\n";
       std::cout << validate_case << ": valid (" << c.nodeCount() << " nodes)\n";
       return 0;
     });
