@@ -108,13 +108,16 @@ class PairSolver {
     if (allBehind(s_.points[b], p, s_.tol) || allBehind(s_.points[a], q, s_.tol)) return PairKind::Culled;
     clip_p_ = anyBehind(s_.points[a], q, s_.tol);
     clip_q_ = anyBehind(s_.points[b], p, s_.tol);
-    p_pieces_ = clip_p_ ? clippedPieces(p, q) : p.pieces;
-    q_pieces_ = clip_q_ ? clippedPieces(q, p) : q.pieces;
-    if (p_pieces_.empty() || q_pieces_.empty()) return PairKind::Culled;
-    pairBlockers(s_.index, p, p_pieces_, q, q_pieces_, s_.tol, candidates_, blockers_);
+    // The patches' own pieces unless clipped: no copy on the common path.
+    if (clip_p_) clipped_p_ = clippedPieces(p, q);
+    if (clip_q_) clipped_q_ = clippedPieces(q, p);
+    p_pieces_ = clip_p_ ? &clipped_p_ : &p.pieces;
+    q_pieces_ = clip_q_ ? &clipped_q_ : &q.pieces;
+    if (p_pieces_->empty() || q_pieces_->empty()) return PairKind::Culled;
+    pairBlockers(s_.index, p, *p_pieces_, q, *q_pieces_, s_.tol, candidates_, blockers_);
     if (blockers_.empty()) return PairKind::Unoccluded;
     for (int id : blockers_)
-      if (fullyOccludes(s_.index.occluders()[static_cast<size_t>(id)], p_pieces_, q_pieces_, s_.tol))
+      if (fullyOccludes(s_.index.occluders()[static_cast<size_t>(id)], *p_pieces_, *q_pieces_, s_.tol))
         return PairKind::Hidden;
     if (opt_.max_blockers >= 0 && static_cast<int>(blockers_.size()) > opt_.max_blockers) return PairKind::Sampled;
     return PairKind::Occluded;
@@ -128,11 +131,11 @@ class PairSolver {
     const double area_j = q.node >= 0 ? s_.node_area[static_cast<size_t>(q.node)] : q.area_m2;
     const double tol = opt_.tolerance * s_.share[a_] * s_.share[b_] * std::min(area_i, area_j);
     if (kind == PairKind::Unoccluded) {
-      const PlanarRegion pr = clip_p_ ? PlanarRegion{p_pieces_, p.region.normal} : p.region;
-      const PlanarRegion qr = clip_q_ ? PlanarRegion{q_pieces_, q.region.normal} : q.region;
+      const PlanarRegion pr = clip_p_ ? PlanarRegion{*p_pieces_, p.region.normal} : p.region;
+      const PlanarRegion qr = clip_q_ ? PlanarRegion{*q_pieces_, q.region.normal} : q.region;
       return polygonExchangeArea(pr, qr, tol);
     }
-    OccludedPair pair{&p_pieces_, p.region.normal, &q_pieces_, {}, {}};
+    OccludedPair pair{p_pieces_, p.region.normal, q_pieces_, {}, {}};
     for (int id : blockers_) pair.blockers.push_back(&s_.index.occluders()[static_cast<size_t>(id)]);
     return occludedExchangeArea(pair, tol, opt_.max_depth);
   }
@@ -142,7 +145,9 @@ class PairSolver {
   const ExactOptions& opt_;
   size_t a_ = 0, b_ = 0;
   bool clip_p_ = false, clip_q_ = false;
-  std::vector<Loop> p_pieces_, q_pieces_;
+  std::vector<Loop> clipped_p_, clipped_q_;
+  const std::vector<Loop>* p_pieces_ = nullptr;
+  const std::vector<Loop>* q_pieces_ = nullptr;
   std::vector<int> candidates_, blockers_;
 };
 

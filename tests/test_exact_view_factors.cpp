@@ -54,9 +54,8 @@ TEST_CASE("polygon to polygon: the double contour integral meets Howell's closed
     CHECK(p.error <= tol);
     CHECK(q.error <= tol);
   }
-  // Reciprocity between unequal polygons: A_a F_a→wide = A_wide F_wide→a, both from one
-  // formula evaluated in opposite orders; the offset square against C-11 by superposition
-  // is not needed: the wide one is centred over nothing, so only reciprocity is claimed.
+  // Reciprocity between unequal, offset polygons: A_a F_a→wide = A_wide F_wide→a, the
+  // contour sums taken in opposite orders.
   const FactorEstimate ab = polygonExchangeArea(a, wide, 1e-12), ba = polygonExchangeArea(wide, a, 1e-12);
   CHECK(ab.value == Approx(ba.value).epsilon(1e-10));
 }

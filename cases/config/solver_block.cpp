@@ -53,6 +53,16 @@ ViewFactorSettings parseViewFactorSettings(const YamlDocument& doc, const YAML::
                : m == "monte_carlo" ? ViewFactorMethod::MonteCarlo
                                     : ViewFactorMethod::Exact;
   }
+  // A key that is accepted must act: the ray keys do nothing when no row is cast, nor the
+  // tolerance when nothing is integrated.
+  if (s.method == ViewFactorMethod::Exact)
+    for (const char* key : {"rays", "seed", "target_error", "replicas", "sampling"})
+      if (vf[key])
+        throw doc.error(vf[key], what + "." + key + " has no effect with method: exact (it casts no rays); " +
+                                     "remove it, or use method: auto");
+  if (s.method == ViewFactorMethod::MonteCarlo && vf["tolerance"])
+    throw doc.error(vf["tolerance"], what + ".tolerance is the exact method's target and has no effect with " +
+                                         "method: monte_carlo; give rays or target_error instead");
   if (vf["tolerance"]) s.exact.tolerance = doc.number(vf["tolerance"], what + ".tolerance", 1e-12, 0.1);
   if (vf["max_blockers"]) {
     if (s.method != ViewFactorMethod::Auto)
