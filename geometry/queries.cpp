@@ -2,6 +2,7 @@
 
 #include "geometry/sampling.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace radnet::geometry {
@@ -21,18 +22,20 @@ bool raySphere(const Vec3& origin, const Vec3& dir, const Vec3& center, double r
   return true;
 }
 
-LitArea litArea(const RayCaster& caster, const Vec3& toward_source, int samples, std::uint64_t seed) {
+LitArea litArea(const RayCaster& caster, const Vec3& toward_source, int samples, std::uint64_t seed,
+                const std::vector<char>& only) {
   const Scene& scene = caster.scene();
   const int n = static_cast<int>(scene.nodes().size());
   LitArea out;
   out.projected_m2 = Eigen::VectorXd::Zero(n);
-  out.lit_fraction = Eigen::VectorXd::Zero(n);
+  out.lit_fraction = out.stderr_m2 = Eigen::VectorXd::Zero(n);
   const Vec3 d = toward_source.normalized();
   std::int64_t rays_cast = 0;
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : rays_cast)
 #endif
   for (int i = 0; i < n; ++i) {
+    if (!only.empty() && !only[static_cast<size_t>(i)]) continue;
     const Node& node = scene.nodes()[static_cast<size_t>(i)];
     double facing = 0.0;  // ∫ max(0, n·d) dA without shadows
     for (int f : node.faces)
@@ -41,7 +44,7 @@ LitArea litArea(const RayCaster& caster, const Vec3& toward_source, int samples,
     if (facing <= 0) continue;  // faces away: no rays
     const NodeSampler sampler(scene, i);
     Sobol4 sobol(mixSeed(seed, static_cast<std::uint64_t>(i), 0x5a17));
-    double lit = 0.0;
+    double lit = 0.0, lit2 = 0.0;
     for (int k = 0; k < samples; ++k) {
       const auto u = sobol.next();
       const NodeSampler::Ray p = sampler.mapPoint(u[0], u[1]);
@@ -49,52 +52,102 @@ LitArea litArea(const RayCaster& caster, const Vec3& toward_source, int samples,
       if (cosine <= 0) continue;
       ++rays_cast;
       const Hit hit = caster.firstHit(caster.offsetOrigin(p.point, p.normal), d, p.face);
-      if (hit.face < 0) lit += cosine;
+      if (hit.face < 0) {
+        lit += cosine;
+        lit2 += cosine * cosine;
+      }
     }
     out.projected_m2[i] = node.area_m2 * lit / samples;
+    const double mean = lit / samples;
+    out.stderr_m2[i] = node.area_m2 * std::sqrt(std::max(0.0, lit2 / samples - mean * mean) / samples);
     out.lit_fraction[i] = out.projected_m2[i] / facing;
   }
   out.rays_cast = rays_cast;
   return out;
 }
 
+namespace {
+
+constexpr int kPlanetReplicas = 32;
+
+// One node's rays: `per_replica` Sobol points per replica, each an area-uniform point on
+// the node and a direction uniform in the cone towards the sphere (pdf 1/Ω).
+PlanetRays castPlanetRays(const RayCaster& caster, const NodeSampler& sampler, int node, const Vec3& center,
+                          double radius, std::int64_t per_replica, std::uint64_t seed) {
+  PlanetRays pr;
+  double sum = 0.0, sum2 = 0.0;
+  for (int r = 0; r < kPlanetReplicas; ++r) {
+    Sobol4 sobol(mixSeed(seed, static_cast<std::uint64_t>(node), 0x9a7e7 + static_cast<std::uint64_t>(r)));
+    double total = 0.0;
+    for (std::int64_t k = 0; k < per_replica; ++k) {
+      const auto u = sobol.next();
+      const NodeSampler::Ray p = sampler.mapPoint(u[0], u[1]);
+      const Vec3 to_center = center - p.point;
+      const double dist = to_center.norm();
+      const Vec3 axis = to_center / dist;
+      const double cos_max = dist > radius ? std::sqrt(1.0 - (radius / dist) * (radius / dist)) : 0.0;
+      const double solid_angle = 2.0 * M_PI * (1.0 - cos_max);
+      // Uniform in the cone: cos θ uniform on [cos θ_max, 1], φ uniform.
+      const double cos_t = 1.0 - u[2] * (1.0 - cos_max), sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
+      const double phi = 2.0 * M_PI * u[3];
+      const Vec3 e1 = axis.unitOrthogonal(), e2 = axis.cross(e1);
+      const Vec3 dir = (cos_t * axis + sin_t * (std::cos(phi) * e1 + std::sin(phi) * e2)).normalized();
+      const double cosine = dir.dot(p.normal);
+      if (cosine <= 0) continue;  // behind the node's side
+      Vec3 at;
+      if (!raySphere(p.point, dir, center, radius, at)) continue;  // grazing: round-off at the limb
+      if (caster.firstHit(caster.offsetOrigin(p.point, p.normal), dir, p.face).face >= 0) continue;
+      const double w = solid_angle * cosine / M_PI;
+      pr.hit_points.push_back(at);
+      pr.weights.push_back(w);
+      total += w;
+    }
+    pr.replica_end.push_back(static_cast<int>(pr.hit_points.size()));
+    const double f = total / double(per_replica);
+    sum += f;
+    sum2 += f * f;
+  }
+  pr.rays = per_replica * kPlanetReplicas;
+  pr.view_factor = sum / kPlanetReplicas;
+  const double var = (sum2 - kPlanetReplicas * pr.view_factor * pr.view_factor) / (kPlanetReplicas - 1);
+  pr.standard_error = std::sqrt(std::max(0.0, var) / kPlanetReplicas);
+  return pr;
+}
+
+}  // namespace
+
 std::vector<PlanetRays> planetRays(const RayCaster& caster, const Vec3& center, double radius,
-                                   std::int64_t rays_per_node, std::uint64_t seed) {
+                                   const PlanetRayOptions& opt) {
   const Scene& scene = caster.scene();
   const int n = static_cast<int>(scene.nodes().size());
-  const int replicas = 32;
-  const std::int64_t per_replica = std::max<std::int64_t>(1, rays_per_node / replicas);
+  const std::int64_t cap = std::max<std::int64_t>(1, opt.rays_per_node / kPlanetReplicas);
   std::vector<PlanetRays> out(static_cast<size_t>(n));
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 1)
 #endif
   for (int i = 0; i < n; ++i) {
     const NodeSampler sampler(scene, i);
-    PlanetRays& pr = out[static_cast<size_t>(i)];
-    double sum = 0.0, sum2 = 0.0;
-    for (int r = 0; r < replicas; ++r) {
-      Sobol4 sobol(mixSeed(seed, static_cast<std::uint64_t>(i), 0x9a7e7 + static_cast<std::uint64_t>(r)));
-      std::int64_t hits = 0;
-      for (std::int64_t k = 0; k < per_replica; ++k) {
-        const NodeSampler::Ray ray = sampler.map(sobol.next());
-        Vec3 at;
-        if (!raySphere(ray.point, ray.direction, center, radius, at)) continue;
-        const Vec3 origin = caster.offsetOrigin(ray.point, ray.normal);
-        if (caster.firstHit(origin, ray.direction, ray.face).face >= 0) continue;  // the spacecraft is in the way
-        ++hits;
-        pr.hit_points.push_back(at);
-        pr.directions.push_back(ray.direction);
-      }
-      const double p = double(hits) / per_replica;
-      sum += p;
-      sum2 += p * p;
+    std::int64_t per_replica = opt.relative_error > 0 ? std::min<std::int64_t>(cap, 32) : cap;
+    for (;;) {
+      PlanetRays pr = castPlanetRays(caster, sampler, i, center, radius, per_replica, opt.seed);
+      const double dist = (center - sampler.mapPoint(0.5, 0.5).point).norm();
+      const double sin_max = std::min(1.0, radius / dist);
+      const double target = opt.relative_error * std::max(pr.view_factor, 0.1 * sin_max * sin_max);
+      const bool done = opt.relative_error <= 0 || pr.standard_error <= target || per_replica >= cap;
+      out[static_cast<size_t>(i)] = std::move(pr);
+      if (done) break;
+      per_replica = std::min(cap, 2 * per_replica);
     }
-    pr.rays = per_replica * replicas;
-    pr.view_factor = sum / replicas;
-    pr.standard_error =
-        std::sqrt(std::max(0.0, (sum2 - replicas * pr.view_factor * pr.view_factor) / (replicas - 1)) / replicas);
   }
   return out;
+}
+
+std::vector<PlanetRays> planetRays(const RayCaster& caster, const Vec3& center, double radius,
+                                   std::int64_t rays_per_node, std::uint64_t seed) {
+  PlanetRayOptions opt;
+  opt.rays_per_node = rays_per_node;
+  opt.seed = seed;
+  return planetRays(caster, center, radius, opt);
 }
 
 }  // namespace radnet::geometry

@@ -1,6 +1,9 @@
 #include "orbits/loads.hpp"
 
+#include "geometry/sun_grid.hpp"
 #include "solver/units.hpp"
+
+#include <algorithm>
 
 #include <chrono>
 #include <cmath>
@@ -20,6 +23,76 @@ double albedoAt(const EnvironmentOptions& opt, double lat) {
   return t.back().second;
 }
 
+double shadowGridSpacing(const Eigen::VectorXd& area, double relative_error) {
+  std::vector<double> a;
+  for (Eigen::Index i = 0; i < area.size(); ++i)
+    if (area[i] > 0) a.push_back(area[i]);
+  if (a.empty()) return 1.0;
+  const size_t q = a.size() / 10;
+  std::nth_element(a.begin(), a.begin() + static_cast<std::ptrdiff_t>(q), a.end());
+  return geometry::sunGridSpacing(a[q], relative_error);
+}
+
+namespace {
+
+// Direct irradiance and its σ at one lit position, W/m².
+void directLoads(const geometry::RayCaster& caster, const Eigen::VectorXd& area, const SweepPosition& pos,
+                 const EnvironmentOptions& opt, double cell_m, EnvironmentLoads& out, int p) {
+  const double flux = pos.solar_flux_w_m2 * pos.sunlit_fraction;
+  if (opt.shadow_samples > 0) {
+    const geometry::LitArea lit = geometry::litArea(caster, pos.sun_body, opt.shadow_samples, opt.seed);
+    out.direct.col(p) = flux * lit.projected_m2.cwiseQuotient(area);
+    out.direct_stderr.col(p) = flux * lit.stderr_m2.cwiseQuotient(area);
+    out.shadow_rays += lit.rays_cast;
+    return;
+  }
+  geometry::SunGridOptions grid;
+  grid.cell_m = cell_m;
+  grid.seed = opt.seed;
+  grid.negligible_fraction = opt.relative_error;
+  const geometry::SunlitArea lit = geometry::sunlitArea(caster, pos.sun_body, grid);
+  out.direct.col(p) = flux * lit.projected_m2.cwiseQuotient(area);
+  out.direct_stderr.col(p) = flux * lit.stderr_m2.cwiseQuotient(area);
+  out.shadow_rays += lit.cells + lit.node_rays;
+  out.shadow_cell_m = lit.cell_m;
+}
+
+// Albedo irradiance of node i and its σ from the replicas, W/m²: π Σ L w / N per replica
+// with L = a S max(0, ŝ·n) / π.
+void albedoLoad(const geometry::PlanetRays& r, const Eigen::Vector3d& center, double re, const SweepPosition& pos,
+                const EnvironmentOptions& opt, double& value, double& stderr_value) {
+  const Eigen::Matrix3d eciFromBody = pos.body_from_eci.transpose();
+  const int replicas = static_cast<int>(r.replica_end.size());
+  if (replicas == 0 || r.rays == 0) {
+    value = stderr_value = 0.0;
+    return;
+  }
+  const double per_replica = double(r.rays) / replicas;
+  double sum = 0.0, sum2 = 0.0;
+  size_t k = 0;
+  for (int rep = 0; rep < replicas; ++rep) {
+    double part = 0.0;
+    for (; k < static_cast<size_t>(r.replica_end[static_cast<size_t>(rep)]); ++k) {
+      const Eigen::Vector3d normal = (r.hit_points[k] - center) / re;  // outward, body frame
+      const double cos_sun = normal.dot(pos.sun_body);
+      if (cos_sun <= 0) continue;  // night side
+      const double a =
+          opt.albedo_by_latitude.empty()
+              ? opt.albedo
+              : albedoAt(opt, units::radToDeg(std::asin(std::clamp((eciFromBody * normal).z(), -1.0, 1.0))));
+      part += a * cos_sun * r.weights[k];
+    }
+    const double e = pos.solar_flux_w_m2 * part / per_replica;
+    sum += e;
+    sum2 += e * e;
+  }
+  value = sum / replicas;
+  stderr_value = replicas > 1 ? std::sqrt(std::max(0.0, (sum2 - replicas * value * value) / (replicas - 1)) / replicas)
+                              : value;
+}
+
+}  // namespace
+
 EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen::VectorXd& area,
                                   const std::vector<SweepPosition>& positions, bool earth_fixed, double re,
                                   const EnvironmentOptions& opt) {
@@ -28,42 +101,32 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
   const int P = static_cast<int>(positions.size());
   EnvironmentLoads out;
   out.direct = out.albedo = out.earth_ir = out.earth_view_factor = Eigen::MatrixXd::Zero(n, P);
+  out.direct_stderr = out.albedo_stderr = out.earth_ir_stderr = Eigen::MatrixXd::Zero(n, P);
+  const double cell_m = opt.shadow_cell_m > 0 ? opt.shadow_cell_m : shadowGridSpacing(area, opt.relative_error);
+  geometry::PlanetRayOptions planet;
+  planet.rays_per_node = opt.planet_rays > 0 ? opt.planet_rays : kMaxPlanetRays;
+  planet.relative_error = opt.planet_rays > 0 ? 0.0 : opt.relative_error;
+  planet.seed = opt.seed;
   std::vector<geometry::PlanetRays> rays;
   Eigen::Vector3d cached_center(0, 0, 0);
   for (int p = 0; p < P; ++p) {
     const SweepPosition& pos = positions[static_cast<size_t>(p)];
-    // Direct Sun: no rays in the umbra.
-    if (pos.sunlit_fraction > 0) {
-      const geometry::LitArea lit = geometry::litArea(caster, pos.sun_body, opt.shadow_samples, opt.seed);
-      out.direct.col(p) = (pos.solar_flux_w_m2 * pos.sunlit_fraction) * lit.projected_m2.cwiseQuotient(area);
-      out.shadow_rays += lit.rays_cast;
-    }
+    if (pos.sunlit_fraction > 0) directLoads(caster, area, pos, opt, cell_m, out, p);  // no rays in the umbra
     // Planet rays: cast again unless the Earth sits where it did (reuse).
     const Eigen::Vector3d center = pos.earth_body * pos.earth_distance_m;
     const bool reuse = earth_fixed && !rays.empty() && (center - cached_center).norm() <= 1e-9 * center.norm();
     if (!reuse) {
-      rays = geometry::planetRays(caster, center, re, opt.planet_rays, opt.seed);
+      rays = geometry::planetRays(caster, center, re, planet);
       cached_center = center;
       ++out.planet_casts;
+      for (const auto& r : rays) out.planet_rays += r.rays;
     }
-    const Eigen::Matrix3d eciFromBody = pos.body_from_eci.transpose();
     for (int i = 0; i < n; ++i) {
       const geometry::PlanetRays& r = rays[static_cast<size_t>(i)];
       out.earth_view_factor(i, p) = r.view_factor;
       out.earth_ir(i, p) = opt.earth_ir_w_m2 * r.view_factor;
-      double sum = 0.0;
-      for (const auto& hit : r.hit_points) {
-        const Eigen::Vector3d normal = (hit - center) / re;  // outward, body frame
-        const double cos_sun = normal.dot(pos.sun_body);
-        if (cos_sun <= 0) continue;  // night side
-        const double a =
-            opt.albedo_by_latitude.empty()
-                ? opt.albedo
-                : albedoAt(opt, units::radToDeg(std::asin(std::clamp((eciFromBody * normal).z(), -1.0, 1.0))));
-        sum += a * cos_sun;
-      }
-      // E = π ∫ L cos θ dω / π … with L = a S cos θ_s / π and rays drawn with pdf cos θ / π.
-      out.albedo(i, p) = r.rays > 0 ? pos.solar_flux_w_m2 * sum / double(r.rays) : 0.0;
+      out.earth_ir_stderr(i, p) = opt.earth_ir_w_m2 * r.standard_error;
+      albedoLoad(r, center, re, pos, opt, out.albedo(i, p), out.albedo_stderr(i, p));
     }
     if (opt.progress) opt.progress(p + 1, P);
   }

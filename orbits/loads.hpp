@@ -1,11 +1,14 @@
 #pragma once
 // Environment irradiances per node and sweep position (W/m², averaged over each node):
-//  * direct solar: flux × sunlit fraction × lit projected area / A (shadowing by the rest
-//    of the spacecraft through geometry/'s litArea; nodes facing away cast no rays);
-//  * albedo: cosine-weighted planet rays of each node (self-shadowed), each ray hitting
-//    the Earth at x carries a · S · max(0, ŝ·n(x)) (a Lambertian planet of radiance
-//    a S cos θ_s / π, sampled with pdf cos θ/π);
+//  * direct solar: flux × sunlit fraction × lit projected area / A, the shadows of the
+//    whole spacecraft from one grid of rays along the Sun's direction (geometry/sun_grid)
+//    or, when shadow_samples is set, from each node's own shadow rays (litArea);
+//  * albedo: planet rays of each node (self-shadowed) into the cone the Earth subtends,
+//    each ray hitting the Earth at x carries a · S · max(0, ŝ·n(x)) (a Lambertian planet of
+//    radiance a S cos θ_s / π);
 //  * Earth IR: OLR × view factor to the Earth (uniform Lambertian emitter).
+// Every load comes with its standard error (n×P, W/m²), and the ray counts follow
+// relative_error (the loads' share of the case's error budget) unless pinned.
 // Reuse: when the Earth is fixed in the body frame (nadir pointing on a circular orbit)
 // the planet rays are cast once and their hit points reused; only the Sun's part changes.
 #include "geometry/queries.hpp"
@@ -24,19 +27,34 @@ struct EnvironmentOptions {
   /// Optional latitude dependence: (|geocentric latitude| deg, albedo) pairs, linear in between.
   std::vector<std::pair<double, double>> albedo_by_latitude;
   double earth_ir_w_m2 = 237.0;      ///< outgoing longwave radiation, W/m² (global mean; Gilmore, ch. 2)
-  int shadow_samples = 1024;         ///< points per node for direct-solar shadow rays
-  std::int64_t planet_rays = 16384;  ///< cosine-weighted rays per node towards the planet
+  /// Target standard error of each load relative to its scale (direct: the node's area
+  /// times the flux; planet: see geometry::PlanetRayOptions), –
+  double relative_error = 0.005;
+  int shadow_samples = 0;      ///< > 0: this many shadow rays per node instead of the grid
+  double shadow_cell_m = 0.0;  ///< shadow grid spacing, m; 0: from the node areas and relative_error
+  std::int64_t planet_rays = 0;  ///< > 0: this many rays per node; 0: by relative_error up to kMaxPlanetRays
   std::uint64_t seed = 1;
   std::function<void(int, int)> progress;  ///< (positions done, positions total), optional
 };
+
+/// The cap on planet rays per node when they follow the error target.
+inline constexpr std::int64_t kMaxPlanetRays = 65536;
+
+/// The shadow grid spacing (m) for nodes of these areas: the 10th-percentile node gets
+/// the target relative error (geometry::sunGridSpacing); smaller ones get more error or,
+/// below the grid's resolution, their own shadow rays.
+double shadowGridSpacing(const Eigen::VectorXd& node_area_m2, double relative_error);
 
 struct EnvironmentLoads {
   Eigen::MatrixXd direct;             ///< (n×P) direct solar irradiance, W/m²
   Eigen::MatrixXd albedo;             ///< (n×P) albedo irradiance, W/m²
   Eigen::MatrixXd earth_ir;           ///< (n×P) Earth IR irradiance, W/m²
   Eigen::MatrixXd earth_view_factor;  ///< (n×P) with self-shadowing, –
+  Eigen::MatrixXd direct_stderr, albedo_stderr, earth_ir_stderr;  ///< standard errors of the three, W/m² (n×P)
   int planet_casts = 0;               ///< how many times the planet rays were cast (1 with reuse)
-  std::int64_t shadow_rays = 0;
+  std::int64_t planet_rays = 0;       ///< rays cast towards the planet, all casts
+  std::int64_t shadow_rays = 0;       ///< shadow grid cells plus per-node shadow rays, all positions
+  double shadow_cell_m = 0.0;         ///< the grid spacing of the last lit position (0: per-node rays), m
   double seconds = 0.0;
 };
 

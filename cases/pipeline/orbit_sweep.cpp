@@ -63,13 +63,20 @@ void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings,
   sw.irradiance.albedo = join(&orbits::EnvironmentLoads::albedo);
   sw.irradiance.earth_ir = join(&orbits::EnvironmentLoads::earth_ir);
   sw.irradiance.earth_view_factor = join(&orbits::EnvironmentLoads::earth_view_factor);
+  sw.irradiance.direct_stderr = join(&orbits::EnvironmentLoads::direct_stderr);
+  sw.irradiance.albedo_stderr = join(&orbits::EnvironmentLoads::albedo_stderr);
+  sw.irradiance.earth_ir_stderr = join(&orbits::EnvironmentLoads::earth_ir_stderr);
   for (const auto& part : parts) {
     sw.irradiance.planet_casts += part.planet_casts;
+    sw.irradiance.planet_rays += part.planet_rays;
     sw.irradiance.shadow_rays += part.shadow_rays;
+    sw.irradiance.shadow_cell_m = std::max(sw.irradiance.shadow_cell_m, part.shadow_cell_m);
     sw.irradiance.seconds += part.seconds;
   }
-  progress << "radnet: loads: planet rays cast " << sw.irradiance.planet_casts << " time(s) for " << P
-           << " positions\n";
+  progress << "radnet: loads: " << sw.irradiance.planet_rays << " planet rays (cast " << sw.irradiance.planet_casts
+           << " time(s) for " << P << " positions), " << sw.irradiance.shadow_rays << " shadow rays";
+  if (sw.irradiance.shadow_cell_m > 0) progress << " (grid spacing " << sw.irradiance.shadow_cell_m * 1e3 << " mm)";
+  progress << "\n";
 }
 
 // Energy balance of the solar band: what arrives = what is absorbed + what leaves to
