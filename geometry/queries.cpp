@@ -22,14 +22,47 @@ bool raySphere(const Vec3& origin, const Vec3& dir, const Vec3& center, double r
   return true;
 }
 
+namespace {
+
+// One replica of a node's shadow rays: Σ c, Σ c L and Σ c² (L − ratio)² over `samples`
+// Sobol points (c = n·d, L = 1 when lit), for the ratio estimate Σ c L / Σ c.
+struct LitSums {
+  double weight = 0.0, lit = 0.0, spread = 0.0;
+  std::int64_t rays = 0;
+};
+
+LitSums litSums(const RayCaster& caster, const NodeSampler& sampler, const Vec3& d, int samples, std::uint64_t seed) {
+  Sobol4 sobol(seed);
+  std::vector<std::pair<double, bool>> points;
+  points.reserve(static_cast<size_t>(samples));
+  LitSums s;
+  for (int k = 0; k < samples; ++k) {
+    const auto u = sobol.next();
+    const NodeSampler::Ray p = sampler.mapPoint(u[0], u[1]);
+    const double cosine = p.normal.dot(d);
+    if (cosine <= 0) continue;
+    ++s.rays;
+    const bool sunlit = caster.firstHit(caster.offsetOrigin(p.point, p.normal), d, p.face).face < 0;
+    points.emplace_back(cosine, sunlit);
+    s.weight += cosine;
+    s.lit += sunlit ? cosine : 0.0;
+  }
+  const double ratio = s.weight > 0 ? s.lit / s.weight : 0.0;
+  for (const auto& [c, l] : points) s.spread += c * c * ((l ? 1.0 : 0.0) - ratio) * ((l ? 1.0 : 0.0) - ratio);
+  return s;
+}
+
+}  // namespace
+
 LitArea litArea(const RayCaster& caster, const Vec3& toward_source, int samples, std::uint64_t seed,
-                const std::vector<char>& only) {
+                const std::vector<char>& only, int replicas) {
   const Scene& scene = caster.scene();
   const int n = static_cast<int>(scene.nodes().size());
   LitArea out;
   out.projected_m2 = Eigen::VectorXd::Zero(n);
   out.lit_fraction = out.stderr_m2 = Eigen::VectorXd::Zero(n);
   const Vec3 d = toward_source.normalized();
+  replicas = std::max(1, std::min(replicas, samples));
   std::int64_t rays_cast = 0;
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : rays_cast)
@@ -43,24 +76,29 @@ LitArea litArea(const RayCaster& caster, const Vec3& toward_source, int samples,
                 std::max(0.0, node.side * scene.faces()[static_cast<size_t>(f)].normal.dot(d));
     if (facing <= 0) continue;  // faces away: no rays
     const NodeSampler sampler(scene, i);
-    Sobol4 sobol(mixSeed(seed, static_cast<std::uint64_t>(i), 0x5a17));
-    double lit = 0.0, lit2 = 0.0;
-    for (int k = 0; k < samples; ++k) {
-      const auto u = sobol.next();
-      const NodeSampler::Ray p = sampler.mapPoint(u[0], u[1]);
-      const double cosine = p.normal.dot(d);
-      if (cosine <= 0) continue;
-      ++rays_cast;
-      const Hit hit = caster.firstHit(caster.offsetOrigin(p.point, p.normal), d, p.face);
-      if (hit.face < 0) {
-        lit += cosine;
-        lit2 += cosine * cosine;
-      }
+    // The ratio estimate facing · Σ c L / Σ c: exact for a node nothing shadows. Its σ:
+    // the delta method for one replica (as if the points were independent), else the
+    // spread of the replicas' ratios (randomised QMC, honest for Sobol points).
+    double sum = 0.0, sum2 = 0.0, only_spread = 0.0, only_weight = 0.0;
+    int used = 0;
+    for (int r = 0; r < replicas; ++r) {
+      const LitSums s = litSums(caster, sampler, d, samples / replicas,
+                                mixSeed(seed, static_cast<std::uint64_t>(i), 0x5a17 + static_cast<std::uint64_t>(r)));
+      rays_cast += s.rays;
+      if (!(s.weight > 0)) continue;
+      const double ratio = s.lit / s.weight;
+      sum += ratio;
+      sum2 += ratio * ratio;
+      only_spread = s.spread;
+      only_weight = s.weight;
+      ++used;
     }
-    out.projected_m2[i] = node.area_m2 * lit / samples;
-    const double mean = lit / samples;
-    out.stderr_m2[i] = node.area_m2 * std::sqrt(std::max(0.0, lit2 / samples - mean * mean) / samples);
-    out.lit_fraction[i] = out.projected_m2[i] / facing;
+    if (used == 0) continue;
+    const double ratio = sum / used;
+    out.projected_m2[i] = facing * ratio;
+    out.stderr_m2[i] = used == 1 ? facing * std::sqrt(only_spread) / only_weight
+                                 : facing * std::sqrt(std::max(0.0, (sum2 - used * ratio * ratio) / (used - 1)) / used);
+    out.lit_fraction[i] = ratio;
   }
   out.rays_cast = rays_cast;
   return out;

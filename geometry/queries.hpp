@@ -21,10 +21,13 @@ struct LitArea {
 
 /// Projected lit area of every node for a collimated source in direction `toward_source`
 /// (unit, body frame): `samples` area-uniform points per node (Sobol, shifted by `seed`),
-/// each weighted by max(0, n·d) and tested with a shadow ray towards the source. Nodes
+/// each weighted by max(0, n·d) and tested with a shadow ray towards the source; the
+/// node's exact unshadowed projection times the weighted lit share (a ratio estimate). Nodes
 /// whose every triangle faces away cast no rays, nor those `only` leaves out (when given).
+/// With `replicas` > 1 the samples are split into independently shifted Sobol sequences and
+/// the error is their spread (randomised QMC), far below the independent-points bound.
 LitArea litArea(const RayCaster& caster, const Vec3& toward_source, int samples, std::uint64_t seed = 1,
-                const std::vector<char>& only = {});
+                const std::vector<char>& only = {}, int replicas = 1);
 
 /// Rays from one node that reach a sphere (the planet) unobstructed by the spacecraft.
 struct PlanetRays {

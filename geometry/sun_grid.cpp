@@ -220,12 +220,14 @@ SunlitArea sunlitArea(const RayCaster& caster, const Vec3& toward_sun, const Sun
     // Edge cells are Bernoulli trials (mean p(1−p) = 1/6 over the cell fraction): shadow
     // edges t; the node's own outline e enters the ratio through the shadowed part only.
     out.stderr_m2[i] = out.facing_m2[i] / double(c.m) * std::sqrt((double(c.t) + double(c.e) * p * (1 - p)) / 6.0);
+    if (opt.max_relative_stderr > 0 && out.stderr_m2[i] > opt.max_relative_stderr * out.facing_m2[i])
+      small[static_cast<size_t>(i)] = 1;
   }
   for (char s : small) out.sampled_nodes += s;
   if (out.sampled_nodes > 0) {
-    const LitArea rays = litArea(caster, d, opt.node_samples, opt.seed, small);
+    const LitArea rays = litArea(caster, d, opt.node_samples, opt.seed, small, opt.node_replicas);
     for (int i = 0; i < n; ++i)
-      if (small[static_cast<size_t>(i)]) {
+      if (small[static_cast<size_t>(i)] && (rays.stderr_m2[i] < out.stderr_m2[i] || out.stderr_m2[i] == 0)) {
         out.projected_m2[i] = rays.projected_m2[i];
         out.stderr_m2[i] = rays.stderr_m2[i];
       }

@@ -27,7 +27,12 @@ struct SunGridOptions {
   /// ... unless their unshadowed projection is at most this fraction of their area (seen
   /// nearly edge-on: their load is too small to matter, and the grid's estimate stands)
   double negligible_fraction = 0.005;
-  int node_samples = 1024;               ///< points per such node (Sobol, as litArea)
+  /// Nodes whose grid estimate has a standard error above this fraction of their
+  /// unshadowed projection (long shadow edges across a narrow node) cast their own rays too;
+  /// 0: never
+  double max_relative_stderr = 0.0;
+  int node_samples = 2048;               ///< points per such node (Sobol, as litArea) ...
+  int node_replicas = 16;                ///< ... in this many replicas, for the error
   std::uint64_t seed = 1;
 };
 

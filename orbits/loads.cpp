@@ -50,6 +50,7 @@ void directLoads(const geometry::RayCaster& caster, const Eigen::VectorXd& area,
   grid.cell_m = cell_m;
   grid.seed = opt.seed;
   grid.negligible_fraction = opt.relative_error;
+  grid.max_relative_stderr = opt.relative_error;
   const geometry::SunlitArea lit = geometry::sunlitArea(caster, pos.sun_body, grid);
   out.direct.col(p) = flux * lit.projected_m2.cwiseQuotient(area);
   out.direct_stderr.col(p) = flux * lit.stderr_m2.cwiseQuotient(area);

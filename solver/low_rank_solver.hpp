@@ -48,6 +48,8 @@ class LowRankBandSolver {
 
   /// C = Λ (I − Vᵀ S V Λ)⁻¹ (k×k, symmetric), m².
   const Eigen::MatrixXd& core() const { return core_; }
+  /// V (n×k), the eigenvectors the core is built on, –.
+  const Eigen::MatrixXd& vectors() const { return vectors_; }
 
   /// G'(I − S G')⁻¹ X = V C Vᵀ X for a block X (n×P): the interreflected flux A H.
   Eigen::MatrixXd applyCore(const Eigen::Ref<const Eigen::MatrixXd>& x) const;

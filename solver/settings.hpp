@@ -12,6 +12,10 @@ namespace radnet::solver {
 struct SolverSettings {
   int rank = 0;                ///< explicit k (0: from the tolerance)
   double tolerance = 1e-10;    ///< relative residual target, and the a-priori truncation bound
+  bool tolerance_given = false;  ///< the case set it (else the error budget may, from the view factors' noise)
+  /// The error budget: relative standard uncertainty wanted on each node's absorbed power
+  /// (docs/solver.md, "Error budget"), –
+  double accuracy = 0.01;
   std::optional<bool> refine;  ///< default: refine when no explicit rank is given
   int max_rank = 200;          ///< cap on k chosen from a tolerance
   EigenMethod method = EigenMethod::Auto;

@@ -13,6 +13,7 @@
 #include <unistd.h>
 #include <filesystem>
 #include <iostream>
+#include <chrono>
 #include <sstream>
 
 #ifdef _OPENMP
@@ -90,6 +91,7 @@ int runCommand(const RunOptions& o) {
   std::ostream& progress = o.quiet ? static_cast<std::ostream&>(sink) : std::cerr;
   const std::string out = o.output.empty() ? defaultOutput(o.case_path) : o.output;
   checkOutputPath(out);
+  double write_s = 0.0;
   if (c.network) {
     const NetworkRunResult r = runNetworkCase(*c.network, progress);
     writeNetworkResult(*c.network, r, out);
@@ -97,10 +99,13 @@ int runCommand(const RunOptions& o) {
   } else {
     applyRunOptions(o, *c.geometry);
     const GeometryRunResult r = runGeometryCase(*c.geometry, !o.quiet, progress);
+    const auto t0 = std::chrono::steady_clock::now();
     writeGeometryResult(*c.geometry, r, out);
+    write_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     printGeometrySummary(*c.geometry, r, std::cout);
   }
-  if (!o.quiet) std::cerr << "radnet: wrote " << out << "\n";
+  // The file's own /report cannot hold the time spent writing it: it is said here.
+  if (!o.quiet) std::cerr << "radnet: wrote " << out << (write_s > 0 ? " in " + std::to_string(write_s) + " s" : "") << "\n";
   return 0;
 }
 

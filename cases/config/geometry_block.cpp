@@ -1,3 +1,4 @@
+#include "cases/config/error_budget.hpp"
 #include "cases/config/expect_block.hpp"
 #include "cases/config/geometry_case.hpp"
 #include "cases/config/primitive_specs.hpp"
@@ -206,6 +207,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
       orbit_period_s = std::min(orbit_period_s.value_or(oc.orbit->nodalPeriod()), oc.orbit->nodalPeriod());
   c.thermal = parseThermalSettings(doc, c.node_names, area, orbit_period_s);
   applyShells(c);
+  applyErrorBudget(c);
   if (root["expect"])
     c.expectations =
         parseExpectations(doc, root["expect"], c.node_names, c.thermal ? c.thermal->node_names : c.node_names);

@@ -14,9 +14,11 @@ const char* toString(ViewFactorMethod method) {
 solver::SolverSettings parseSolverSettings(const YamlDocument& doc, const YAML::Node& node) {
   solver::SolverSettings s;
   if (!node.IsDefined() || node.IsNull()) return s;
-  doc.expectMap(node, "solver", {"rank", "tolerance", "refine", "max_rank", "eigensolver", "view_factors"});
+  doc.expectMap(node, "solver", {"rank", "tolerance", "refine", "max_rank", "eigensolver", "view_factors", "accuracy"});
+  if (node["accuracy"]) s.accuracy = doc.number(node["accuracy"], "solver.accuracy (relative)", 1e-6, 0.5);
   if (node["rank"]) s.rank = static_cast<int>(doc.integer(node["rank"], "solver.rank", 1, 1 << 30));
   if (node["tolerance"]) s.tolerance = doc.number(node["tolerance"], "solver.tolerance", 1e-15, 1.0);
+  s.tolerance_given = node["tolerance"].IsDefined();
   if (node["rank"] && node["tolerance"])
     throw doc.error(node["tolerance"], "solver: give either 'rank' or 'tolerance', not both");
   if (node["refine"]) s.refine = doc.boolean(node["refine"], "solver.refine");
@@ -38,6 +40,7 @@ ViewFactorSettings parseViewFactorSettings(const YamlDocument& doc, const YAML::
   doc.expectMap(vf, what,
                 {"rays", "seed", "target_error", "replicas", "sampling", "method", "tolerance", "max_blockers"});
   if (vf["rays"]) mc.rays_per_node = doc.integer(vf["rays"], what + ".rays", 64, 2000000000LL);
+  s.rays_pinned = vf["rays"] || vf["target_error"];
   if (vf["seed"]) mc.seed = static_cast<std::uint64_t>(doc.integer(vf["seed"], what + ".seed", 0, 1LL << 62));
   if (vf["target_error"]) mc.target_error = doc.number(vf["target_error"], what + ".target_error", 1e-7, 0.5);
   if (vf["replicas"]) mc.replicas = static_cast<int>(doc.integer(vf["replicas"], what + ".replicas", 2, 1024));

@@ -35,6 +35,9 @@ void writeSweep(Hdf5Writer& h5, const SweepResult& sweep, Eigen::Index nodes);
 /// sweep, zero without one), with the largest imbalance in /report.
 void writeTemperatures(Hdf5Writer& h5, const ThermalSolution& thermal, const ThermalSettings& settings,
                        const SweepResult* sweep);
+/// /uncertainty/absorbed_power (P, n) W and its parts by source, /uncertainty/temperature
+/// (P, n) K when temperatures were computed, and the error budget's split in /report.
+void writeUncertainty(Hdf5Writer& h5, const GeometryCase& c, const GeometryRunResult& r, Eigen::Index nodes);
 /// /report time_<stage>_s attributes.
 void writeTimings(Hdf5Writer& h5, const StageTimings& timings);
 

@@ -42,6 +42,7 @@ void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, cons
   writeViewFactorEstimate(h5, r, c.view_factors.method);
   if (r.sweep) writeSweep(h5, *r.sweep, n);
   if (r.thermal) writeTemperatures(h5, *r.thermal, *c.thermal, r.sweep ? &*r.sweep : nullptr);
+  writeUncertainty(h5, c, r, n);
   const std::vector<XdmfAttribute> cell_values = writeXdmfCellValues(h5, r);
   writeTimings(h5, r.timings);
   std::vector<double> times;

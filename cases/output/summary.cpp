@@ -44,6 +44,12 @@ void printSweepSummary(const std::vector<std::string>& names, const SweepResult&
   }
   out << "band residuals: solar " << sw.solar_residual << ", IR " << sw.ir_residual << "; solar energy balance error "
       << sw.energy_balance_error << "\n";
+  const UncertaintySummary& u = sw.uncertainty;
+  out << "uncertainty (1σ, of each node's orbit-maximum absorbed power): at most " << 100 * u.total << " %";
+  if (u.worst_node >= 0) out << " (" << names[static_cast<size_t>(u.worst_node)] << ")";
+  out << "; view factors " << 100 * u.view_factors << " %, loads " << 100 * u.loads << " %, truncation "
+      << 100 * u.truncation << " %; accuracy asked " << 100 * u.accuracy << " %, " << u.nodes_over_budget
+      << " node(s) over it\n";
 }
 
 // Time weights of the positions for orbit means: the periodic trapezoid rule within each

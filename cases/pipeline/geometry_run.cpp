@@ -1,5 +1,6 @@
 #include "cases/pipeline/geometry_run.hpp"
 
+#include "cases/config/error_budget.hpp"
 #include "cases/pipeline/orbit_sweep.hpp"
 #include "cases/pipeline/progress.hpp"
 #include "cases/pipeline/radiative_network.hpp"
@@ -74,6 +75,8 @@ void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, c
   }
   r.raw_view_factors = Eigen::MatrixXd(estimate.view_factors);
   r.view_factor_stderr = Eigen::MatrixXd(estimate.standard_error);
+  // What leaves to space or to inactive sides is uncertain too (it sets the GR to space).
+  r.lost_view_factor_stderr = (estimate.space_error.array().square() + estimate.blocked_error.array().square()).sqrt();
   r.correction = geometry::enforceReciprocity(area, estimate, rays);
   timer.stop();
   progress << "radnet: view factors (" << toString(c.view_factors.method) << "): ";
@@ -121,13 +124,18 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
 
   const Eigen::VectorXd rho_max =
       (Eigen::VectorXd::Ones(n) - c.emissivity).cwiseMax(Eigen::VectorXd::Ones(n) - c.absorptivity);
-  r.radiative.pairs = decomposeNetwork(*r.radiative.network, rho_max, c.solver, r.timings);
-  r.radiative.exchange = exchangeFactors(r.radiative, c.emissivity, c.solver, r.timings);
+  // The error budget: refine no further than a fraction of the view factors' own noise.
+  r.solver = budgetedSolverSettings(c.solver, r.view_factor_stderr.size() ? r.view_factor_stderr.maxCoeff() : 0.0);
+  r.radiative.pairs = decomposeNetwork(*r.radiative.network, rho_max, r.solver, r.timings);
+  r.radiative.exchange = exchangeFactors(r.radiative, c.emissivity, r.solver, r.timings);
   if (c.orbit)
-    r.sweep = runSweep({*c.orbit, caster, r.radiative, c.absorptivity, c.emissivity, c.solver}, r.timings,
+    r.sweep = runSweep({*c.orbit, caster, r.radiative, c.absorptivity, c.emissivity, r.solver, r.view_factor_stderr},
+                       r.timings,
                        show_progress, progress);
+  const ThermalErrorInputs errors{r.view_factor_stderr, r.lost_view_factor_stderr, c.emissivity, area};
   if (c.thermal)
-    r.thermal = runThermal(*c.thermal, *r.radiative.exchange, r.sweep ? &*r.sweep : nullptr, r.timings, progress);
+    r.thermal =
+        runThermal(*c.thermal, *r.radiative.exchange, r.sweep ? &*r.sweep : nullptr, r.timings, progress, &errors);
   return r;
 }
 

@@ -2,24 +2,31 @@
 
 #include "cases/config/errors.hpp"
 #include "cases/pipeline/progress.hpp"
+#include "solver/uncertainty.hpp"
 
 #include <ostream>
 
 namespace radnet::cases {
 namespace {
 
-// One band for all positions at once: M_o = ρ ∘ E (n×cols); returns the solution and
-// the absorbed power (1 − ρ) A (E + H), W.
-solver::BandSolution solveBand(const solver::Network& net, const solver::EigenPairs& pairs, const Eigen::VectorXd& rho,
-                               const Eigen::MatrixXd& irradiance, double refine_tol, const char* band,
-                               Eigen::MatrixXd& absorbed) {
-  const solver::LowRankBandSolver solver(net, pairs, rho);
-  solver::BandSolution sol = solver.solve(rho.asDiagonal() * irradiance, refine_tol);
+// One band for all positions at once: M_o = ρ ∘ E (n×cols); the solution and the absorbed
+// power (1 − ρ) A (E + H), W.
+struct BandOutcome {
+  solver::BandSolution solution;
+  Eigen::MatrixXd absorbed;
+};
+
+BandOutcome solveBand(const solver::LowRankBandSolver& band, const solver::Network& net,
+                      const Eigen::MatrixXd& irradiance, double refine_tol, const char* name) {
+  BandOutcome out;
+  const Eigen::VectorXd& rho = band.reflectance();
+  out.solution = band.solve(rho.asDiagonal() * irradiance, refine_tol);
+  const solver::BandSolution& sol = out.solution;
   if (sol.status != solver::Status::Converged)
-    throw NumericalError(std::string(band) + " band solve " + solver::toString(sol.status) + ": " + sol.message);
+    throw NumericalError(std::string(name) + " band solve " + solver::toString(sol.status) + ": " + sol.message);
   const Eigen::VectorXd absorptance = Eigen::VectorXd::Ones(net.size()) - rho;
-  absorbed = absorptance.cwiseProduct(net.area()).asDiagonal() * (irradiance + sol.irradiance);
-  return sol;
+  out.absorbed = absorptance.cwiseProduct(net.area()).asDiagonal() * (irradiance + sol.irradiance);
+  return out;
 }
 
 // Sweeps and loads each orbit case (an epoch × beta combination) on its own, then joins
@@ -95,6 +102,49 @@ double solarEnergyBalanceError(const solver::Network& net, const SweepResult& sw
   return worst;
 }
 
+// The uncertainty of the absorbed power: the view-factor terms of the two bands added
+// (one δF moves both), the loads' and truncation terms in quadrature (independent).
+void absorbedUncertainty(const SweepInputs& in, const solver::LowRankBandSolver& solar,
+                         const solver::LowRankBandSolver& ir, const BandOutcome& solar_band,
+                         const BandOutcome& ir_band, SweepResult& sw) {
+  const solver::Network& net = *in.radiative.network;
+  const int P = static_cast<int>(sw.positions.size());
+  const orbits::EnvironmentLoads& e = sw.irradiance;
+  const Eigen::MatrixXd solar_sigma =
+      (e.direct_stderr.array().square() + e.albedo_stderr.array().square()).sqrt().matrix();
+  const solver::AbsorbedVariance vs =
+      solver::absorbedVariance(net, solar, in.view_factor_stderr, sw.exitance_solar, solar_sigma);
+  const solver::AbsorbedVariance vi =
+      solver::absorbedVariance(net, ir, in.view_factor_stderr, ir_band.solution.exitance, e.earth_ir_stderr);
+  const solver::BandSolution& s = solar_band.solution;
+  const Eigen::MatrixXd solar_h = s.irradiance.leftCols(P) + s.irradiance.rightCols(P);
+  sw.absorbed_stderr_truncation =
+      solver::truncationError(net, solar, sw.exitance_solar, solar_h, s.refined) +
+      solver::truncationError(net, ir, ir_band.solution.exitance, ir_band.solution.irradiance,
+                              ir_band.solution.refined);
+  sw.absorbed_stderr_view_factors = vs.view_factors.cwiseSqrt() + vi.view_factors.cwiseSqrt();
+  sw.absorbed_stderr_loads = (vs.loads + vi.loads).cwiseSqrt();
+  sw.absorbed_stderr = (sw.absorbed_stderr_view_factors.array().square() + sw.absorbed_stderr_loads.array().square() +
+                        sw.absorbed_stderr_truncation.array().square())
+                           .sqrt()
+                           .matrix();
+  UncertaintySummary& u = sw.uncertainty;
+  u.accuracy = in.solver.accuracy;
+  for (Eigen::Index i = 0; i < sw.absorbed_total.rows(); ++i) {
+    const double scale = sw.absorbed_total.row(i).cwiseAbs().maxCoeff();
+    if (!(scale > 0)) continue;
+    const double total = sw.absorbed_stderr.row(i).maxCoeff() / scale;
+    if (total > u.total) {
+      u.total = total;
+      u.worst_node = static_cast<int>(i);
+    }
+    u.view_factors = std::max(u.view_factors, sw.absorbed_stderr_view_factors.row(i).maxCoeff() / scale);
+    u.loads = std::max(u.loads, sw.absorbed_stderr_loads.row(i).maxCoeff() / scale);
+    u.truncation = std::max(u.truncation, sw.absorbed_stderr_truncation.row(i).maxCoeff() / scale);
+    u.nodes_over_budget += total > u.accuracy;
+  }
+}
+
 }  // namespace
 
 SweepResult runSweep(const SweepInputs& in, StageTimings& timings, bool show_progress, std::ostream& progress) {
@@ -108,23 +158,30 @@ SweepResult runSweep(const SweepInputs& in, StageTimings& timings, bool show_pro
   // Solar band (ρ = 1 − α): direct and albedo as 2P right-hand sides of one solve.
   Eigen::MatrixXd ext(n, 2 * P);
   ext << sw.irradiance.direct, sw.irradiance.albedo;
-  Eigen::MatrixXd absorbed;
-  const Eigen::VectorXd rho_solar = Eigen::VectorXd::Ones(n) - in.absorptivity;
-  const solver::BandSolution solar = solveBand(net, in.radiative.pairs, rho_solar, ext, tol, "solar", absorbed);
-  sw.absorbed_solar = absorbed.leftCols(P);
-  sw.absorbed_albedo = absorbed.rightCols(P);
-  sw.exitance_solar = solar.exitance.leftCols(P) + solar.exitance.rightCols(P);
-  sw.solar_residual = solar.max_residual;
-  sw.solar_refine_iterations = solar.refine_iterations;
+  const solver::LowRankBandSolver solar(net, in.radiative.pairs, Eigen::VectorXd::Ones(n) - in.absorptivity);
+  const BandOutcome solar_band = solveBand(solar, net, ext, tol, "solar");
+  sw.absorbed_solar = solar_band.absorbed.leftCols(P);
+  sw.absorbed_albedo = solar_band.absorbed.rightCols(P);
+  sw.exitance_solar = solar_band.solution.exitance.leftCols(P) + solar_band.solution.exitance.rightCols(P);
+  sw.solar_residual = solar_band.solution.max_residual;
+  sw.solar_refine_iterations = solar_band.solution.refine_iterations;
   sw.energy_balance_error = solarEnergyBalanceError(net, sw);
   // IR band (ρ = 1 − ε): the planet's IR, interreflected.
-  const solver::BandSolution ir = solveBand(net, in.radiative.pairs, Eigen::VectorXd::Ones(n) - in.emissivity,
-                                            sw.irradiance.earth_ir, tol, "IR", absorbed);
-  sw.absorbed_earth_ir = absorbed;
-  sw.ir_residual = ir.max_residual;
-  sw.ir_refine_iterations = ir.refine_iterations;
+  const solver::LowRankBandSolver ir(net, in.radiative.pairs, Eigen::VectorXd::Ones(n) - in.emissivity);
+  const BandOutcome ir_band = solveBand(ir, net, sw.irradiance.earth_ir, tol, "IR");
+  sw.absorbed_earth_ir = ir_band.absorbed;
+  sw.ir_residual = ir_band.solution.max_residual;
+  sw.ir_refine_iterations = ir_band.solution.refine_iterations;
   t_bands.stop();
   sw.absorbed_total = sw.absorbed_solar + sw.absorbed_albedo + sw.absorbed_earth_ir;
+  StageTimer t_unc(timings, Stage::Uncertainty);
+  absorbedUncertainty(in, solar, ir, solar_band, ir_band, sw);
+  const UncertaintySummary& u = sw.uncertainty;
+  if (u.nodes_over_budget > 0)
+    progress << "radnet: warning: the absorbed power of " << u.nodes_over_budget << " node(s) is uncertain by more "
+             << "than solver.accuracy " << u.accuracy << " of its orbit maximum (at most " << u.total << ": view "
+             << "factors " << u.view_factors << ", loads " << u.loads << ", truncation " << u.truncation
+             << "); /uncertainty/absorbed_power has it per node and position\n";
   return sw;
 }
 

@@ -18,6 +18,7 @@ struct SweepInputs {
   const Eigen::VectorXd& absorptivity;  ///< per node, solar band, –
   const Eigen::VectorXd& emissivity;    ///< per node, IR band, –
   const solver::SolverSettings& solver;
+  const Eigen::MatrixXd& view_factor_stderr;  ///< σ_F (n×n), –; empty: exact view factors
 };
 
 /// @throws NumericalError when a band solve fails

@@ -10,6 +10,7 @@
 #include "solver/exchange.hpp"
 #include "solver/low_rank_solver.hpp"
 #include "solver/network.hpp"
+#include "solver/settings.hpp"
 #include "solver/thermal.hpp"
 
 #include <Eigen/Dense>
@@ -30,6 +31,16 @@ struct RadiativeNetwork {
   std::optional<solver::ExchangeFactors> exchange;  ///< GR, when the nodes' emissivities are known
 };
 
+/// The absorbed-power uncertainty against the budget: for each node the largest σ over the
+/// positions relative to its orbit-maximum absorbed power, then the largest over nodes
+/// (nodes that never absorb anything are left out).
+struct UncertaintySummary {
+  double total = 0.0, view_factors = 0.0, loads = 0.0, truncation = 0.0;  ///< –
+  int worst_node = -1;         ///< where `total` is reached
+  int nodes_over_budget = 0;   ///< nodes whose relative σ exceeds the accuracy asked for
+  double accuracy = 0.0;       ///< solver.accuracy, –
+};
+
 /// An orbit sweep: the positions of every orbit case, their loads and band solves.
 struct SweepResult {
   std::vector<orbits::SweepPosition> positions;  ///< of every orbit case, one after another
@@ -44,6 +55,10 @@ struct SweepResult {
   double solar_residual = 0.0, ir_residual = 0.0;  ///< band-solve residuals with the full G
   int solar_refine_iterations = 0, ir_refine_iterations = 0;
   double energy_balance_error = 0.0;  ///< max over positions of |in − absorbed − lost| / in, solar band
+  /// Standard uncertainty of absorbed_total (n×P), W, and its parts: the view factors'
+  /// errors (both bands, taken as fully correlated), the loads' sampling, the truncation.
+  Eigen::MatrixXd absorbed_stderr, absorbed_stderr_view_factors, absorbed_stderr_loads, absorbed_stderr_truncation;
+  UncertaintySummary uncertainty;
   int caseCount() const { return static_cast<int>(case_start.size()) - 1; }
 };
 
@@ -65,6 +80,8 @@ struct ThermalSolution {
   std::vector<std::string> heater_names;
   Eigen::MatrixXd case_heater_duty;  ///< (c × h) duty of each heater in each orbit case (1 row without an orbit), –
   HeatBalance heat;
+  Eigen::MatrixXd temperature_stderr;       ///< (n×P) K, with a sweep; empty without
+  std::string temperature_stderr_method;    ///< how it was propagated
   const Eigen::MatrixXd& temperature() const { return solve.temperature; }
 };
 
@@ -88,12 +105,14 @@ struct ExactViewFactorStats {
 struct GeometryRunResult {
   Eigen::MatrixXd raw_view_factors;    ///< before the correction, –
   Eigen::MatrixXd view_factor_stderr;  ///< σ (rays) or the error estimate (exact), –
+  Eigen::VectorXd lost_view_factor_stderr;  ///< σ of F_space + F_blocked per node, –
   geometry::ReciprocityCorrection correction;
   std::optional<ExactViewFactorStats> exact;
   std::int64_t total_rays = 0;
   double rays_per_second = 0.0;
   Eigen::VectorXi triangle_node;  ///< node of each triangle: its front side's, else its back side's
   RadiativeNetwork radiative;
+  solver::SolverSettings solver;           ///< the case's, with the error budget's tolerance
   std::optional<SweepResult> sweep;        ///< when the case has an orbit
   std::optional<ThermalSolution> thermal;  ///< P positions (1 without an orbit), with `thermal:`
   StageTimings timings;

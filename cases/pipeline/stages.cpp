@@ -22,6 +22,8 @@ std::string_view stageName(Stage stage) {
     case Stage::Orbit: return "orbit";
     case Stage::EnvironmentLoads: return "environment_loads";
     case Stage::Thermal: return "thermal";
+    case Stage::Uncertainty: return "uncertainty";
+    case Stage::Output: return "output";
   }
   return "unknown";
 }

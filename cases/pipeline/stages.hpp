@@ -17,6 +17,8 @@ enum class Stage {
   Orbit,               ///< propagating the orbit(s) and finding eclipse events
   EnvironmentLoads,    ///< direct solar, albedo and Earth-IR irradiance per node and position
   Thermal,             ///< temperatures (steady or transient)
+  Uncertainty,         ///< propagating the view-factor, load and truncation errors
+  Output,              ///< writing the HDF5 file and its companions
 };
 
 /// Snake-case name of a stage, e.g. "band_solves".

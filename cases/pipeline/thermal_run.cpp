@@ -1,6 +1,7 @@
 #include "cases/pipeline/thermal_run.hpp"
 
 #include "cases/config/errors.hpp"
+#include "solver/uncertainty.hpp"
 
 #include <array>
 #include <cmath>
@@ -108,6 +109,27 @@ void checkDetermined(const ThermalSettings& ts, const solver::ThermalNetwork& ne
                        "needs a conductor to the structure (or a shell), or a boundary node");
 }
 
+// σ_T from the absorbed power's uncertainty and the view factors' errors in the exchange
+// between the radiative nodes (lumped nodes: no environment, no view factors).
+void temperatureUncertainty(const solver::ThermalNetwork& net, const SweepResult& sw, const ThermalErrorInputs& in,
+                            int radiative_nodes, ThermalSolution& out) {
+  const Eigen::MatrixXd& t = out.solve.temperature;
+  Eigen::MatrixXd var_q = Eigen::MatrixXd::Zero(t.rows(), t.cols());
+  var_q.topRows(radiative_nodes) =
+      sw.absorbed_stderr.array().square().matrix() +
+      solver::exchangeHeatVariance(in.view_factor_stderr, in.lost_view_factor_stderr, in.emissivity, in.area,
+                                   t.topRows(radiative_nodes), net.space_temperature);
+  solver::TemperaturePropagation used;
+  out.temperature_stderr = solver::temperatureStderr(net, t, var_q, sw.case_start, used);
+  out.temperature_stderr_method =
+      used == solver::TemperaturePropagation::PerPosition
+          ? "first order, the heat balance's Jacobian at each position"
+      : used == solver::TemperaturePropagation::PerSpan
+          ? "first order, the heat balance's Jacobian at each orbit case's mean temperatures"
+          : "first order, the Jacobian's diagonal only (large network): coupling to neighbours left out, an "
+            "underestimate";
+}
+
 }  // namespace
 
 solver::ThermalNetwork thermalNetwork(const ThermalSettings& ts, const solver::ExchangeFactors& exchange) {
@@ -154,7 +176,7 @@ HeatBalance heatBalance(const solver::ThermalNetwork& net, const solver::Thermal
 }
 
 ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFactors& exchange, const SweepResult* sweep,
-                           StageTimings& timings, std::ostream& progress) {
+                           StageTimings& timings, std::ostream& progress, const ThermalErrorInputs* errors) {
   for (const std::string& w : ts.warnings) progress << "radnet: warning: " << w << "\n";
   const solver::ThermalNetwork net = thermalNetwork(ts, exchange);
   checkDetermined(ts, net);
@@ -181,6 +203,10 @@ ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFact
   if (result.status != solver::Status::Converged)
     throw NumericalError(std::string("temperatures ") + solver::toString(result.status) + ": " + result.message);
   out.heat = heatBalance(net, result, q_env);
+  if (sweep && errors) {
+    StageTimer t_unc(timings, Stage::Uncertainty);
+    temperatureUncertainty(net, *sweep, *errors, ts.radiative_nodes, out);
+  }
   progress << "radnet: temperatures (" << out.mode;
   if (ts.periodic) progress << ", " << result.orbits << " orbits to a change below " << ts.periodic->tolerance_k << " K";
   if (!ts.heaters.empty()) progress << ", " << result.heater_switches << " heater switchings";

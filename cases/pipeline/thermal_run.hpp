@@ -12,10 +12,20 @@ namespace radnet::cases {
 /// radiative nodes' GR, padded with the lumped nodes, plus the user couplings and MLI.
 solver::ThermalNetwork thermalNetwork(const ThermalSettings& settings, const solver::ExchangeFactors& exchange);
 
+/// What the temperatures' uncertainty needs of a geometry case beyond the sweep.
+struct ThermalErrorInputs {
+  const Eigen::MatrixXd& view_factor_stderr;  ///< σ_F (n_r×n_r), –
+  const Eigen::VectorXd& lost_view_factor_stderr;  ///< σ of F_space + F_blocked (n_r), –
+  const Eigen::VectorXd& emissivity;          ///< of the radiative nodes, –
+  const Eigen::VectorXd& area;                ///< of the radiative nodes, m²
+};
+
 /// Temperatures (n×P; P = 1 without a sweep), K, with the sweep's absorbed loads, and the
-/// heat flows of every node. @throws NumericalError when the heat balance does not converge
+/// heat flows of every node; with a sweep and `errors`, their standard uncertainty too.
+/// @throws NumericalError when the heat balance does not converge
 ThermalSolution runThermal(const ThermalSettings& settings, const solver::ExchangeFactors& exchange,
-                           const SweepResult* sweep, StageTimings& timings, std::ostream& progress);
+                           const SweepResult* sweep, StageTimings& timings, std::ostream& progress,
+                           const ThermalErrorInputs* errors = nullptr);
 
 /// The heat flows of a solution and their imbalance; q_env (n×P, W) the absorbed loads.
 HeatBalance heatBalance(const solver::ThermalNetwork& net, const solver::ThermalResult& solution,

@@ -1,0 +1,92 @@
+// The reported uncertainty against the error it claims to bound: each case is run at the
+// default error budget (and few view-factor rays, so that their noise shows) and again as
+// a reference with hundreds of times the rays, shadows by the second method (each node's
+// own shadow rays instead of the grid) and another seed. The difference of the two must lie
+// within 2 σ (both runs' σ combined) for ≥ 90 % of the (node, position) pairs, as a normal
+// error would for 95 %; and σ must not be so wide that it says nothing.
+#include "cli_support.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <regex>
+
+using namespace radnet::test;
+
+namespace {
+
+struct Coverage {
+  int pairs = 0, within_2 = 0, within_half = 0;
+};
+
+// A shipped example with fewer positions and the given solver and environment lines.
+std::string variant(const std::string& example, const std::string& vf, const std::string& env) {
+  std::string text = slurp(source("cases/examples/" + example));
+  text = std::regex_replace(text, std::regex("positions: 72"), "positions: 12");
+  text = std::regex_replace(text, std::regex("  view_factors: \\{[^}]*\\}"), "  view_factors: " + vf);
+  text = std::regex_replace(text, std::regex("environment: \\{"), "environment: {" + env);
+  return text;
+}
+
+std::vector<double> absorbed(hid_t f) {
+  std::vector<double> q = readDataset(f, "/loads/solar").values;
+  const std::vector<double> a = readDataset(f, "/loads/albedo").values, e = readDataset(f, "/loads/earth_ir").values;
+  for (size_t k = 0; k < q.size(); ++k) q[k] += a[k] + e[k];
+  return q;
+}
+
+Coverage compare(const std::string& example, const std::string& vf_test, const std::string& vf_ref,
+                 const std::string& dataset, const std::string& sigma_dataset) {
+  TempDir dir;
+  std::filesystem::create_directories(dir.path / "materials");
+  dir.write("materials/common.yaml", slurp(source("cases/examples/materials/common.yaml")));
+  dir.write("test.yaml", variant(example, vf_test, ""));
+  dir.write("ref.yaml", variant(example, vf_ref, "shadow_samples: 16384, planet_rays: 131072, "));
+  REQUIRE(runRadnet("run test.yaml -o test.h5", dir).exit_code == 0);
+  REQUIRE(runRadnet("run ref.yaml -o ref.h5", dir).exit_code == 0);
+  const hid_t t = H5Fopen((dir.path / "test.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t r = H5Fopen((dir.path / "ref.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const std::vector<double> qt = dataset.empty() ? absorbed(t) : readDataset(t, dataset).values;
+  const std::vector<double> qr = dataset.empty() ? absorbed(r) : readDataset(r, dataset).values;
+  const std::vector<double> st = readDataset(t, sigma_dataset).values, sr = readDataset(r, sigma_dataset).values;
+  H5Fclose(t);
+  H5Fclose(r);
+  Coverage c;
+  for (size_t k = 0; k < qt.size(); ++k) {
+    if (qt[k] == 0 && qr[k] == 0) continue;  // lumped nodes, nodes that never absorb
+    const double sigma = std::hypot(st[k], sr[k]), err = std::abs(qt[k] - qr[k]);
+    // 1e-9 relative: round-off of exact parts (a fully lit node's direct load has σ = 0).
+    const double slack = 1e-9 * std::abs(qr[k]);
+    ++c.pairs;
+    c.within_2 += err <= 2 * sigma + slack;
+    c.within_half += err <= 0.5 * sigma + slack;
+  }
+  return c;
+}
+
+void checkCoverage(const Coverage& c) {
+  INFO(c.pairs << " pairs: " << c.within_2 << " within 2σ, " << c.within_half << " within σ/2");
+  REQUIRE(c.pairs > 50);
+  CHECK(c.within_2 >= 0.90 * c.pairs);
+  // A normal error lies within σ/2 38 % of the time: far more says σ is inflated. The
+  // exact parts (unshadowed direct Sun) agree to round-off, so allow up to 90 %.
+  CHECK(c.within_half <= 0.90 * c.pairs);
+}
+
+}  // namespace
+
+TEST_CASE("uncertainty: the CubeSat's absorbed power lies within its reported 2σ of a high-ray reference") {
+  checkCoverage(compare("cubesat-3u.yaml", "{method: monte_carlo, rays: 4000, seed: 1}",
+                        "{method: monte_carlo, rays: 1000000, seed: 7}", "", "/uncertainty/absorbed_power"));
+}
+
+TEST_CASE("uncertainty: the satellite (mast, dish and wings shadowing each other) within its 2σ") {
+  checkCoverage(compare("satellite.yaml", "{method: monte_carlo, rays: 4000, seed: 1}",
+                        "{method: monte_carlo, rays: 400000, seed: 7}", "", "/uncertainty/absorbed_power"));
+}
+
+TEST_CASE("uncertainty: the CubeSat's temperatures lie within their reported 2σ of the reference's") {
+  checkCoverage(compare("cubesat-3u.yaml", "{method: monte_carlo, rays: 4000, seed: 1}",
+                        "{method: monte_carlo, rays: 1000000, seed: 7}", "/solution/temperature",
+                        "/uncertainty/temperature"));
+}
