@@ -1,14 +1,32 @@
 #include "solver/exchange.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace radnet::solver {
 namespace {
 
+// GR ← (GR + GRᵀ)/2 in place, returning max |GR_ij − GR_ji|. By 64 × 64 tiles: the
+// transposed side of a large matrix is cache-hostile element by element, and an in-place
+// `g = 0.5 * (g + g.transpose())` would read entries it has already overwritten.
+double symmetrize(Eigen::MatrixXd& g) {
+  constexpr Eigen::Index kTile = 64;
+  const Eigen::Index n = g.rows();
+  double worst = 0.0;
+  for (Eigen::Index j0 = 0; j0 < n; j0 += kTile)
+    for (Eigen::Index i0 = j0; i0 < n; i0 += kTile)
+      for (Eigen::Index j = j0; j < std::min(n, j0 + kTile); ++j)
+        for (Eigen::Index i = std::max(i0, j + 1); i < std::min(n, i0 + kTile); ++i) {
+          worst = std::max(worst, std::abs(g(i, j) - g(j, i)));
+          g(i, j) = g(j, i) = 0.5 * (g(i, j) + g(j, i));
+        }
+  return worst;
+}
+
 void finishFactors(ExchangeFactors& ex, const Network& net, const Eigen::VectorXd& emissivity) {
   const double scale = ex.gr.cwiseAbs().maxCoeff();
-  ex.asymmetry = scale > 0 ? (ex.gr - ex.gr.transpose()).cwiseAbs().maxCoeff() / scale : 0.0;
-  ex.gr = 0.5 * (ex.gr + ex.gr.transpose());
+  const double asymmetry = symmetrize(ex.gr);
+  ex.asymmetry = scale > 0 ? asymmetry / scale : 0.0;
   // Everything node i emits (ε_i A_i per unit σT⁴) is absorbed by some node or lost to space.
   ex.gr_space = emissivity.cwiseProduct(net.area()) - ex.gr.rowwise().sum();
   if (!ex.gr.allFinite()) {
@@ -50,8 +68,10 @@ ExchangeFactors exchangeFactorsLowRank(const Network& net, const LowRankBandSolv
     ex.message = ir_band.message();
     return ex;
   }
-  // G'(I − S G')⁻¹ = V C Vᵀ, so GR = E V C Vᵀ E.
-  ex.gr = emissivity.asDiagonal() * ir_band.applyCore(Eigen::MatrixXd(emissivity.asDiagonal()));
+  // G'(I − S G')⁻¹ = V C Vᵀ, so GR = E V C Vᵀ E = W C Wᵀ with W = E V (n×k): one n² k
+  // product, never an n × n right-hand side.
+  const Eigen::MatrixXd w = emissivity.asDiagonal() * ir_band.vectors();
+  ex.gr.noalias() = (w * ir_band.core()) * w.transpose();
   finishFactors(ex, net, emissivity);
   return ex;
 }

@@ -42,7 +42,7 @@ LowRankBandSolver::LowRankBandSolver(const Network& net, const EigenPairs& pairs
     return;
   }
   core_ = lu.solve(Eigen::MatrixXd(values_.asDiagonal()));
-  core_ = 0.5 * (core_ + core_.transpose());  // symmetric in exact arithmetic
+  core_ = (0.5 * (core_ + core_.transpose())).eval();  // symmetric in exact arithmetic; eval: no aliasing
   if (!core_.allFinite()) {
     status_ = Status::NonFinite;
     message_ = "low-rank core C is not finite";

@@ -22,7 +22,7 @@ void parseAlbedoTable(const YamlDocument& doc, const YAML::Node& a, orbits::Envi
 void parseEnvironment(const YamlDocument& doc, const YAML::Node& e, orbits::SweepOptions& sweep,
                       orbits::EnvironmentOptions& env) {
   if (!e) return;
-  doc.expectMap(e, "environment", {"solar_constant", "albedo", "earth_ir", "shadow_samples", "planet_rays"});
+  doc.expectMap(e, "environment", {"solar_constant", "albedo", "earth_ir", "shadow_samples", "shadow_cell", "planet_rays"});
   if (e["solar_constant"])
     sweep.solar_constant_w_m2 = doc.number(e["solar_constant"], "environment.solar_constant (W/m²)", 0, 1e5);
   if (const YAML::Node a = e["albedo"]) {
@@ -34,6 +34,12 @@ void parseEnvironment(const YamlDocument& doc, const YAML::Node& e, orbits::Swee
   if (e["earth_ir"]) env.earth_ir_w_m2 = doc.number(e["earth_ir"], "environment.earth_ir (W/m²)", 0, 1e4);
   if (e["shadow_samples"])
     env.shadow_samples = static_cast<int>(doc.integer(e["shadow_samples"], "environment.shadow_samples", 1, 1 << 24));
+  if (e["shadow_cell"]) {
+    if (e["shadow_samples"])
+      throw doc.error(e["shadow_cell"], "environment: shadow_cell sizes the shadow grid and shadow_samples replaces "
+                                        "it by per-node shadow rays; give one of them");
+    env.shadow_cell_m = doc.number(e["shadow_cell"], "environment.shadow_cell (m)", 1e-6, 10.0);
+  }
   if (e["planet_rays"]) env.planet_rays = doc.integer(e["planet_rays"], "environment.planet_rays", 32, 1LL << 30);
 }
 

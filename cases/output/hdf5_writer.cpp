@@ -1,5 +1,7 @@
 #include "cases/output/hdf5_writer.hpp"
 
+#include <algorithm>
+
 #include <hdf5.h>
 
 #include <unistd.h>
@@ -99,8 +101,16 @@ void Hdf5Writer::writeArray(const std::string& path, long long file_type, long l
 
 void Hdf5Writer::writeMatrix(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m,
                              const std::string& units) {
-  // HDF5 is row-major: (rows, cols) as a reader indexes it.
-  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> data = m;
+  // HDF5 is row-major: (rows, cols) as a reader indexes it. The transposition goes by
+  // 64 × 64 tiles that stay in cache: element by element, an n × n matrix of 6,402 nodes
+  // took 2 s of cache misses each.
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> data(m.rows(), m.cols());
+  constexpr Eigen::Index kTile = 64;
+  for (Eigen::Index j = 0; j < m.cols(); j += kTile)
+    for (Eigen::Index i = 0; i < m.rows(); i += kTile) {
+      const Eigen::Index rows = std::min(kTile, m.rows() - i), cols = std::min(kTile, m.cols() - j);
+      data.block(i, j, rows, cols) = m.block(i, j, rows, cols);
+    }
   const unsigned long long dims[2] = {static_cast<unsigned long long>(m.rows()),
                                       static_cast<unsigned long long>(m.cols())};
   writeArray(path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, dims, data.data(), units);
