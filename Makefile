@@ -45,6 +45,9 @@ bench: build
 	  docs/exact-view-factor-benchmark.csv $$( [ -x $(BUILD_DIR)/view3d/view3d ] && echo $(BUILD_DIR)/view3d/view3d )
 	/usr/bin/python3 bench/plot_exact_benchmark.py docs/exact-view-factor-benchmark.csv \
 	  docs/exact-view-factor-benchmark.png
+	# End to end against n, before and with the error budget (about 15 minutes).
+	/usr/bin/python3 bench/bench_end_to_end.py $(BUILD_DIR)/radnet docs/benchmarks.md \
+	  bench/cases/satellite-1602.yaml bench/cases/satellite-6402.yaml bench/cases/satellite-19202.yaml
 
 clean:
 	rm -rf $(BUILD_DIR) build-sanitize

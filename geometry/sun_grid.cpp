@@ -164,34 +164,11 @@ NodeCounts countNode(const std::vector<Projected>& tris, const std::vector<int>&
   return out;
 }
 
-}  // namespace
-
-double sunGridSpacing(double area_m2, double relative_error) {
-  return std::sqrt(area_m2) * std::pow(std::sqrt(6.0) * relative_error, 2.0 / 3.0);
-}
-
-SunlitArea sunlitArea(const RayCaster& caster, const Vec3& toward_sun, const SunGridOptions& opt) {
-  if (!(opt.cell_m > 0) || !std::isfinite(opt.cell_m)) throw std::invalid_argument("sun grid spacing must be > 0");
-  const Scene& scene = caster.scene();
+// Each node's ratio estimate and σ from the z-buffer (SunlitArea::projected_m2 and
+// stderr_m2); returns the nodes to shadow with their own rays instead.
+std::vector<char> gridEstimates(const Scene& scene, const std::vector<Projected>& tris, const std::vector<int>& winner,
+                                const Grid& g, const SunGridOptions& opt, SunlitArea& out) {
   const int n = static_cast<int>(scene.nodes().size());
-  const Vec3 d = toward_sun.normalized();
-  const Vec3 e1 = d.unitOrthogonal(), e2 = d.cross(e1);
-  SunlitArea out;
-  out.projected_m2 = out.stderr_m2 = out.facing_m2 = Eigen::VectorXd::Zero(n);
-  Grid g;
-  g.seed = mixSeed(opt.seed, 0x5a9d);
-  g.h = opt.cell_m;
-  std::vector<Projected> tris;
-  for (;;) {  // grow the spacing until the grid fits
-    out.facing_m2.setZero();
-    tris = project(scene, d, e1, e2, g, out.facing_m2);
-    const double cells = double(g.nx) * double(g.ny);
-    if (cells <= double(opt.max_cells)) break;
-    g.h *= std::sqrt(cells / double(opt.max_cells)) * 1.01;
-  }
-  out.cell_m = g.h;
-  out.cells = std::int64_t(g.nx) * g.ny;
-  const std::vector<int> winner = zBuffer(tris, g);
   std::vector<std::vector<int>> by_node(static_cast<size_t>(n));
   for (size_t k = 0; k < tris.size(); ++k)
     if (tris[k].node >= 0) by_node[static_cast<size_t>(tris[k].node)].push_back(static_cast<int>(k));
@@ -223,6 +200,38 @@ SunlitArea sunlitArea(const RayCaster& caster, const Vec3& toward_sun, const Sun
     if (opt.max_relative_stderr > 0 && out.stderr_m2[i] > opt.max_relative_stderr * out.facing_m2[i])
       small[static_cast<size_t>(i)] = 1;
   }
+  return small;
+}
+
+}  // namespace
+
+double sunGridSpacing(double area_m2, double relative_error) {
+  return std::sqrt(area_m2) * std::pow(std::sqrt(6.0) * relative_error, 2.0 / 3.0);
+}
+
+SunlitArea sunlitArea(const RayCaster& caster, const Vec3& toward_sun, const SunGridOptions& opt) {
+  if (!(opt.cell_m > 0) || !std::isfinite(opt.cell_m)) throw std::invalid_argument("sun grid spacing must be > 0");
+  const Scene& scene = caster.scene();
+  const int n = static_cast<int>(scene.nodes().size());
+  const Vec3 d = toward_sun.normalized();
+  const Vec3 e1 = d.unitOrthogonal(), e2 = d.cross(e1);
+  SunlitArea out;
+  out.projected_m2 = out.stderr_m2 = out.facing_m2 = Eigen::VectorXd::Zero(n);
+  Grid g;
+  g.seed = mixSeed(opt.seed, 0x5a9d);
+  g.h = opt.cell_m;
+  std::vector<Projected> tris;
+  for (;;) {  // grow the spacing until the grid fits
+    out.facing_m2.setZero();
+    tris = project(scene, d, e1, e2, g, out.facing_m2);
+    const double cells = double(g.nx) * double(g.ny);
+    if (cells <= double(opt.max_cells)) break;
+    g.h *= std::sqrt(cells / double(opt.max_cells)) * 1.01;
+  }
+  out.cell_m = g.h;
+  out.cells = std::int64_t(g.nx) * g.ny;
+  const std::vector<int> winner = zBuffer(tris, g);
+  std::vector<char> small = gridEstimates(scene, tris, winner, g, opt, out);
   for (char s : small) out.sampled_nodes += s;
   if (out.sampled_nodes > 0) {
     const LitArea rays = litArea(caster, d, opt.node_samples, opt.seed, small, opt.node_replicas);

@@ -67,7 +67,8 @@ BandSolution LowRankBandSolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& m
   // A H' = G' M' = V C Vᵀ M_o and M' = M_o + ρ ∘ H' (exact for G'_k).
   sol.irradiance = net_.area().cwiseInverse().asDiagonal() * applyCore(mo);
   sol.exitance = mo + rho_.asDiagonal() * sol.irradiance;
-  sol.residual = relativeResidual(net_.applyConductance(sol.exitance), net_.area(), rho_, mo, sol.exitance);
+  sol.full_flux = net_.applyConductance(sol.exitance);
+  sol.residual = relativeResidual(sol.full_flux, net_.area(), rho_, mo, sol.exitance);
   sol.max_residual = sol.residual.size() ? sol.residual.maxCoeff() : 0.0;
   if (refine_tolerance > 0 && sol.max_residual > refine_tolerance)
     refine(mo, sol, refine_tolerance, max_refine_iterations);
@@ -178,10 +179,10 @@ void LowRankBandSolver::refine(const Eigen::Ref<const Eigen::MatrixXd>& mo, Band
     }
     // Recompute the true residual (the recurrence drifts); restart if it is not yet met.
     sol.exitance = mo + sqrt_rho_.asDiagonal() * z;
-    const Eigen::MatrixXd gm = net_.applyConductance(sol.exitance);
-    sol.residual = relativeResidual(gm, area, rho_, mo, sol.exitance);
+    sol.full_flux = net_.applyConductance(sol.exitance);
+    sol.residual = relativeResidual(sol.full_flux, area, rho_, mo, sol.exitance);
     sol.max_residual = sol.residual.maxCoeff();
-    sol.irradiance = area.cwiseInverse().asDiagonal() * gm;
+    sol.irradiance = area.cwiseInverse().asDiagonal() * sol.full_flux;
     if (sol.max_residual <= tol || !z.allFinite()) break;
   }
   sol.refine_iterations = total;

@@ -27,6 +27,7 @@ struct BandSolution {
   Eigen::MatrixXd exitance;    ///< M (n×P), W/m²
   Eigen::MatrixXd irradiance;  ///< H = A⁻¹ G M (n×P), W/m²; with G'_k when not refined
   Eigen::VectorXd residual;    ///< per column, relative, with the full G (see relativeResidual)
+  Eigen::MatrixXd full_flux;   ///< G M with the full G (n×P), W: the residual's product, kept for reuse
   double max_residual = 0.0;
   int refine_iterations = 0;  ///< preconditioned CG iterations (0: low-rank answer kept)
   bool refined = false;

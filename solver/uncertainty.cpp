@@ -3,22 +3,40 @@
 #include "solver/units.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <thread>
 
 namespace radnet::solver {
 namespace {
 
 constexpr Eigen::Index kRowBlock = 256;  // rows of B (and of σ_F) formed at a time
 
+// body(r, rows) for every row block of n rows, on all hardware threads. Each block's
+// arithmetic is the same whatever thread runs it, so results do not depend on the count.
+template <class Body>
+void forRowBlocks(Eigen::Index n, const Body& body) {
+  const Eigen::Index blocks = (n + kRowBlock - 1) / kRowBlock;
+  const unsigned threads = std::max(1u, std::min<unsigned>(std::thread::hardware_concurrency(),
+                                                           static_cast<unsigned>(blocks)));
+  std::atomic<Eigen::Index> next{0};
+  auto work = [&] {
+    for (Eigen::Index b = next++; b < blocks; b = next++) body(b * kRowBlock, std::min(kRowBlock, n - b * kRowBlock));
+  };
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+}
+
 // var y = A² ∘ ((σ_F ∘ σ_F) (M ∘ M)), by row blocks of σ_F.
 Eigen::MatrixXd receivedVariance(const Eigen::VectorXd& area, const Eigen::MatrixXd& sigma_f,
                                  const Eigen::MatrixXd& m2) {
   const Eigen::Index n = area.size();
   Eigen::MatrixXd vy(n, m2.cols());
-  for (Eigen::Index r = 0; r < n; r += kRowBlock) {
-    const Eigen::Index rows = std::min(kRowBlock, n - r);
+  forRowBlocks(n, [&](Eigen::Index r, Eigen::Index rows) {
     vy.middleRows(r, rows).noalias() = sigma_f.middleRows(r, rows).array().square().matrix() * m2;
-  }
+  });
   return area.array().square().matrix().asDiagonal() * vy;
 }
 
@@ -28,11 +46,10 @@ Eigen::MatrixXd squaredCoreTimes(const LowRankBandSolver& band, const Eigen::Mat
   const Eigen::Index n = vectors.rows();
   const Eigen::MatrixXd vc = vectors * band.core();
   Eigen::MatrixXd out(n, x.cols());
-  for (Eigen::Index r = 0; r < n; r += kRowBlock) {
-    const Eigen::Index rows = std::min(kRowBlock, n - r);
+  forRowBlocks(n, [&](Eigen::Index r, Eigen::Index rows) {
     const Eigen::MatrixXd b = vc.middleRows(r, rows) * vectors.transpose();
     out.middleRows(r, rows).noalias() = b.array().square().matrix() * x;
-  }
+  });
   return out;
 }
 
@@ -70,12 +87,11 @@ AbsorbedVariance absorbedVariance(const Network& net, const LowRankBandSolver& b
   return out;
 }
 
-Eigen::MatrixXd truncationError(const Network& net, const LowRankBandSolver& band, const Eigen::MatrixXd& m,
+Eigen::MatrixXd truncationError(const Network& net, const LowRankBandSolver& band, const Eigen::MatrixXd& full,
                                 const Eigen::MatrixXd& h, bool refined) {
   const Eigen::Index n = net.size();
-  if (refined) return Eigen::MatrixXd::Zero(n, m.cols());
+  if (refined) return Eigen::MatrixXd::Zero(n, h.cols());
   const Eigen::VectorXd alpha = Eigen::VectorXd::Ones(n) - band.reflectance();
-  const Eigen::MatrixXd full = net.applyConductance(m);
   return alpha.asDiagonal() * (full - net.area().asDiagonal() * h).cwiseAbs();
 }
 
@@ -91,8 +107,7 @@ Eigen::MatrixXd exchangeHeatVariance(const Eigen::MatrixXd& sigma_f, const Eigen
   if (sigma_f.size() == 0) return units::kStefanBoltzmann * units::kStefanBoltzmann * out;
   // Σ_j w_ij (T_j⁴ − T_i⁴)² = Σ_j w_ij T_j⁸ − 2 T_i⁴ Σ_j w_ij T_j⁴ + T_i⁸ Σ_j w_ij, w = (ε_i ε_j A_i σ_F,ij)².
   const Eigen::ArrayXXd t4 = t.array().square().square();
-  for (Eigen::Index r = 0; r < n; r += kRowBlock) {
-    const Eigen::Index rows = std::min(kRowBlock, n - r);
+  forRowBlocks(n, [&](Eigen::Index r, Eigen::Index rows) {
     const Eigen::MatrixXd w = (emissivity.segment(r, rows).cwiseProduct(area.segment(r, rows)).asDiagonal() *
                                sigma_f.middleRows(r, rows) * emissivity.asDiagonal())
                                   .array()
@@ -104,7 +119,7 @@ Eigen::MatrixXd exchangeHeatVariance(const Eigen::MatrixXd& sigma_f, const Eigen
     out.middleRows(r, rows) += (w8.array() - 2.0 * ti4 * w4.array() + ti4.square() * w1.replicate(1, P).array())
                                   .max(0.0)
                                   .matrix();
-  }
+  });
   return units::kStefanBoltzmann * units::kStefanBoltzmann * out;
 }
 

@@ -39,8 +39,8 @@ AbsorbedVariance absorbedVariance(const Network& net, const LowRankBandSolver& b
 /// The truncation error of a rank-k answer, α ∘ |G M − A H| (n×P), W, with A H = G'_k M the
 /// low-rank answer's: what refinement with the full G would change, to first order. Zero
 /// when the band was refined.
-/// @param exitance M (n×P), W/m²; @param irradiance H (n×P), W/m²
-Eigen::MatrixXd truncationError(const Network& net, const LowRankBandSolver& band, const Eigen::MatrixXd& exitance,
+/// @param full_flux G M with the full G (BandSolution::full_flux), W; @param irradiance H, W/m²
+Eigen::MatrixXd truncationError(const Network& net, const LowRankBandSolver& band, const Eigen::MatrixXd& full_flux,
                                 const Eigen::MatrixXd& irradiance, bool refined);
 
 /// The variance of each node's radiative exchange from the view factors' errors, W² (n×P):

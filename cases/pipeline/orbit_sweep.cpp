@@ -118,9 +118,10 @@ void absorbedUncertainty(const SweepInputs& in, const solver::LowRankBandSolver&
       solver::absorbedVariance(net, ir, in.view_factor_stderr, ir_band.solution.exitance, e.earth_ir_stderr);
   const solver::BandSolution& s = solar_band.solution;
   const Eigen::MatrixXd solar_h = s.irradiance.leftCols(P) + s.irradiance.rightCols(P);
+  const Eigen::MatrixXd solar_gm = s.full_flux.leftCols(P) + s.full_flux.rightCols(P);
   sw.absorbed_stderr_truncation =
-      solver::truncationError(net, solar, sw.exitance_solar, solar_h, s.refined) +
-      solver::truncationError(net, ir, ir_band.solution.exitance, ir_band.solution.irradiance,
+      solver::truncationError(net, solar, solar_gm, solar_h, s.refined) +
+      solver::truncationError(net, ir, ir_band.solution.full_flux, ir_band.solution.irradiance,
                               ir_band.solution.refined);
   sw.absorbed_stderr_view_factors = vs.view_factors.cwiseSqrt() + vi.view_factors.cwiseSqrt();
   sw.absorbed_stderr_loads = (vs.loads + vi.loads).cwiseSqrt();
