@@ -91,7 +91,7 @@ def main():
             "uncertainty", "output"]
     lines = ["| case | n | settings | wall (s) | " + " | ".join(c.replace("_", " ") for c in cols) +
              " | rank | shadow rays | planet rays | largest σ / orbit max | peak memory (MiB) |",
-             "|---" * (len(cols) + 10) + "|"]
+             "|---" * (len(cols) + 9) + "|"]
     for case in cases:
         for baseline in (True, False):
             r = run(radnet, case, baseline)

@@ -71,3 +71,30 @@ TEST_CASE("planet rays: self-shadowing by the spacecraft; ray-sphere geometry") 
   CHECK_FALSE(raySphere(Vec3(0, 0, 10), Vec3(0, 0, 1), Vec3(0, 0, 0), 1.0, hit));
   CHECK_FALSE(raySphere(Vec3(0, 2, 10), Vec3(0, 0, -1), Vec3(0, 0, 0), 1.0, hit));
 }
+
+TEST_CASE("planet rays: in GEO the cone sampling keeps the error small, and the error target sets the count") {
+  // Geostationary: the Earth subtends 8.7°; cosine-weighted rays over the hemisphere hit it
+  // 2 % of the time, rays into its cone always. A nadir plate: F = (R/r)²; a plate tilted
+  // by θ (normal still meeting the Earth, θ < 90° − 8.7°): F = (R/r)² cos θ (the sphere is
+  // wholly in front of the plate).
+  const double R = 6378137.0, r = 42164e3;
+  for (const double theta_deg : {0.0, 45.0, 70.0}) {
+    const double t = theta_deg * M_PI / 180.0;
+    Scene s;
+    // Normal (sin θ, 0, −cos θ): towards the planet at −z, tilted about y.
+    const Vec3 n(std::sin(t), 0, -std::cos(t)), u = Vec3(0, 0.1, 0), v = n.cross(u).normalized() * 0.1;
+    s.addSurface("plate", "plate", rectangle(Vec3(0, 0, 0), u, v, 1, 1), "plate", "");
+    RayCaster caster(s);
+    PlanetRayOptions opt;
+    opt.rays_per_node = 65536;
+    opt.relative_error = 0.002;
+    const auto rays = planetRays(caster, Vec3(0, 0, -r), R, opt);
+    const double exact = std::pow(R / r, 2) * std::cos(t);
+    INFO("θ = " << theta_deg << "°: F = " << rays[0].view_factor << " ± " << rays[0].standard_error << " with "
+                << rays[0].rays << " rays, exact " << exact);
+    CHECK(std::abs(rays[0].view_factor - exact) <= 3.29 * rays[0].standard_error + 1e-12);  // 99.9 % (t, 31 dof)
+    CHECK(std::abs(rays[0].view_factor - exact) <= 0.005 * exact);  // was 2–7 % at 16,384 hemisphere rays
+    CHECK(rays[0].standard_error <= 0.002 * std::max(exact, 0.1 * std::pow(R / r, 2)) + 1e-15);  // target met
+    CHECK(rays[0].rays <= opt.rays_per_node);
+  }
+}
