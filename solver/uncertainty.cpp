@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
 #include <thread>
 
 namespace radnet::solver {
@@ -14,11 +15,20 @@ constexpr Eigen::Index kRowBlock = 256;  // rows of B (and of σ_F) formed at a 
 
 // body(r, rows) for every row block of n rows, on all hardware threads. Each block's
 // arithmetic is the same whatever thread runs it, so results do not depend on the count.
+// The threads to use: OMP_NUM_THREADS when set (the count the rest of radnet obeys), else
+// all hardware threads.
+unsigned threadCount() {
+  if (const char* env = std::getenv("OMP_NUM_THREADS")) {
+    const long t = std::strtol(env, nullptr, 10);
+    if (t > 0) return static_cast<unsigned>(t);
+  }
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
 template <class Body>
 void forRowBlocks(Eigen::Index n, const Body& body) {
   const Eigen::Index blocks = (n + kRowBlock - 1) / kRowBlock;
-  const unsigned threads = std::max(1u, std::min<unsigned>(std::thread::hardware_concurrency(),
-                                                           static_cast<unsigned>(blocks)));
+  const unsigned threads = std::max(1u, std::min<unsigned>(threadCount(), static_cast<unsigned>(blocks)));
   std::atomic<Eigen::Index> next{0};
   auto work = [&] {
     for (Eigen::Index b = next++; b < blocks; b = next++) body(b * kRowBlock, std::min(kRowBlock, n - b * kRowBlock));

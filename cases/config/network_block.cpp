@@ -136,6 +136,11 @@ NetworkCase loadNetworkCase(const YamlDocument& doc) {
   if (root["solver"] && root["solver"]["view_factors"])
     throw doc.error(root["solver"]["view_factors"],
                     "solver.view_factors: only for geometry cases; this case gives the view factors");
+  // The budget splits accuracy over rays and load samples; a network case has neither.
+  if (root["solver"] && root["solver"]["accuracy"])
+    throw doc.error(root["solver"]["accuracy"],
+                    "solver.accuracy is the error budget of a geometry case (rays, load sampling); this case's view "
+                    "factors are given exactly, so give solver.tolerance for the band solve instead");
   c.thermal = parseThermalSettings(doc, c.names, c.area, std::nullopt);
   if (c.thermal && !c.emissivity)
     throw doc.error(root["thermal"], "thermal: temperatures need the nodes' 'emissivity' (for the exchange factors)");

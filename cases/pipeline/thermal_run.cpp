@@ -121,6 +121,11 @@ void temperatureUncertainty(const solver::ThermalNetwork& net, const SweepResult
                                    t.topRows(radiative_nodes), net.space_temperature);
   solver::TemperaturePropagation used;
   out.temperature_stderr = solver::temperatureStderr(net, t, var_q, sw.case_start, used);
+  if (!out.temperature_stderr.allFinite()) {  // a near-singular Jacobian: say so, write nothing
+    out.temperature_stderr.resize(0, 0);
+    out.temperature_stderr_method = "not computed: the heat balance's Jacobian is singular";
+    return;
+  }
   out.temperature_stderr_method =
       used == solver::TemperaturePropagation::PerPosition
           ? "first order, the heat balance's Jacobian at each position"
@@ -206,6 +211,9 @@ ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFact
   if (sweep && errors) {
     StageTimer t_unc(timings, Stage::Uncertainty);
     temperatureUncertainty(net, *sweep, *errors, ts.radiative_nodes, out);
+    if (out.temperature_stderr.size() == 0)
+      progress << "radnet: warning: temperature uncertainty " << out.temperature_stderr_method
+               << "; /uncertainty/temperature is not written\n";
   }
   progress << "radnet: temperatures (" << out.mode;
   if (ts.periodic) progress << ", " << result.orbits << " orbits to a change below " << ts.periodic->tolerance_k << " K";
