@@ -183,6 +183,7 @@ std::vector<char> gridEstimates(const Scene& scene, const std::vector<Projected>
     const double area = scene.nodes()[static_cast<size_t>(i)].area_m2;
     if (c.m < opt.min_crossings && out.facing_m2[i] > opt.negligible_fraction * area) {
       small[static_cast<size_t>(i)] = 1;
+      out.stderr_m2[i] = std::numeric_limits<double>::infinity();  // no grid estimate: the rays' wins
       continue;
     }
     if (c.m < opt.min_crossings) {  // edge-on and barely sampled: a binomial bound, or half ± all
@@ -201,6 +202,29 @@ std::vector<char> gridEstimates(const Scene& scene, const std::vector<Projected>
       small[static_cast<size_t>(i)] = 1;
   }
   return small;
+}
+
+// The nodes the grid leaves cast their own shadow rays, doubled up to max_node_samples
+// while a node's σ stays above the target; each keeps the estimate with the smaller σ.
+void shadowByOwnRays(const RayCaster& caster, const Vec3& d, const SunGridOptions& opt, std::vector<char> todo,
+                     SunlitArea& out) {
+  const Eigen::Index n = out.projected_m2.size();
+  for (int samples = opt.node_samples;; samples *= 2) {
+    const LitArea rays = litArea(caster, d, samples, opt.seed, todo, opt.node_replicas);
+    out.node_rays += rays.rays_cast;
+    bool more = false;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      char& t = todo[static_cast<size_t>(i)];
+      if (!t) continue;
+      if (rays.stderr_m2[i] < out.stderr_m2[i]) {
+        out.projected_m2[i] = rays.projected_m2[i];
+        out.stderr_m2[i] = rays.stderr_m2[i];
+      }
+      t = opt.max_relative_stderr > 0 && out.stderr_m2[i] > opt.max_relative_stderr * out.facing_m2[i];
+      more |= t != 0;
+    }
+    if (!more || 2LL * samples > opt.max_node_samples) break;
+  }
 }
 
 }  // namespace
@@ -233,15 +257,7 @@ SunlitArea sunlitArea(const RayCaster& caster, const Vec3& toward_sun, const Sun
   const std::vector<int> winner = zBuffer(tris, g);
   std::vector<char> small = gridEstimates(scene, tris, winner, g, opt, out);
   for (char s : small) out.sampled_nodes += s;
-  if (out.sampled_nodes > 0) {
-    const LitArea rays = litArea(caster, d, opt.node_samples, opt.seed, small, opt.node_replicas);
-    for (int i = 0; i < n; ++i)
-      if (small[static_cast<size_t>(i)] && (rays.stderr_m2[i] < out.stderr_m2[i] || out.stderr_m2[i] == 0)) {
-        out.projected_m2[i] = rays.projected_m2[i];
-        out.stderr_m2[i] = rays.stderr_m2[i];
-      }
-    out.node_rays = rays.rays_cast;
-  }
+  if (out.sampled_nodes > 0) shadowByOwnRays(caster, d, opt, small, out);
   return out;
 }
 

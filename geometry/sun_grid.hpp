@@ -32,7 +32,8 @@ struct SunGridOptions {
   /// 0: never
   double max_relative_stderr = 0.0;
   int node_samples = 2048;               ///< points per such node (Sobol, as litArea) ...
-  int node_replicas = 16;                ///< ... in this many replicas, for the error
+  int node_replicas = 16;                ///< ... in this many replicas, for the error, doubled up to
+  int max_node_samples = 32768;          ///< this while a node's σ is above max_relative_stderr
   std::uint64_t seed = 1;
 };
 
