@@ -22,7 +22,7 @@ namespace radnet::geometry {
 
 struct SunGridOptions {
   double cell_m = 0.0;                   ///< grid spacing, m (> 0)
-  std::int64_t max_cells = 1LL << 22;    ///< the spacing grows until the grid fits (memory: 12 bytes a cell)
+  std::int64_t max_cells = 1LL << 22;    ///< the spacing grows until the grid fits (memory: 4 bytes a cell)
   int min_crossings = 64;                ///< nodes covering fewer cells cast their own shadow rays instead ...
   /// ... unless their unshadowed projection is at most this fraction of their area (seen
   /// nearly edge-on: their load is too small to matter, and the grid's estimate stands)

@@ -90,3 +90,39 @@ TEST_CASE("uncertainty: the CubeSat's temperatures lie within their reported 2σ
                         "{method: monte_carlo, rays: 1000000, seed: 7}", "/solution/temperature",
                         "/uncertainty/temperature"));
 }
+
+TEST_CASE("error budget: solver.accuracy sets the shares, a tighter one buys a smaller reported σ, too few rays warn") {
+  TempDir dir;
+  std::filesystem::create_directories(dir.path / "materials");
+  dir.write("materials/common.yaml", slurp(source("cases/examples/materials/common.yaml")));
+  auto withAccuracy = [](std::string text, const std::string& accuracy) {
+    return std::regex_replace(text, std::regex("\nsolver:\n"), "\nsolver:\n  accuracy: " + accuracy + "\n");
+  };
+  const std::string base = variant("cubesat-3u.yaml", "{method: monte_carlo, seed: 1}", "");
+  dir.write("loose.yaml", withAccuracy(base, "0.05"));
+  dir.write("tight.yaml", withAccuracy(base, "0.002"));
+  dir.write("few.yaml", variant("cubesat-3u.yaml", "{method: monte_carlo, rays: 4000, seed: 1}", "planet_rays: 64, "));
+  REQUIRE(runRadnet("run loose.yaml -o loose.h5", dir).exit_code == 0);
+  REQUIRE(runRadnet("run tight.yaml -o tight.h5", dir).exit_code == 0);
+  const Run few = runRadnet("run few.yaml -o few.h5", dir);
+  REQUIRE(few.exit_code == 0);
+  auto report = [&](const char* file, const char* name) {
+    const hid_t f = H5Fopen((dir.path / file).c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    const double v = readDoubleAttribute(f, "/report", name);
+    H5Fclose(f);
+    return v;
+  };
+  for (const auto& [file, accuracy] : {std::pair{"loose.h5", 0.05}, std::pair{"tight.h5", 0.002}}) {
+    CHECK(report(file, "accuracy") == accuracy);
+    CHECK(report(file, "budget_load_relative_error") == Approx(accuracy / 2));
+    CHECK(report(file, "budget_view_factor_target_error") == Approx(accuracy / 10));
+    CHECK(report(file, "budget_solver_tolerance") <= accuracy / 10);
+    CHECK(report(file, "budget_solver_tolerance") >= 1e-10);
+    CHECK(report(file, "absorbed_uncertainty_max_relative") <= accuracy);  // met on this small case
+  }
+  CHECK(report("tight.h5", "planet_rays") > report("loose.h5", "planet_rays"));
+  CHECK(report("tight.h5", "absorbed_uncertainty_max_relative") < report("loose.h5", "absorbed_uncertainty_max_relative"));
+  // 64 planet rays per node, pinned: the run still answers, and says it missed the budget.
+  CHECK(report("few.h5", "nodes_over_budget") > 0);
+  CHECK(few.err.find("uncertain by more than solver.accuracy") != std::string::npos);
+}

@@ -40,7 +40,7 @@ class Hdf5Writer {
   long long ensureGroup(const std::string& path);
   // HDF5 ids and sizes passed as plain integers so this header needs no <hdf5.h>.
   void writeArray(const std::string& path, long long file_type, long long memory_type, int rank,
-                  const unsigned long long* dims, const void* data, const std::string& units, bool deflate = true);
+                  const unsigned long long* dims, const void* data, const std::string& units);
   void addUnits(long long dataset, const std::string& units);
   void writeScalarAttribute(const std::string& object, const std::string& name, long long file_type,
                             long long memory_type, const void* value);
