@@ -81,7 +81,9 @@ void applyRunOptions(const RunOptions& o, GeometryCase& g) {
   }
   if (o.seed >= 0) {  // view factors, shadow and planet rays
     g.view_factors.monte_carlo.seed = static_cast<std::uint64_t>(o.seed);
-    if (g.orbit) g.orbit->environment.seed = static_cast<std::uint64_t>(o.seed);
+    for (DesignCase& d : g.design_cases)
+      if (d.orbit) d.orbit->environment.seed = static_cast<std::uint64_t>(o.seed);
+    if (g.optical_uncertainty) g.optical_uncertainty->seed = static_cast<std::uint64_t>(o.seed);
   }
 }
 

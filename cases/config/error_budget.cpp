@@ -6,7 +6,8 @@ namespace radnet::cases {
 
 void applyErrorBudget(GeometryCase& c) {
   const double accuracy = c.solver.accuracy;
-  if (c.orbit) c.orbit->environment.relative_error = kLoadShare * accuracy;
+  for (DesignCase& d : c.design_cases)
+    if (d.orbit) d.orbit->environment.relative_error = kLoadShare * accuracy;
   if (!c.view_factors.rays_pinned && c.view_factors.method != ViewFactorMethod::Exact)
     c.view_factors.monte_carlo.target_error = kViewFactorShare * accuracy;
 }

@@ -175,7 +175,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
   const YAML::Node& root = doc.root();
   doc.expectMap(root, "case",
                 {"name", "description", "materials", "geometry", "solver", "expect", "orbit", "attitude", "environment",
-                 "thermal"});
+                 "thermal", "optics", "cases", "uncertainty"});
   GeometryCase c;
   c.file = doc.file();
   c.yaml_text = doc.text();
@@ -195,17 +195,21 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
     throw doc.error(geom, std::string("geometry: ") + e.what());
   }
   assignNodeMaterials(c, ctx.node_material);
+  parseOpticalSets(doc, c);
 
   c.solver = parseSolverSettings(doc, root["solver"]);
   if (root["solver"]) c.view_factors = parseViewFactorSettings(doc, root["solver"]["view_factors"]);
-  c.orbit = parseOrbitSettings(doc);
+  parseDesignCases(doc, c);
   Eigen::VectorXd area(c.scene.nodes().size());
   for (size_t i = 0; i < c.scene.nodes().size(); ++i) area[static_cast<Eigen::Index>(i)] = c.scene.nodes()[i].area_m2;
   std::optional<double> orbit_period_s;
-  if (c.orbit)
-    for (const OrbitCase& oc : c.orbit->cases)
-      orbit_period_s = std::min(orbit_period_s.value_or(oc.orbit->nodalPeriod()), oc.orbit->nodalPeriod());
+  for (const DesignCase& d : c.design_cases)
+    if (d.orbit)
+      for (const OrbitCase& oc : d.orbit->cases)
+        orbit_period_s = std::min(orbit_period_s.value_or(oc.orbit->nodalPeriod()), oc.orbit->nodalPeriod());
   c.thermal = parseThermalSettings(doc, c.node_names, area, orbit_period_s);
+  parseCaseDissipations(doc, c);
+  parseOpticalUncertainty(doc, c);
   applyShells(c);
   applyErrorBudget(c);
   if (root["expect"])

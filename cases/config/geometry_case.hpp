@@ -2,6 +2,7 @@
 // The geometry form of a case (docs/case-files.md): materials, surfaces (primitives and
 // mesh files, each side naming a material), how to compute view factors, and optionally
 // an orbit and a thermal model.
+#include "cases/config/design_cases.hpp"
 #include "cases/config/expectation.hpp"
 #include "cases/config/orbit_settings.hpp"
 #include "cases/config/solver_block.hpp"
@@ -55,10 +56,17 @@ struct GeometryCase {
   Eigen::VectorXd emissivity, absorptivity;  ///< per scene node, –
   ViewFactorSettings view_factors;
   solver::SolverSettings solver;
-  std::optional<OrbitSettings> orbit;      ///< absent: network and exchange factors only
+  std::vector<OpticalSet> optical_sets;    ///< `base` (the materials as given) first, then `optics:`
+  std::vector<DesignCase> design_cases;    ///< at least one (`base` without `cases:`); their orbits
+  std::optional<OpticalUncertainty> optical_uncertainty;
   std::optional<ThermalSettings> thermal;  ///< absent: no temperatures
   std::vector<ShellSpec> shells;
   std::vector<Expectation> expectations;
+  std::vector<std::string> warnings;  ///< accepted but suspicious input, printed when the run starts
+  /// True when the cases have orbits (all of them or none): network and exchange factors only without.
+  bool hasOrbit() const { return !design_cases.empty() && design_cases.front().orbit.has_value(); }
+  /// The materials some radiative node is made of, sorted: the axis of the sensitivities.
+  std::vector<std::string> surfaceMaterials() const;
 };
 
 /// Adds each shell's capacitance and conductors to the thermal model.

@@ -154,12 +154,16 @@ void parseSweepOptions(const YamlDocument& doc, const YAML::Node& o, orbits::Swe
 
 std::optional<OrbitSettings> parseOrbitSettings(const YamlDocument& doc) {
   const YAML::Node& root = doc.root();
-  if (!root["orbit"]) {
-    for (const char* k : {"attitude", "environment"})
-      if (root[k]) throw doc.error(root[k], std::string("'") + k + "' needs an 'orbit:'");
+  return parseOrbitSettings(doc, root["orbit"], root["attitude"], root["environment"]);
+}
+
+std::optional<OrbitSettings> parseOrbitSettings(const YamlDocument& doc, const YAML::Node& o,
+                                                const YAML::Node& attitude, const YAML::Node& environment) {
+  if (!o) {
+    if (attitude) throw doc.error(attitude, "'attitude' needs an 'orbit:'");
+    if (environment) throw doc.error(environment, "'environment' needs an 'orbit:'");
     return std::nullopt;
   }
-  const YAML::Node o = root["orbit"];
   doc.expectMap(o, "orbit",
                 {"altitude", "beta", "inclination", "raan", "ltan", "sun_synchronous", "semi_major_axis",
                  "eccentricity", "perigee_altitude", "apogee_altitude", "arg_perigee", "true_anomaly", "epoch",
@@ -203,8 +207,8 @@ std::optional<OrbitSettings> parseOrbitSettings(const YamlDocument& doc) {
     }
   }
   parseSweepOptions(doc, o, s.sweep);
-  s.attitude = parseAttitude(doc, root["attitude"]);
-  parseEnvironment(doc, root["environment"], s.sweep, s.environment);
+  s.attitude = parseAttitude(doc, attitude);
+  parseEnvironment(doc, environment, s.sweep, s.environment);
   return s;
 }
 

@@ -32,6 +32,11 @@ struct OrbitSettings {
 /// @throws InputError with file:line:column
 std::optional<OrbitSettings> parseOrbitSettings(const YamlDocument& doc);
 
+/// The same from the given `orbit`, `attitude` and `environment` mappings (a design case's,
+/// merged over the base case's; any may be undefined).
+std::optional<OrbitSettings> parseOrbitSettings(const YamlDocument& doc, const YAML::Node& orbit,
+                                                const YAML::Node& attitude, const YAML::Node& environment);
+
 /// Parses `attitude:` (nadir when absent).
 orbits::AttitudeSpec parseAttitude(const YamlDocument& doc, const YAML::Node& node);
 

@@ -38,6 +38,11 @@ void writeTemperatures(Hdf5Writer& h5, const ThermalSolution& thermal, const The
 /// /uncertainty/absorbed_power (P, n) W and its parts by source, /uncertainty/temperature
 /// (P, n) K when temperatures were computed, and the error budget's split in /report.
 void writeUncertainty(Hdf5Writer& h5, const GeometryCase& c, const GeometryRunResult& r, Eigen::Index nodes);
+/// /cases, /orbit/design_case, /optics/<set>, /solution/case_temperature_*,
+/// /solution/envelope and the cases' /report attributes (docs/hdf5-layout.md, "Design cases").
+void writeDesignCases(Hdf5Writer& h5, const GeometryCase& c, const GeometryRunResult& r);
+/// /uncertainty/temperature_percentiles, the samples and the sensitivities of `uncertainty:`.
+void writeOpticalUncertainty(Hdf5Writer& h5, const GeometryCase& c, const OpticalUncertaintyResult& u);
 /// /report time_<stage>_s attributes.
 void writeTimings(Hdf5Writer& h5, const StageTimings& timings);
 

@@ -79,7 +79,7 @@ void Hdf5Writer::addUnits(long long dataset, const std::string& units) {
 
 void Hdf5Writer::writeArray(const std::string& path, long long file_type, long long memory_type, int rank,
                             const unsigned long long* dims, const void* data, const std::string& units) {
-  hsize_t hdims[2] = {0, 0};
+  hsize_t hdims[3] = {0, 0, 0};
   hsize_t count = 1;
   for (int k = 0; k < rank; ++k) count *= (hdims[k] = static_cast<hsize_t>(dims[k]));
   Handle space{checkId(H5Screate_simple(rank, hdims, nullptr), "dataspace"), H5Sclose};
@@ -116,6 +116,26 @@ void Hdf5Writer::writeMatrix(const std::string& path, const Eigen::Ref<const Eig
   const unsigned long long dims[2] = {static_cast<unsigned long long>(m.rows()),
                                       static_cast<unsigned long long>(m.cols())};
   writeArray(path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, dims, data.data(), units);
+}
+
+void Hdf5Writer::writeStack(const std::string& path, const std::vector<Eigen::MatrixXd>& slices,
+                            const std::string& units) {
+  const Eigen::Index rows = slices.empty() ? 0 : slices.front().rows(), cols = slices.empty() ? 0 : slices.front().cols();
+  std::vector<double> data;
+  data.reserve(slices.size() * static_cast<size_t>(rows * cols));
+  for (const Eigen::MatrixXd& m : slices)
+    for (Eigen::Index i = 0; i < rows; ++i)
+      for (Eigen::Index j = 0; j < cols; ++j) data.push_back(m(i, j));
+  const unsigned long long dims[3] = {slices.size(), static_cast<unsigned long long>(rows),
+                                      static_cast<unsigned long long>(cols)};
+  writeArray(path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 3, dims, data.data(), units);
+}
+
+void Hdf5Writer::link(const std::string& existing, const std::string& path) {
+  Handle lcpl{createLinkProps(), H5Pclose};
+  check(H5Lcreate_hard(static_cast<hid_t>(file_), existing.c_str(), static_cast<hid_t>(file_), path.c_str(), lcpl.id,
+                       H5P_DEFAULT),
+        "link " + path + " to " + existing);
 }
 
 void Hdf5Writer::writeIntegers(const std::string& path, const Eigen::Ref<const Eigen::MatrixXi>& m,

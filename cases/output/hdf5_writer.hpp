@@ -21,6 +21,10 @@ class Hdf5Writer {
   /// Matrices of more than 4096 entries are chunked and deflate-compressed.
   void writeMatrix(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m, const std::string& units);
   void writeVector(const std::string& path, const Eigen::Ref<const Eigen::VectorXd>& v, const std::string& units);
+  /// (slices, rows, cols) dataset of equally sized matrices.
+  void writeStack(const std::string& path, const std::vector<Eigen::MatrixXd>& slices, const std::string& units);
+  /// A second name for an existing dataset (an HDF5 hard link: no copy).
+  void link(const std::string& existing, const std::string& path);
   /// Integer (row-major) dataset, e.g. triangle corner indices.
   void writeIntegers(const std::string& path, const Eigen::Ref<const Eigen::MatrixXi>& m, const std::string& units);
   /// Booleans as HDF5's enum {FALSE = 0, TRUE = 1} of int8, which h5py reads as numpy bool.

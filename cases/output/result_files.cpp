@@ -43,6 +43,8 @@ void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, cons
   if (r.sweep) writeSweep(h5, *r.sweep, n);
   if (r.thermal) writeTemperatures(h5, *r.thermal, *c.thermal, r.sweep ? &*r.sweep : nullptr);
   writeUncertainty(h5, c, r, n);
+  writeDesignCases(h5, c, r);
+  if (r.optical_uncertainty) writeOpticalUncertainty(h5, c, *r.optical_uncertainty);
   const std::vector<XdmfAttribute> cell_values = writeXdmfCellValues(h5, r);
   writeTimings(h5, r.timings);
   std::vector<double> times;

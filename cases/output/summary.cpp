@@ -1,9 +1,12 @@
 #include "cases/output/summary.hpp"
 
+#include "cases/pipeline/case_merge.hpp"
+
 #include <array>
 #include <cmath>
 #include <iomanip>
 #include <ostream>
+#include <sstream>
 
 namespace radnet::cases {
 namespace {
@@ -28,8 +31,26 @@ void printNodeTemperatures(const std::vector<std::string>& names, const Eigen::M
   }
 }
 
-void printSweepSummary(const std::vector<std::string>& names, const SweepResult& sw, std::ostream& out) {
-  out << "orbit: " << sw.positions.size() << " positions; absorbed environmental power per node, W "
+// The part of a run one design case makes: its orbit cases (rows of case_heater_duty
+// without a sweep) and its positions (columns).
+struct Span {
+  int first_case = 0, end_case = 0;
+  Eigen::Index begin = 0, count = 0;
+};
+
+Span caseSpan(const GeometryRunResult& r, int k) {
+  const DesignCasesResult& c = r.cases;
+  const auto at = [](const std::vector<int>& v, int i) { return v[static_cast<size_t>(i)]; };
+  return {at(c.orbit_case_start, k), at(c.orbit_case_start, k + 1), at(c.position_start, k),
+          at(c.position_start, k + 1) - at(c.position_start, k)};
+}
+
+void printSweepSummary(const std::vector<std::string>& names, const SweepResult& sw, const Span& span,
+                       std::ostream& out) {
+  const auto cols = [&](const Eigen::MatrixXd& m) { return m.middleCols(span.begin, span.count); };
+  const Eigen::MatrixXd total = cols(sw.absorbed_total), solar = cols(sw.absorbed_solar),
+                        albedo = cols(sw.absorbed_albedo), ir = cols(sw.absorbed_earth_ir);
+  out << "orbit: " << span.count << " positions; absorbed environmental power per node, W "
       << "(solar + albedo + Earth IR):\n";
   out << std::left << std::setw(20) << "node" << std::right << std::setw(12) << "min" << std::setw(12) << "mean"
       << std::setw(12) << "max" << std::setw(12) << "solar max" << std::setw(12) << "albedo max" << std::setw(12)
@@ -38,10 +59,13 @@ void printSweepSummary(const std::vector<std::string>& names, const SweepResult&
   for (size_t k = 0; k < names.size(); ++k) {
     const auto i = static_cast<Eigen::Index>(k);
     out << std::left << std::setw(20) << names[k] << std::right << std::setprecision(5) << std::setw(12)
-        << sw.absorbed_total.row(i).minCoeff() << std::setw(12) << sw.absorbed_total.row(i).mean() << std::setw(12)
-        << sw.absorbed_total.row(i).maxCoeff() << std::setw(12) << sw.absorbed_solar.row(i).maxCoeff() << std::setw(12)
-        << sw.absorbed_albedo.row(i).maxCoeff() << std::setw(12) << sw.absorbed_earth_ir.row(i).mean() << "\n";
+        << total.row(i).minCoeff() << std::setw(12) << total.row(i).mean() << std::setw(12) << total.row(i).maxCoeff()
+        << std::setw(12) << solar.row(i).maxCoeff() << std::setw(12) << albedo.row(i).maxCoeff() << std::setw(12)
+        << ir.row(i).mean() << "\n";
   }
+}
+
+void printSweepQuality(const std::vector<std::string>& names, const SweepResult& sw, std::ostream& out) {
   out << "band residuals: solar " << sw.solar_residual << ", IR " << sw.ir_residual << "; solar energy balance error "
       << sw.energy_balance_error << "\n";
   const UncertaintySummary& u = sw.uncertainty;
@@ -52,43 +76,19 @@ void printSweepSummary(const std::vector<std::string>& names, const SweepResult&
       << " node(s) over it\n";
 }
 
-// Time weights of the positions for orbit means: the periodic trapezoid rule within each
-// orbit case (positions are not evenly spaced: eclipse entries and exits are inserted), each
-// case weighted by the time its sweep spans. Without a sweep, the output times' trapezoid
-// (a transient without an orbit) or equal weights.
-Eigen::VectorXd timeWeights(const SweepResult* sweep, const std::vector<double>& times, Eigen::Index P) {
-  Eigen::VectorXd w = Eigen::VectorXd::Constant(P, 1.0 / static_cast<double>(P));
-  if (sweep) {
-    double total = 0;
-    for (int k = 0; k < sweep->caseCount(); ++k) {
-      const int b = sweep->case_start[static_cast<size_t>(k)], e = sweep->case_start[static_cast<size_t>(k) + 1];
-      const double span = sweep->case_sweep_s[static_cast<size_t>(k)];
-      for (int p = b; p < e; ++p) {
-        const double prev = p > b ? times[static_cast<size_t>(p - 1)] : times[static_cast<size_t>(e - 1)] - span;
-        const double next = p + 1 < e ? times[static_cast<size_t>(p + 1)] : times[static_cast<size_t>(b)] + span;
-        w[p] = 0.5 * (next - prev);
-      }
-      total += span;
-    }
-    return w / total;
-  }
-  if (P > 1 && static_cast<Eigen::Index>(times.size()) == P) {
-    for (Eigen::Index p = 0; p < P; ++p) {
-      const size_t q = static_cast<size_t>(p);
-      w[p] = 0.5 * ((p + 1 < P ? times[q + 1] : times[q]) - (p > 0 ? times[q - 1] : times[q]));
-    }
-    w /= w.sum();
-  }
-  return w;
-}
-
 // Orbit means of each node's heat flows, W, positive into the node, and each heater's duty.
-void printHeatBalance(const ThermalSolution& thermal, const SweepResult* sweep, std::ostream& out) {
-  const solver::HeatFlows& f = thermal.heat.flows;
-  const Eigen::Index P = f.stored.cols();
-  const Eigen::VectorXd w = timeWeights(sweep, thermal.times_s, P);
+void printHeatBalance(const ThermalSolution& thermal, const SweepResult* sweep, const Span& span, std::ostream& out) {
+  const solver::HeatFlows& all = thermal.heat.flows;
+  const Eigen::Index P = span.count;
+  const Eigen::VectorXd w = timeWeights(sweep, thermal.times_s, P, span.first_case, span.end_case);
+  const auto cols = [&](const Eigen::MatrixXd& m) { return Eigen::MatrixXd(m.middleCols(span.begin, P)); };
+  solver::HeatFlows f;
+  for (auto member : {&solver::HeatFlows::emitted, &solver::HeatFlows::radiative, &solver::HeatFlows::conducted,
+                      &solver::HeatFlows::dissipation, &solver::HeatFlows::heater, &solver::HeatFlows::stored,
+                      &solver::HeatFlows::boundary})
+    f.*member = cols(all.*member);
   Eigen::MatrixXd environment = Eigen::MatrixXd::Zero(f.stored.rows(), P);  // lumped nodes absorb nothing
-  if (sweep) environment.topRows(sweep->absorbed_total.rows()) = sweep->absorbed_total;
+  if (sweep) environment.topRows(sweep->absorbed_total.rows()) = cols(sweep->absorbed_total);
   out << "heat flows, W (" << (sweep ? "orbit mean" : P > 1 ? "mean over the run" : "steady state")
       << "; + into the node):\n"
       << std::left << std::setw(20) << "node" << std::right;
@@ -109,11 +109,59 @@ void printHeatBalance(const ThermalSolution& thermal, const SweepResult* sweep, 
   }
   out << "heat balance: largest imbalance " << thermal.heat.max_imbalance_w << " W ("
       << thermal.heat.max_relative_imbalance << " of the largest term)\n";
+  const Eigen::MatrixXd duty = thermal.case_heater_duty.middleRows(span.first_case, span.end_case - span.first_case);
   for (size_t k = 0; k < thermal.heater_names.size(); ++k) {
     const auto h = static_cast<Eigen::Index>(k);
-    out << "heater " << thermal.heater_names[k] << ": duty " << std::setprecision(4)
-        << 100.0 * thermal.solve.heater_duty[h] << " %, mean power " << thermal.solve.heater_power.row(h).dot(w)
-        << " W\n";
+    out << "heater " << thermal.heater_names[k] << ": duty " << std::setprecision(4) << 100.0 * duty.col(h).maxCoeff()
+        << " %, mean power " << thermal.solve.heater_power.row(h).segment(span.begin, P).dot(w) << " W\n";
+  }
+}
+
+std::string temperatureMode(const GeometryCase& c, const solver::ThermalResult& solve) {
+  std::ostringstream m;
+  if (c.thermal->periodic)
+    m << "periodic transient, last of " << solve.orbits << " orbits, orbit-to-orbit change " << solve.periodic_residual_k
+      << " K";
+  else if (c.thermal->transient_orbits)
+    m << "transient, last orbit";
+  else if (c.thermal->duration_s)
+    m << "transient without orbit over " << *c.thermal->duration_s << " s";
+  else
+    m << "steady state per position";
+  return m.str();
+}
+
+// Per node, the hottest and the coldest over every design case, with the case.
+void printEnvelope(const GeometryRunResult& r, std::ostream& out) {
+  const DesignCasesResult& c = r.cases;
+  out << "envelope over the design cases, K:\n"
+      << std::left << std::setw(20) << "node" << std::right << std::setw(10) << "max" << "  " << std::left
+      << std::setw(14) << "case" << std::right << std::setw(10) << "min" << "  " << std::left << std::setw(14) << "case"
+      << "\n";
+  for (size_t k = 0; k < r.thermal->node_names.size(); ++k) {
+    const auto i = static_cast<Eigen::Index>(k);
+    out << std::left << std::setw(20) << r.thermal->node_names[k] << std::right << std::fixed << std::setprecision(2)
+        << std::setw(10) << c.envelope_max[i] << "  " << std::left << std::setw(14)
+        << c.names[static_cast<size_t>(c.envelope_max_case[i])] << std::right << std::setw(10) << c.envelope_min[i]
+        << "  " << std::left << std::setw(14) << c.names[static_cast<size_t>(c.envelope_min_case[i])]
+        << std::defaultfloat << std::right << "\n";
+  }
+}
+
+void printOpticalUncertainty(const GeometryRunResult& r, std::ostream& out) {
+  const OpticalUncertaintyResult& u = *r.optical_uncertainty;
+  const auto& names = r.thermal->node_names;
+  for (int k = 0; k < r.cases.caseCount(); ++k) {
+    out << "optical uncertainty" << (r.cases.caseCount() > 1 ? " of case " + r.cases.names[static_cast<size_t>(k)] : "")
+        << ", " << u.samples << " samples, K:\n"
+        << std::left << std::setw(20) << "node" << std::right << std::setw(12) << "min 5 %" << std::setw(12)
+        << "mean 50 %" << std::setw(12) << "max 95 %" << "\n";
+    for (size_t j = 0; j < names.size(); ++j) {
+      const auto i = static_cast<Eigen::Index>(j);
+      out << std::left << std::setw(20) << names[j] << std::right << std::fixed << std::setprecision(2)
+          << std::setw(12) << u.percentiles[0](k, i) << std::setw(12) << u.percentiles[1](k, i) << std::setw(12)
+          << u.percentiles[2](k, i) << std::defaultfloat << "\n";
+    }
   }
 }
 
@@ -152,7 +200,7 @@ void printNetworkSummary(const NetworkCase& c, const NetworkRunResult& r, std::o
     for (size_t i = 0; i < names.size(); ++i)
       out << "temperature " << names[i] << ": " << std::fixed << std::setprecision(3)
           << r.thermal->temperature()(static_cast<Eigen::Index>(i), 0) << std::defaultfloat << " K\n";
-    printHeatBalance(*r.thermal, nullptr, out);
+    printHeatBalance(*r.thermal, nullptr, Span{0, 1, 0, r.thermal->temperature().cols()}, out);
   }
   if (const auto& ex = r.radiative.exchange)
     out << "exchange factors GR (" << ex->method << "), Σ GR_space = " << ex->gr_space.sum() << " m²\n";
@@ -172,23 +220,25 @@ void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std
         << std::setw(12) << net.spaceViewFactor()[i] << std::setw(12) << ex.gr_space[i] << std::setw(12)
         << (r.view_factor_stderr.cols() ? r.view_factor_stderr.row(i).maxCoeff() : 0.0) << "\n";
   }
-  if (r.sweep) printSweepSummary(net.names(), *r.sweep, out);
-  if (r.thermal) {
-    const solver::ThermalResult& solve = r.thermal->solve;
-    out << "temperatures, K (";
-    if (c.thermal->periodic)
-      out << "periodic transient, last of " << solve.orbits << " orbits, orbit-to-orbit change "
-          << solve.periodic_residual_k << " K";
-    else if (c.thermal->transient_orbits)
-      out << "transient, last orbit";
-    else if (c.thermal->duration_s)
-      out << "transient without orbit over " << *c.thermal->duration_s << " s";
-    else
-      out << "steady state per position";
-    out << "):\n";
-    printNodeTemperatures(r.thermal->node_names, r.thermal->temperature(), out);
-    printHeatBalance(*r.thermal, r.sweep ? &*r.sweep : nullptr, out);
+  const int cases = r.cases.caseCount();
+  if (cases > 1)
+    out << "design cases: " << cases << " on " << r.cases.eigendecompositions << " eigendecomposition, "
+        << r.cases.band_cores << " band cores\n";
+  if (r.thermal && cases > 1) printEnvelope(r, out);
+  for (int k = 0; k < cases; ++k) {
+    const Span span = caseSpan(r, k);
+    if (cases > 1)
+      out << "case " << r.cases.names[static_cast<size_t>(k)] << " (optics " << r.cases.optics[static_cast<size_t>(k)]
+          << ", dissipation × " << c.design_cases[static_cast<size_t>(k)].dissipation_scale << "):\n";
+    if (r.sweep) printSweepSummary(net.names(), *r.sweep, span, out);
+    if (r.thermal) {
+      out << "temperatures, K (" << temperatureMode(c, r.thermal->solve) << "):\n";
+      printNodeTemperatures(r.thermal->node_names, r.thermal->temperature().middleCols(span.begin, span.count), out);
+      printHeatBalance(*r.thermal, r.sweep ? &*r.sweep : nullptr, span, out);
+    }
   }
+  if (r.sweep) printSweepQuality(net.names(), *r.sweep, out);
+  if (r.optical_uncertainty) printOpticalUncertainty(r, out);
   out << "view factors: ";
   if (r.exact)
     out << r.exact->pairs_unoccluded + r.exact->pairs_occluded << " patch pairs exact ("

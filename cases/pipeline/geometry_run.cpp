@@ -1,10 +1,10 @@
 #include "cases/pipeline/geometry_run.hpp"
 
 #include "cases/config/error_budget.hpp"
-#include "cases/pipeline/orbit_sweep.hpp"
+#include "cases/pipeline/design_run.hpp"
+#include "cases/pipeline/optical_uncertainty.hpp"
 #include "cases/pipeline/progress.hpp"
 #include "cases/pipeline/radiative_network.hpp"
-#include "cases/pipeline/thermal_run.hpp"
 #include "geometry/exact_view_factors.hpp"
 #include "geometry/view_factors.hpp"
 #include "solver/policy.hpp"
@@ -101,6 +101,22 @@ std::unique_ptr<solver::Network> buildNetwork(const GeometryCase& c, const Eigen
   return std::make_unique<solver::Network>(c.node_names, area, Eigen::MatrixXd(f), correction.blocked, tol);
 }
 
+// Per node, the largest reflectance of either band under any optical set, and under the
+// samples of `uncertainty:` to 4σ.
+Eigen::VectorXd largestReflectance(const GeometryCase& c) {
+  const Eigen::Index n = c.emissivity.size();
+  double margin_e = 0.0, margin_a = 0.0;
+  if (c.optical_uncertainty) {
+    margin_e = 4.0 * c.optical_uncertainty->emissivity_sigma;
+    margin_a = 4.0 * c.optical_uncertainty->absorptivity_sigma;
+  }
+  Eigen::VectorXd rho = Eigen::VectorXd::Zero(n);
+  for (const OpticalSet& set : c.optical_sets)
+    rho = rho.cwiseMax((1.0 + margin_e - set.emissivity.array()).matrix())
+              .cwiseMax((1.0 + margin_a - set.absorptivity.array()).matrix());
+  return rho.cwiseMin(1.0);
+}
+
 }  // namespace
 
 GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std::ostream& progress) {
@@ -108,6 +124,7 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
   const geometry::Scene& scene = c.scene;
   const int n = static_cast<int>(scene.nodes().size());
   for (const auto& w : scene.warnings()) progress << "radnet: warning: " << w << "\n";
+  for (const auto& w : c.warnings) progress << "radnet: warning: " << w << "\n";
   progress << "radnet: scene of " << scene.faces().size() << " triangles, " << n << " nodes\n";
   const Eigen::VectorXi front = scene.frontNodes(), back = scene.backNodes();
   r.triangle_node = front.binaryExpr(back, [](int f, int b) { return f >= 0 ? f : b; });
@@ -122,20 +139,18 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
   r.radiative.network = buildNetwork(c, area, r.correction);
   t_net.stop();
 
-  const Eigen::VectorXd rho_max =
-      (Eigen::VectorXd::Ones(n) - c.emissivity).cwiseMax(Eigen::VectorXd::Ones(n) - c.absorptivity);
-  // The error budget: refine no further than a fraction of the view factors' own noise.
+  // One decomposition serves every optical set and sample: its rank rule takes the largest
+  // reflectance any of them may give each node.
   r.solver = budgetedSolverSettings(c.solver, r.view_factor_stderr.size() ? r.view_factor_stderr.maxCoeff() : 0.0);
-  r.radiative.pairs = decomposeNetwork(*r.radiative.network, rho_max, r.solver, r.timings);
+  r.radiative.pairs = decomposeNetwork(*r.radiative.network, largestReflectance(c), r.solver, r.timings);
   r.radiative.exchange = exchangeFactors(r.radiative, c.emissivity, r.solver, r.timings);
-  if (c.orbit)
-    r.sweep = runSweep({*c.orbit, caster, r.radiative, c.absorptivity, c.emissivity, r.solver, r.view_factor_stderr},
-                       r.timings,
-                       show_progress, progress);
-  const ThermalErrorInputs errors{r.view_factor_stderr, r.lost_view_factor_stderr, c.emissivity, area};
-  if (c.thermal)
-    r.thermal =
-        runThermal(*c.thermal, *r.radiative.exchange, r.sweep ? &*r.sweep : nullptr, r.timings, progress, &errors);
+  const DesignContext ctx{c, caster, r.radiative, r.solver, r.view_factor_stderr, r.lost_view_factor_stderr, area};
+  std::vector<CaseRun> runs;
+  runDesignCases(ctx, r, runs, show_progress, progress);
+  if (c.optical_uncertainty) {
+    StageTimer t_opt(r.timings, Stage::OpticalUncertainty);
+    r.optical_uncertainty = sampleOpticalUncertainty(ctx, runs, r.cases.band_cores, show_progress, progress);
+  }
   return r;
 }
 

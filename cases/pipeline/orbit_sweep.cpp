@@ -129,8 +129,56 @@ void absorbedUncertainty(const SweepInputs& in, const solver::LowRankBandSolver&
                         sw.absorbed_stderr_truncation.array().square())
                            .sqrt()
                            .matrix();
+}
+
+}  // namespace
+
+SweepResult runSweep(const SweepInputs& in, StageTimings& timings, bool show_progress, std::ostream& progress) {
+  SweepResult sw;
+  sweepAndLoad(in, sw, timings, show_progress, progress);
+  const int P = static_cast<int>(sw.positions.size());
+  const solver::Network& net = *in.radiative.network;
+  const int n = net.size();
+  StageTimer t_bands(timings, Stage::BandSolves);
+  const double tol = in.solver.refineTolerance();
+  const solver::LowRankBandSolver& solar = in.solar;
+  const solver::LowRankBandSolver& ir = in.ir;
+  // Solar band (ρ = 1 − α): direct and albedo as 2P right-hand sides of one solve.
+  Eigen::MatrixXd ext(n, 2 * P);
+  ext << sw.irradiance.direct, sw.irradiance.albedo;
+  const BandOutcome solar_band = solveBand(solar, net, ext, tol, "solar");
+  sw.absorbed_solar = solar_band.absorbed.leftCols(P);
+  sw.absorbed_albedo = solar_band.absorbed.rightCols(P);
+  sw.exitance_solar = solar_band.solution.exitance.leftCols(P) + solar_band.solution.exitance.rightCols(P);
+  sw.solar_residual = solar_band.solution.max_residual;
+  sw.solar_refine_iterations = solar_band.solution.refine_iterations;
+  sw.energy_balance_error = solarEnergyBalanceError(net, sw);
+  // IR band (ρ = 1 − ε): the planet's IR, interreflected.
+  const BandOutcome ir_band = solveBand(ir, net, sw.irradiance.earth_ir, tol, "IR");
+  sw.absorbed_earth_ir = ir_band.absorbed;
+  sw.ir_residual = ir_band.solution.max_residual;
+  sw.ir_refine_iterations = ir_band.solution.refine_iterations;
+  t_bands.stop();
+  sw.absorbed_total = sw.absorbed_solar + sw.absorbed_albedo + sw.absorbed_earth_ir;
+  StageTimer t_unc(timings, Stage::Uncertainty);
+  absorbedUncertainty(in, solar, ir, solar_band, ir_band, sw);
+  return sw;
+}
+
+Eigen::MatrixXd absorbedPower(const solver::LowRankBandSolver& solar, const solver::LowRankBandSolver& ir,
+                              const solver::Network& net, const orbits::EnvironmentLoads& irradiance,
+                              double refine_tolerance) {
+  const Eigen::Index P = irradiance.direct.cols();
+  Eigen::MatrixXd ext(net.size(), 2 * P);
+  ext << irradiance.direct, irradiance.albedo;
+  const Eigen::MatrixXd sun = solveBand(solar, net, ext, refine_tolerance, "solar").absorbed;
+  return sun.leftCols(P) + sun.rightCols(P) + solveBand(ir, net, irradiance.earth_ir, refine_tolerance, "IR").absorbed;
+}
+
+void summarizeUncertainty(SweepResult& sw, double accuracy, std::ostream& progress) {
   UncertaintySummary& u = sw.uncertainty;
-  u.accuracy = in.solver.accuracy;
+  u = UncertaintySummary{};
+  u.accuracy = accuracy;
   for (Eigen::Index i = 0; i < sw.absorbed_total.rows(); ++i) {
     const double scale = sw.absorbed_total.row(i).cwiseAbs().maxCoeff();
     if (!(scale > 0)) continue;
@@ -144,46 +192,11 @@ void absorbedUncertainty(const SweepInputs& in, const solver::LowRankBandSolver&
     u.truncation = std::max(u.truncation, sw.absorbed_stderr_truncation.row(i).maxCoeff() / scale);
     u.nodes_over_budget += total > u.accuracy;
   }
-}
-
-}  // namespace
-
-SweepResult runSweep(const SweepInputs& in, StageTimings& timings, bool show_progress, std::ostream& progress) {
-  SweepResult sw;
-  sweepAndLoad(in, sw, timings, show_progress, progress);
-  const int P = static_cast<int>(sw.positions.size());
-  const solver::Network& net = *in.radiative.network;
-  const int n = net.size();
-  StageTimer t_bands(timings, Stage::BandSolves);
-  const double tol = in.solver.refineTolerance();
-  // Solar band (ρ = 1 − α): direct and albedo as 2P right-hand sides of one solve.
-  Eigen::MatrixXd ext(n, 2 * P);
-  ext << sw.irradiance.direct, sw.irradiance.albedo;
-  const solver::LowRankBandSolver solar(net, in.radiative.pairs, Eigen::VectorXd::Ones(n) - in.absorptivity);
-  const BandOutcome solar_band = solveBand(solar, net, ext, tol, "solar");
-  sw.absorbed_solar = solar_band.absorbed.leftCols(P);
-  sw.absorbed_albedo = solar_band.absorbed.rightCols(P);
-  sw.exitance_solar = solar_band.solution.exitance.leftCols(P) + solar_band.solution.exitance.rightCols(P);
-  sw.solar_residual = solar_band.solution.max_residual;
-  sw.solar_refine_iterations = solar_band.solution.refine_iterations;
-  sw.energy_balance_error = solarEnergyBalanceError(net, sw);
-  // IR band (ρ = 1 − ε): the planet's IR, interreflected.
-  const solver::LowRankBandSolver ir(net, in.radiative.pairs, Eigen::VectorXd::Ones(n) - in.emissivity);
-  const BandOutcome ir_band = solveBand(ir, net, sw.irradiance.earth_ir, tol, "IR");
-  sw.absorbed_earth_ir = ir_band.absorbed;
-  sw.ir_residual = ir_band.solution.max_residual;
-  sw.ir_refine_iterations = ir_band.solution.refine_iterations;
-  t_bands.stop();
-  sw.absorbed_total = sw.absorbed_solar + sw.absorbed_albedo + sw.absorbed_earth_ir;
-  StageTimer t_unc(timings, Stage::Uncertainty);
-  absorbedUncertainty(in, solar, ir, solar_band, ir_band, sw);
-  const UncertaintySummary& u = sw.uncertainty;
   if (u.nodes_over_budget > 0)
     progress << "radnet: warning: the absorbed power of " << u.nodes_over_budget << " node(s) is uncertain by more "
              << "than solver.accuracy " << u.accuracy << " of its orbit maximum (at most " << u.total << ": view "
              << "factors " << u.view_factors << ", loads " << u.loads << ", truncation " << u.truncation
              << "); /uncertainty/absorbed_power has it per node and position\n";
-  return sw;
 }
 
 }  // namespace radnet::cases

@@ -15,13 +15,22 @@ struct SweepInputs {
   const OrbitSettings& orbit;
   const geometry::RayCaster& caster;
   const RadiativeNetwork& radiative;
-  const Eigen::VectorXd& absorptivity;  ///< per node, solar band, –
-  const Eigen::VectorXd& emissivity;    ///< per node, IR band, –
+  const solver::LowRankBandSolver& solar;  ///< the solar band's core (ρ = 1 − α of the case's optics)
+  const solver::LowRankBandSolver& ir;     ///< the IR band's core (ρ = 1 − ε)
   const solver::SolverSettings& solver;
   const Eigen::MatrixXd& view_factor_stderr;  ///< σ_F (n×n), –; empty: exact view factors
 };
 
 /// @throws NumericalError when a band solve fails
 SweepResult runSweep(const SweepInputs& in, StageTimings& timings, bool show_progress, std::ostream& progress);
+
+/// The absorbed power (n×P), W, of the irradiances under the two bands' cores: solar,
+/// albedo and Earth IR, each interreflected. @throws NumericalError when a band solve fails
+Eigen::MatrixXd absorbedPower(const solver::LowRankBandSolver& solar, const solver::LowRankBandSolver& ir,
+                              const solver::Network& net, const orbits::EnvironmentLoads& irradiance,
+                              double refine_tolerance);
+
+/// Fills sw.uncertainty from its absorbed power and σ's; a warning when nodes are over budget.
+void summarizeUncertainty(SweepResult& sw, double accuracy, std::ostream& progress);
 
 }  // namespace radnet::cases

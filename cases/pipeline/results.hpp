@@ -15,6 +15,7 @@
 
 #include <Eigen/Dense>
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -101,6 +102,41 @@ struct ExactViewFactorStats {
   double seconds = 0.0;
 };
 
+/// The design cases of a geometry run (docs/case-files.md, "Design cases"): what each is
+/// and what it gave, all on the one eigendecomposition.
+struct DesignCasesResult {
+  std::vector<std::string> names, optics;  ///< per design case: its name and its optical set
+  std::vector<int> orbit_case_start;       ///< first orbit case of each design case in the sweep, then their count
+  std::vector<int> position_start;         ///< first position of each design case, then P
+  std::vector<std::string> optics_names;   ///< every optical set, `base` first
+  std::vector<solver::ExchangeFactors> optics_exchange;  ///< GR of every optical set after `base` (whose GR is the run's)
+  /// Per design case and thermal node (c×n), K: the minimum over its positions, the
+  /// time-weighted orbit mean and the maximum.
+  Eigen::MatrixXd temperature_min, temperature_mean, temperature_max;
+  Eigen::VectorXd envelope_min, envelope_max;            ///< per thermal node over every case, K
+  Eigen::VectorXi envelope_min_case, envelope_max_case;  ///< which design case sets each
+  std::vector<StageTimings> timings;                     ///< per design case (its sweep, loads, bands, thermal)
+  int eigendecompositions = 1;                           ///< of G: one for every case and optical set
+  int band_cores = 0;                                    ///< k×k cores built (two per optical set and sample)
+  int caseCount() const { return static_cast<int>(names.size()); }
+};
+
+/// `uncertainty:` the optical properties sampled on the same decomposition.
+struct OpticalUncertaintyResult {
+  std::vector<std::string> materials;  ///< the sensitivities' rows: the materials of the surfaces
+  int samples = 0;
+  /// (c×n) K: the 5th percentile of each sample's orbit minimum, the median of its orbit
+  /// mean and the 95th percentile of its orbit maximum.
+  std::array<Eigen::MatrixXd, 3> percentiles;
+  std::vector<Eigen::MatrixXd> sample_min, sample_mean, sample_max;  ///< per sample (c×n), K
+  /// d(orbit-mean T)/dα and /dε of each material (materials×n), K per unit: the mean over
+  /// the design cases, then per case.
+  Eigen::MatrixXd sensitivity_absorptivity, sensitivity_emissivity;
+  std::vector<Eigen::MatrixXd> case_sensitivity_absorptivity, case_sensitivity_emissivity;
+  double step = 0.0;     ///< the finite-difference half step of α and ε, –
+  double seconds = 0.0;  ///< sampling and sensitivities, s
+};
+
 /// A geometry-form run.
 struct GeometryRunResult {
   Eigen::MatrixXd raw_view_factors;    ///< before the correction, –
@@ -115,6 +151,8 @@ struct GeometryRunResult {
   solver::SolverSettings solver;           ///< the case's, with the error budget's tolerance
   std::optional<SweepResult> sweep;        ///< when the case has an orbit
   std::optional<ThermalSolution> thermal;  ///< P positions (1 without an orbit), with `thermal:`
+  DesignCasesResult cases;
+  std::optional<OpticalUncertaintyResult> optical_uncertainty;
   StageTimings timings;
 };
 

@@ -23,6 +23,7 @@ std::string_view stageName(Stage stage) {
     case Stage::EnvironmentLoads: return "environment_loads";
     case Stage::Thermal: return "thermal";
     case Stage::Uncertainty: return "uncertainty";
+    case Stage::OpticalUncertainty: return "optical_uncertainty";
     case Stage::Output: return "output";
   }
   return "unknown";
@@ -45,6 +46,10 @@ void StageTimer::stop() {
   if (stopped_) return;
   stopped_ = true;
   timings_.add(stage_, nowSeconds() - start_s_);
+}
+
+void StageTimings::addAll(const StageTimings& other) {
+  for (const auto& [stage, seconds] : other.entries()) add(stage, seconds);
 }
 
 }  // namespace radnet::cases

@@ -18,6 +18,7 @@ enum class Stage {
   EnvironmentLoads,    ///< direct solar, albedo and Earth-IR irradiance per node and position
   Thermal,             ///< temperatures (steady or transient)
   Uncertainty,         ///< propagating the view-factor, load and truncation errors
+  OpticalUncertainty,  ///< `uncertainty:` samples of α and ε and the sensitivities
   Output,              ///< writing the HDF5 file and its companions
 };
 
@@ -30,6 +31,8 @@ class StageTimings {
   void add(Stage stage, double seconds);
   /// (stage, seconds) in the order the stages first ran.
   const std::vector<std::pair<Stage, double>>& entries() const { return entries_; }
+  /// Adds every stage of `other` (a design case's) to these.
+  void addAll(const StageTimings& other);
 
  private:
   std::vector<std::pair<Stage, double>> entries_;

@@ -1,0 +1,212 @@
+#include "cases/config/design_cases.hpp"
+
+#include "cases/config/geometry_case.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <set>
+
+namespace radnet::cases {
+namespace {
+
+constexpr const char* kCaseKeys[] = {"orbit", "attitude", "environment", "optics", "dissipation_scale", "dissipation"};
+
+std::string didYouMean(const std::string& word, const std::vector<std::string>& names) {
+  const auto near = nearestWord(word, names);
+  return near ? " (did you mean '" + *near + "'?)" : "";
+}
+
+// A name that becomes an HDF5 group and a label: refused when it is not a plain word.
+std::string caseName(const YamlDocument& doc, const YAML::Node& key, const std::string& what,
+                     std::set<std::string>& seen) {
+  const std::string name = key.Scalar();
+  if (!isCaseName(name))
+    throw doc.error(key, what + ": '" + name + "' is not a name; use letters, digits, '_', '-' and '.'");
+  if (!seen.insert(name).second) throw doc.error(key, what + ": '" + name + "' is given twice");
+  return name;
+}
+
+// The case's block over the base case's, key by key; a key the case sets to null (`~`) is
+// removed. The copy keeps the case's positions, the base keys theirs, for messages.
+YAML::Node overlay(const YAML::Node& base, const YAML::Node& over) {
+  if (!over) return base;
+  if (!over.IsMap() || !base || !base.IsMap()) return over;
+  YAML::Node merged = YAML::Clone(over);
+  for (const auto& kv : base)
+    if (!over[kv.first.Scalar()]) merged[kv.first] = kv.second;
+  for (const auto& kv : over)
+    if (kv.second.IsNull()) merged.remove(kv.first.Scalar());
+  return merged;
+}
+
+// What every case shares is not a case's to change: say so rather than "unknown key".
+void checkCaseKeys(const YamlDocument& doc, const YAML::Node& body, const std::string& what) {
+  for (const char* shared : {"name", "description", "materials", "geometry", "solver", "thermal", "expect", "cases",
+                             "uncertainty"})
+    if (body[shared])
+      throw doc.error(body[shared], what + "." + shared + ": a design case cannot override '" + shared +
+                                        "': every case shares the geometry, its view factors and its one "
+                                        "eigendecomposition; a case overrides orbit, attitude, environment, optics, "
+                                        "dissipation_scale and dissipation");
+  doc.expectMap(body, what, std::vector<std::string>(std::begin(kCaseKeys), std::end(kCaseKeys)));
+}
+
+int opticsIndex(const YamlDocument& doc, const YAML::Node& node, const std::string& what, const GeometryCase& c) {
+  if (!node) return 0;
+  const std::string name = doc.string(node, what);
+  std::vector<std::string> names;
+  for (size_t k = 0; k < c.optical_sets.size(); ++k) {
+    if (c.optical_sets[k].name == name) return static_cast<int>(k);
+    names.push_back(c.optical_sets[k].name);
+  }
+  std::string listed;
+  for (const std::string& n : names) listed += (listed.empty() ? "'" : ", '") + n + "'";
+  throw doc.error(node, what + ": unknown optical set '" + name + "'" + didYouMean(name, names) + "; the sets are " +
+                            listed + " (from 'optics:')");
+}
+
+DesignCase parseCase(const YamlDocument& doc, const std::string& name, const YAML::Node& body, const GeometryCase& c) {
+  const YAML::Node& root = doc.root();
+  const std::string what = "cases." + name;
+  DesignCase d;
+  d.name = name;
+  if (!body.IsNull()) {
+    if (!body.IsMap()) throw doc.error(body, what + ": expected a mapping of the blocks the case overrides");
+    checkCaseKeys(doc, body, what);
+  }
+  const YAML::Node none;
+  const YAML::Node& b = body.IsMap() ? body : none;
+  d.optics = opticsIndex(doc, b["optics"], what + ".optics", c);
+  d.orbit = parseOrbitSettings(doc, overlay(root["orbit"], b["orbit"]), overlay(root["attitude"], b["attitude"]),
+                               overlay(root["environment"], b["environment"]));
+  if (d.orbit)
+    for (OrbitCase& oc : d.orbit->cases) oc.label = d.orbit->cases.size() == 1 ? name : name + "/" + oc.label;
+  return d;
+}
+
+}  // namespace
+
+bool isCaseName(const std::string& name) {
+  return !name.empty() && name.size() <= 64 && std::all_of(name.begin(), name.end(), [](char ch) {
+    return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-' || ch == '.';
+  });
+}
+
+std::vector<std::string> GeometryCase::surfaceMaterials() const {
+  std::vector<std::string> m = node_material;
+  std::sort(m.begin(), m.end());
+  m.erase(std::unique(m.begin(), m.end()), m.end());
+  return m;
+}
+
+void parseOpticalSets(const YamlDocument& doc, GeometryCase& c) {
+  c.optical_sets.push_back({"base", c.emissivity, c.absorptivity});
+  const YAML::Node sets = doc.root()["optics"];
+  if (!sets) return;
+  if (!sets.IsMap() || sets.size() == 0)
+    throw doc.error(sets, "optics: expected a mapping of named optical sets, e.g. 'eol: {white_paint: "
+                          "{absorptivity: 0.45}}'");
+  std::vector<std::string> materials;
+  for (const auto& [m, props] : c.materials)
+    if (props.has_optics) materials.push_back(m);
+  std::set<std::string> seen = {"base"};
+  for (const auto& kv : sets) {
+    if (kv.first.Scalar() == "base")
+      throw doc.error(kv.first, "optics.base: 'base' is the materials as given; name the set otherwise");
+    OpticalSet set{caseName(doc, kv.first, "optics", seen), c.emissivity, c.absorptivity};
+    const std::string what = "optics." + set.name;
+    if (!kv.second.IsMap() || kv.second.size() == 0)
+      throw doc.error(kv.second, what + ": expected a mapping of materials to their overrides, e.g. "
+                                        "'white_paint: {absorptivity: 0.45}'");
+    for (const auto& mv : kv.second) {
+      const std::string m = mv.first.Scalar(), mwhat = what + "." + m;
+      if (std::find(materials.begin(), materials.end(), m) == materials.end())
+        throw doc.error(mv.first, mwhat + ": unknown material '" + m + "'" + didYouMean(m, materials) +
+                                      (c.materials.count(m) ? "; it has no optical properties" : ""));
+      doc.expectMap(mv.second, mwhat, {"emissivity", "absorptivity"});
+      if (mv.second.size() == 0) throw doc.error(mv.second, mwhat + ": give emissivity and/or absorptivity");
+      if (std::find(c.node_material.begin(), c.node_material.end(), m) == c.node_material.end())
+        c.warnings.push_back(mwhat + ": no surface is made of '" + m + "', so the override changes nothing");
+      for (size_t i = 0; i < c.node_material.size(); ++i) {
+        if (c.node_material[i] != m) continue;
+        const auto k = static_cast<Eigen::Index>(i);
+        if (mv.second["emissivity"]) set.emissivity[k] = doc.number(mv.second["emissivity"], mwhat + ".emissivity", 0, 1);
+        if (mv.second["absorptivity"])
+          set.absorptivity[k] = doc.number(mv.second["absorptivity"], mwhat + ".absorptivity", 0, 1);
+      }
+    }
+    c.optical_sets.push_back(std::move(set));
+  }
+}
+
+void parseDesignCases(const YamlDocument& doc, GeometryCase& c) {
+  const YAML::Node cases = doc.root()["cases"];
+  if (!cases) {
+    DesignCase d;
+    d.name = "base";
+    d.orbit = parseOrbitSettings(doc);
+    c.design_cases.push_back(std::move(d));
+    return;
+  }
+  if (!cases.IsMap() || cases.size() == 0)
+    throw doc.error(cases, "cases: expected a mapping of named design cases, e.g. 'hot: {environment: "
+                           "{solar_constant: 1414}}'");
+  std::set<std::string> seen;
+  for (const auto& kv : cases) {
+    const std::string name = caseName(doc, kv.first, "cases", seen);
+    c.design_cases.push_back(parseCase(doc, name, kv.second, c));
+    const DesignCase& first = c.design_cases.front();
+    if (c.design_cases.back().orbit.has_value() != first.orbit.has_value())
+      throw doc.error(kv.first, "cases." + name + ": " + (first.orbit ? "has no orbit while case '" + first.name +
+                                                                            "' has one"
+                                                                      : "has an orbit while case '" + first.name +
+                                                                            "' has none") +
+                                    "; give every case an orbit (or the base case one), or none");
+  }
+}
+
+void parseCaseDissipations(const YamlDocument& doc, GeometryCase& c) {
+  const YAML::Node cases = doc.root()["cases"];
+  if (!cases) return;
+  for (DesignCase& d : c.design_cases) {
+    const YAML::Node body = cases[d.name];
+    if (!body.IsMap()) continue;
+    const std::string what = "cases." + d.name;
+    for (const char* key : {"dissipation_scale", "dissipation"})
+      if (body[key] && !c.thermal)
+        throw doc.error(body[key], what + "." + key + ": dissipations need a 'thermal:' block");
+    if (body["dissipation_scale"])
+      d.dissipation_scale = doc.number(body["dissipation_scale"], what + ".dissipation_scale", 0, 1e3);
+    const YAML::Node q = body["dissipation"];
+    if (!q) continue;
+    if (!q.IsMap() || q.size() == 0)
+      throw doc.error(q, what + ".dissipation: expected a mapping of thermal nodes to powers, e.g. 'payload: 0.0' (W)");
+    const std::vector<std::string>& names = c.thermal->node_names;
+    for (const auto& kv : q) {
+      const std::string node = kv.first.Scalar();
+      const auto it = std::find(names.begin(), names.end(), node);
+      if (it == names.end())
+        throw doc.error(kv.first, what + ".dissipation: unknown thermal node '" + node + "'" + didYouMean(node, names));
+      d.dissipation.emplace_back(static_cast<int>(it - names.begin()),
+                                 doc.number(kv.second, what + ".dissipation." + node + " (W)", -1e9, 1e9));
+    }
+  }
+}
+
+void parseOpticalUncertainty(const YamlDocument& doc, GeometryCase& c) {
+  const YAML::Node u = doc.root()["uncertainty"];
+  if (!u) return;
+  doc.expectMap(u, "uncertainty", {"absorptivity", "emissivity", "samples", "seed"});
+  if (!u["absorptivity"] && !u["emissivity"])
+    throw doc.error(u, "uncertainty: give the 1σ of absorptivity and/or emissivity (absolute, e.g. 0.03)");
+  if (!c.thermal)
+    throw doc.error(u, "uncertainty: the samples give temperature percentiles and need a 'thermal:' block");
+  OpticalUncertainty o;
+  if (u["absorptivity"]) o.absorptivity_sigma = doc.number(u["absorptivity"], "uncertainty.absorptivity (1σ)", 0, 0.5);
+  if (u["emissivity"]) o.emissivity_sigma = doc.number(u["emissivity"], "uncertainty.emissivity (1σ)", 0, 0.5);
+  if (u["samples"]) o.samples = static_cast<int>(doc.integer(u["samples"], "uncertainty.samples", 2, 100000));
+  if (u["seed"]) o.seed = static_cast<std::uint64_t>(doc.integer(u["seed"], "uncertainty.seed", 0, 1LL << 62));
+  c.optical_uncertainty = o;
+}
+
+}  // namespace radnet::cases

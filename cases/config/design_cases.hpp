@@ -1,0 +1,63 @@
+#pragma once
+// Design cases of a geometry case (docs/case-files.md, "Design cases"): named optical sets
+// (`optics:`, e.g. end-of-life coatings), named cases (`cases:`, e.g. hot and cold) that
+// override the base case's orbit, attitude, environment, optics and dissipations, and an
+// optional sampling of the optical properties (`uncertainty:`). All of them share the one
+// geometry, its view factors and its one eigendecomposition.
+#include "cases/config/orbit_settings.hpp"
+
+#include <Eigen/Dense>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace radnet::cases {
+
+/// The optical properties of every radiative node under one named set; `base` is the
+/// materials as given.
+struct OpticalSet {
+  std::string name;
+  Eigen::VectorXd emissivity, absorptivity;  ///< per radiative node, –
+};
+
+/// One design case: the base case with some blocks overridden.
+struct DesignCase {
+  std::string name;
+  int optics = 0;                      ///< index into GeometryCase::optical_sets
+  std::optional<OrbitSettings> orbit;  ///< the base orbit with the case's overrides; absent: no orbit
+  double dissipation_scale = 1.0;      ///< multiplies every constant and scheduled dissipation, –
+  std::vector<std::pair<int, double>> dissipation;  ///< (thermal node, W): constant, replacing any schedule
+};
+
+/// `uncertainty:` the materials' α and ε drawn independently (normal, 1σ absolute, clipped
+/// to [0, 1]), every sample on the same eigendecomposition.
+struct OpticalUncertainty {
+  double absorptivity_sigma = 0.0;  ///< –
+  double emissivity_sigma = 0.0;    ///< –
+  int samples = 64;
+  std::uint64_t seed = 1;
+};
+
+struct GeometryCase;
+
+/// Parses `optics:` into c.optical_sets (base first). Needs the materials and node materials.
+/// @throws InputError with file:line:column
+void parseOpticalSets(const YamlDocument& doc, GeometryCase& c);
+
+/// Parses `cases:` (or makes the one case `base`) with their orbits, into c.design_cases.
+void parseDesignCases(const YamlDocument& doc, GeometryCase& c);
+
+/// Parses the cases' `dissipation_scale` and `dissipation` once the thermal model is known.
+void parseCaseDissipations(const YamlDocument& doc, GeometryCase& c);
+
+/// Parses `uncertainty:` into c.optical_uncertainty.
+void parseOpticalUncertainty(const YamlDocument& doc, GeometryCase& c);
+
+/// The names a design case or optical set may have: letters, digits, '_', '-' and '.'
+/// (they become HDF5 group names and orbit-case labels).
+bool isCaseName(const std::string& name);
+
+}  // namespace radnet::cases

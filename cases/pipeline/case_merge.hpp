@@ -1,0 +1,33 @@
+#pragma once
+// The design cases of a run are swept and solved one after another; their results are then
+// joined into one sweep and one thermal solution, positions after positions, so that the
+// output writers and `radnet check` see one run with several orbit cases.
+#include "cases/pipeline/results.hpp"
+
+#include <Eigen/Dense>
+
+#include <vector>
+
+namespace radnet::cases {
+
+/// Appends `part` (a later design case's sweep) to `all`.
+void appendSweep(SweepResult& all, const SweepResult& part);
+
+/// Appends `part` (a later design case's temperatures and heat flows) to `all`.
+void appendThermal(ThermalSolution& all, const ThermalSolution& part);
+
+/// The time weights of positions [first, end) of the sweep's orbit cases [first_case,
+/// end_case) for orbit means: the periodic trapezoid rule within each orbit case (eclipse
+/// entries and exits make the positions uneven), each case weighted by the time its sweep
+/// spans; they sum to 1. Without a sweep: the trapezoid of `times` (a transient without an
+/// orbit), or equal weights.
+Eigen::VectorXd timeWeights(const SweepResult* sweep, const std::vector<double>& times, Eigen::Index positions,
+                            int first_case = 0, int end_case = -1);
+
+/// Orbit minimum, time-weighted mean and maximum of each row of `t` (n×P) with weights `w` (P).
+struct OrbitStatistics {
+  Eigen::VectorXd min, mean, max;
+};
+OrbitStatistics orbitStatistics(const Eigen::MatrixXd& t, const Eigen::VectorXd& w);
+
+}  // namespace radnet::cases

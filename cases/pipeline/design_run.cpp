@@ -1,0 +1,156 @@
+#include "cases/pipeline/design_run.hpp"
+
+#include "cases/pipeline/orbit_sweep.hpp"
+#include "cases/pipeline/radiative_network.hpp"
+#include "cases/pipeline/thermal_run.hpp"
+
+#include <algorithm>
+#include <ostream>
+
+namespace radnet::cases {
+namespace {
+
+const solver::ExchangeFactors& exchangeOf(const GeometryRunResult& r, int optics) {
+  return optics == 0 ? *r.radiative.exchange : r.cases.optics_exchange[static_cast<size_t>(optics) - 1];
+}
+
+// One design case: its sweep on its optical set's cores, then its temperatures.
+void runCase(const DesignContext& ctx, int k, GeometryRunResult& r, std::vector<BandCores>& cores, CaseRun& run,
+             bool show_progress, std::ostream& progress) {
+  const GeometryCase& c = ctx.c;
+  const DesignCase& d = c.design_cases[static_cast<size_t>(k)];
+  const OpticalSet& set = c.optical_sets[static_cast<size_t>(d.optics)];
+  StageTimings& t = r.cases.timings.emplace_back();
+  if (c.design_cases.size() > 1)
+    progress << "radnet: case " << k + 1 << "/" << c.design_cases.size() << " '" << d.name << "' (optics " << set.name
+             << ")\n";
+  if (d.orbit) {
+    BandCores& bc = cores[static_cast<size_t>(d.optics)];
+    if (!bc.solar) {
+      StageTimer timer(t, Stage::BandSolves);
+      bc = bandCores(ctx.radiative, set);
+      r.cases.band_cores += 2;
+    }
+    run.sweep = runSweep({*d.orbit, ctx.caster, ctx.radiative, *bc.solar, *bc.ir, ctx.solver, ctx.view_factor_stderr},
+                         t, show_progress, progress);
+  }
+  if (c.thermal) {
+    run.settings = caseThermalSettings(*c.thermal, d);
+    const ThermalErrorInputs errors{ctx.view_factor_stderr, ctx.lost_view_factor_stderr, set.emissivity, ctx.area};
+    run.thermal = runThermal(*run.settings, exchangeOf(r, d.optics), run.sweep ? &*run.sweep : nullptr, t, progress,
+                             &errors);
+  }
+  r.timings.addAll(t);
+}
+
+// Every case's orbit statistics and, over the cases, each node's envelope and the case setting it.
+void caseStatistics(const std::vector<CaseRun>& runs, DesignCasesResult& out) {
+  if (runs.empty() || !runs.front().thermal) return;
+  const int cases = static_cast<int>(runs.size());
+  CaseTemperatures t;
+  for (int k = 0; k < cases; ++k) {
+    const CaseRun& run = runs[static_cast<size_t>(k)];
+    setCaseRow(t, k, cases, *run.thermal, run.sweep ? &*run.sweep : nullptr);
+  }
+  out.temperature_min = t.min;
+  out.temperature_mean = t.mean;
+  out.temperature_max = t.max;
+  const Eigen::Index n = t.min.cols();
+  out.envelope_min.resize(n);
+  out.envelope_max.resize(n);
+  out.envelope_min_case.resize(n);
+  out.envelope_max_case.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    Eigen::Index lo = 0, hi = 0;
+    out.envelope_min[i] = t.min.col(i).minCoeff(&lo);
+    out.envelope_max[i] = t.max.col(i).maxCoeff(&hi);
+    out.envelope_min_case[i] = static_cast<int>(lo);
+    out.envelope_max_case[i] = static_cast<int>(hi);
+  }
+}
+
+}  // namespace
+
+BandCores bandCores(const RadiativeNetwork& radiative, const OpticalSet& set) {
+  const Eigen::VectorXd one = Eigen::VectorXd::Ones(set.emissivity.size());
+  BandCores cores;
+  cores.solar = std::make_unique<solver::LowRankBandSolver>(*radiative.network, radiative.pairs, one - set.absorptivity);
+  cores.ir = std::make_unique<solver::LowRankBandSolver>(*radiative.network, radiative.pairs, one - set.emissivity);
+  return cores;
+}
+
+ThermalSettings caseThermalSettings(const ThermalSettings& base, const DesignCase& d) {
+  ThermalSettings ts = base;
+  const double s = d.dissipation_scale;
+  ts.dissipation *= s;
+  for (solver::DissipationSchedule& schedule : ts.schedules) {
+    schedule.sunlit_w *= s;
+    schedule.eclipse_w *= s;
+    for (double& p : schedule.power_w) p *= s;
+  }
+  // A per-node override is the node's whole dissipation: its schedules go.
+  for (const auto& [node, watts] : d.dissipation) {
+    ts.dissipation[node] = watts;
+    ts.schedules.erase(std::remove_if(ts.schedules.begin(), ts.schedules.end(),
+                                      [node = node](const solver::DissipationSchedule& q) { return q.node == node; }),
+                       ts.schedules.end());
+  }
+  return ts;
+}
+
+SweepResult thermalForcing(const SweepResult& sweep, Eigen::MatrixXd absorbed_total) {
+  SweepResult f;
+  f.positions = sweep.positions;
+  f.case_start = sweep.case_start;
+  f.case_labels = sweep.case_labels;
+  f.case_period_s = sweep.case_period_s;
+  f.case_sweep_s = sweep.case_sweep_s;
+  f.absorbed_total = std::move(absorbed_total);
+  return f;
+}
+
+void setCaseRow(CaseTemperatures& t, int k, int cases, const ThermalSolution& thermal, const SweepResult* sweep) {
+  const Eigen::MatrixXd& temperature = thermal.temperature();
+  if (t.min.size() == 0)
+    for (Eigen::MatrixXd* m : {&t.min, &t.mean, &t.max}) m->setZero(cases, temperature.rows());
+  const OrbitStatistics s = orbitStatistics(temperature, timeWeights(sweep, thermal.times_s, temperature.cols()));
+  t.min.row(k) = s.min.transpose();
+  t.mean.row(k) = s.mean.transpose();
+  t.max.row(k) = s.max.transpose();
+}
+
+void runDesignCases(const DesignContext& ctx, GeometryRunResult& r, std::vector<CaseRun>& runs, bool show_progress,
+                    std::ostream& progress) {
+  const GeometryCase& c = ctx.c;
+  DesignCasesResult& out = r.cases;
+  for (size_t k = 0; k < c.optical_sets.size(); ++k) {
+    out.optics_names.push_back(c.optical_sets[k].name);
+    if (k > 0) out.optics_exchange.push_back(exchangeFactors(ctx.radiative, c.optical_sets[k].emissivity, ctx.solver,
+                                                             r.timings));
+  }
+  std::vector<BandCores> cores(c.optical_sets.size());
+  runs.clear();
+  runs.reserve(c.design_cases.size());
+  out.orbit_case_start = {0};
+  out.position_start = {0};
+  for (size_t k = 0; k < c.design_cases.size(); ++k) {
+    const DesignCase& d = c.design_cases[k];
+    out.names.push_back(d.name);
+    out.optics.push_back(c.optical_sets[static_cast<size_t>(d.optics)].name);
+    CaseRun& run = runs.emplace_back();
+    runCase(ctx, static_cast<int>(k), r, cores, run, show_progress, progress);
+    if (run.sweep) {
+      if (!r.sweep) r.sweep = *run.sweep; else appendSweep(*r.sweep, *run.sweep);
+    }
+    if (run.thermal) {
+      if (!r.thermal) r.thermal = *run.thermal; else appendThermal(*r.thermal, *run.thermal);
+    }
+    out.orbit_case_start.push_back(r.sweep ? r.sweep->caseCount() : static_cast<int>(k) + 1);
+    out.position_start.push_back(r.sweep ? static_cast<int>(r.sweep->positions.size())
+                                 : r.thermal ? static_cast<int>(r.thermal->times_s.size()) : 0);
+  }
+  if (r.sweep) summarizeUncertainty(*r.sweep, ctx.solver.accuracy, progress);
+  caseStatistics(runs, out);
+}
+
+}  // namespace radnet::cases
