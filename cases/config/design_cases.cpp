@@ -27,15 +27,21 @@ std::string caseName(const YamlDocument& doc, const YAML::Node& key, const std::
 }
 
 // The case's block over the base case's, key by key; a key the case sets to null (`~`) is
-// removed. The copy keeps the case's positions, the base keys theirs, for messages.
+// removed. The base keys are added to the case's own mapping in the parsed document (a
+// copy would lose every position, YAML::Clone keeps none), so that messages point at the
+// case's block, or at the base key they are about.
 YAML::Node overlay(const YAML::Node& base, const YAML::Node& over) {
   if (!over) return base;
   if (!over.IsMap() || !base || !base.IsMap()) return over;
-  YAML::Node merged = YAML::Clone(over);
-  for (const auto& kv : base)
-    if (!over[kv.first.Scalar()]) merged[kv.first] = kv.second;
+  YAML::Node merged = over;  // the same node, not a copy
+  std::vector<std::string> removed;
   for (const auto& kv : over)
-    if (kv.second.IsNull()) merged.remove(kv.first.Scalar());
+    if (kv.second.IsNull()) removed.push_back(kv.first.Scalar());
+  for (const auto& kv : base) {
+    const std::string key = kv.first.Scalar();
+    if (!over[key] && std::find(removed.begin(), removed.end(), key) == removed.end()) merged[kv.first] = kv.second;
+  }
+  for (const std::string& key : removed) merged.remove(key);
   return merged;
 }
 
