@@ -38,11 +38,13 @@ def run(radnet, case, baseline):
              "sys.stderr.write('peak_kib %d\\n' % resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss); "
              "sys.exit(r.returncode)")
     t0 = time.monotonic()
-    proc = subprocess.run([sys.executable, "-c", probe, radnet, "run", yaml, "-o", out], capture_output=True,
-                          text=True)
+    try:  # the variant is removed whatever happens (a failed run once left one in bench/cases)
+        proc = subprocess.run([sys.executable, "-c", probe, radnet, "run", yaml, "-o", out], capture_output=True,
+                              text=True)
+    finally:
+        os.unlink(yaml)
     wall = time.monotonic() - t0
     peak = int(re.search(r"peak_kib (\d+)", proc.stderr).group(1))
-    os.unlink(yaml)
     if proc.returncode != 0:
         raise SystemExit(f"{case}: radnet exited {proc.returncode}\n{proc.stderr[-2000:]}")
     m = re.search(r"wrote .* in ([0-9.]+) s", proc.stderr)

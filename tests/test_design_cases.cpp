@@ -265,3 +265,29 @@ TEST_CASE("design cases: dissipation_scale and per-node dissipations act as the 
   for (size_t k = 0; k < th.size(); ++k) CHECK(t[k] == Approx(th[k]).margin(1e-6));
   for (size_t k = 0; k < to.size(); ++k) CHECK(t[th.size() + k] == Approx(to[k]).margin(1e-6));
 }
+
+TEST_CASE("design cases: a case differing only in S, albedo and OLR reuses the loads, equal to casting them anew") {
+  TempDir dir;
+  const std::string env_cold = "environment: {solar_constant: 1322, albedo: 0.25, earth_ir: 218}\n";
+  const File joint(run(dir, "joint", lShape("cases:\n  nominal: {}\n  cold:\n    " + env_cold)));
+  const File alone(run(dir, "alone", lShape(env_cold)));
+  const size_t begin = static_cast<size_t>(joint["/cases/position_start"][1]);
+  // Rays were cast for the first case only: the joint run cast as many as one case alone.
+  CHECK(joint.attribute("/report", "planet_rays") == alone.attribute("/report", "planet_rays"));
+  CHECK(joint.attribute("/report", "shadow_rays") == alone.attribute("/report", "shadow_rays"));
+  for (const char* name : {"/loads/incident_solar", "/loads/incident_albedo", "/loads/incident_earth_ir",
+                           "/uncertainty/incident_albedo", "/solution/temperature"}) {
+    const std::vector<double> j = joint[name], a = alone[name];
+    const size_t n = 5, offset = begin * n;
+    REQUIRE(j.size() == offset + a.size());
+    double worst = 0, scale = 0;
+    for (size_t k = 0; k < a.size(); ++k) {
+      worst = std::max(worst, std::abs(j[offset + k] - a[k]));
+      scale = std::max(scale, std::abs(a[k]));
+    }
+    INFO(name);
+    // The same rays scaled by 1322/1361 etc.: round-off of one product (temperatures: the
+    // refinement tolerance of the band solves and the Newton tolerance).
+    CHECK(worst <= 1e-9 * scale);
+  }
+}

@@ -45,6 +45,33 @@ YAML::Node overlay(const YAML::Node& base, const YAML::Node& over) {
   return merged;
 }
 
+// A node as text with every mapping's keys sorted, so that the same blocks written in
+// another order read the same; `skip` keys of the top mapping left out.
+std::string canonical(const YAML::Node& node, const std::vector<std::string>& skip = {}) {
+  if (!node) return "~";
+  if (node.IsScalar()) return node.Scalar();
+  std::string out;
+  if (node.IsSequence()) {
+    for (const auto& item : node) out += canonical(item) + ",";
+    return "[" + out + "]";
+  }
+  if (!node.IsMap()) return "~";
+  std::vector<std::pair<std::string, std::string>> entries;
+  for (const auto& kv : node) {
+    const std::string key = kv.first.Scalar();
+    if (std::find(skip.begin(), skip.end(), key) == skip.end()) entries.emplace_back(key, canonical(kv.second));
+  }
+  std::sort(entries.begin(), entries.end());
+  for (const auto& [k, v] : entries) out += k + ":" + v + ",";
+  return "{" + out + "}";
+}
+
+std::string loadSignature(const YAML::Node& orbit, const YAML::Node& attitude, const YAML::Node& environment) {
+  std::vector<std::string> scaled = {"solar_constant", "earth_ir"};
+  if (environment && environment["albedo"] && environment["albedo"].IsScalar()) scaled.push_back("albedo");
+  return canonical(orbit) + "|" + canonical(attitude) + "|" + canonical(environment, scaled);
+}
+
 // What every case shares is not a case's to change: say so rather than "unknown key".
 void checkCaseKeys(const YamlDocument& doc, const YAML::Node& body, const std::string& what) {
   for (const char* shared : {"name", "description", "materials", "geometry", "solver", "thermal", "expect", "cases",
@@ -83,8 +110,10 @@ DesignCase parseCase(const YamlDocument& doc, const std::string& name, const YAM
   const YAML::Node none;
   const YAML::Node& b = body.IsMap() ? body : none;
   d.optics = opticsIndex(doc, b["optics"], what + ".optics", c);
-  d.orbit = parseOrbitSettings(doc, overlay(root["orbit"], b["orbit"]), overlay(root["attitude"], b["attitude"]),
-                               overlay(root["environment"], b["environment"]));
+  const YAML::Node orbit = overlay(root["orbit"], b["orbit"]), attitude = overlay(root["attitude"], b["attitude"]),
+                   environment = overlay(root["environment"], b["environment"]);
+  d.orbit = parseOrbitSettings(doc, orbit, attitude, environment);
+  d.load_signature = loadSignature(orbit, attitude, environment);
   if (d.orbit)
     for (OrbitCase& oc : d.orbit->cases) oc.label = d.orbit->cases.size() == 1 ? name : name + "/" + oc.label;
   return d;

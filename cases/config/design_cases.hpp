@@ -30,6 +30,10 @@ struct DesignCase {
   std::optional<OrbitSettings> orbit;  ///< the base orbit with the case's overrides; absent: no orbit
   double dissipation_scale = 1.0;      ///< multiplies every constant and scheduled dissipation, –
   std::vector<std::pair<int, double>> dissipation;  ///< (thermal node, W): constant, replacing any schedule
+  /// The case's orbit, attitude and environment blocks, canonical, without the solar
+  /// constant, a constant albedo and the Earth IR: two cases that share it have the same
+  /// incident irradiances up to those three factors, so the later reuses the earlier's.
+  std::string load_signature;
 };
 
 /// `uncertainty:` the materials' α and ε drawn independently (normal, 1σ absolute, clipped

@@ -69,10 +69,16 @@ void writeDesignCases(Hdf5Writer& h5, const GeometryCase& c, const GeometryRunRe
   h5.attribute("/report", "eigendecompositions", static_cast<long long>(cases.eigendecompositions));
   h5.attribute("/report", "band_cores", static_cast<long long>(cases.band_cores));
   h5.attribute("/report", "design_cases", static_cast<long long>(cases.caseCount()));
-  for (int k = 0; k < cases.caseCount(); ++k)
-    for (const auto& [stage, seconds] : cases.timings[static_cast<size_t>(k)].entries())
-      h5.attribute("/report/cases/" + cases.names[static_cast<size_t>(k)], "time_" + std::string(stageName(stage)) + "_s",
-                   seconds);
+  // Per case and stage: in /report/cases/<case> as time_<stage>_s, and flat in /report as
+  // case_<case>_time_<stage>_s for readers that list /report's attributes only.
+  for (int k = 0; k < cases.caseCount(); ++k) {
+    const std::string& name = cases.names[static_cast<size_t>(k)];
+    for (const auto& [stage, seconds] : cases.timings[static_cast<size_t>(k)].entries()) {
+      const std::string attr = "time_" + std::string(stageName(stage)) + "_s";
+      h5.attribute("/report/cases/" + name, attr, seconds);
+      h5.attribute("/report", "case_" + name + "_" + attr, seconds);
+    }
+  }
 }
 
 void writeOpticalUncertainty(Hdf5Writer& h5, const GeometryCase& c, const OpticalUncertaintyResult& u) {

@@ -5,6 +5,7 @@
 #include "cases/pipeline/thermal_run.hpp"
 
 #include <algorithm>
+#include <array>
 #include <ostream>
 
 namespace radnet::cases {
@@ -14,9 +15,34 @@ const solver::ExchangeFactors& exchangeOf(const GeometryRunResult& r, int optics
   return optics == 0 ? *r.radiative.exchange : r.cases.optics_exchange[static_cast<size_t>(optics) - 1];
 }
 
+// An earlier case with the same orbits, attitude and environment up to S, a constant albedo
+// and the OLR (the same load signature), whose irradiances case k scales instead of casting
+// rays again; none when there is none or a factor would scale from zero.
+struct LoadReuse {
+  const SweepResult* from = nullptr;
+  double direct = 1.0, albedo = 1.0, earth_ir = 1.0;
+};
+LoadReuse findReuse(const GeometryCase& c, int k, const std::vector<CaseRun>& runs) {
+  const DesignCase& d = c.design_cases[static_cast<size_t>(k)];
+  const auto factors = [](const OrbitSettings& o) {
+    const orbits::EnvironmentOptions& e = o.environment;
+    const double s = o.sweep.solar_constant_w_m2;
+    return std::array<double, 3>{s, s * (e.albedo_by_latitude.empty() ? e.albedo : 1.0), e.earth_ir_w_m2};
+  };
+  for (int j = 0; j < k; ++j) {
+    const DesignCase& e = c.design_cases[static_cast<size_t>(j)];
+    if (e.load_signature != d.load_signature || !runs[static_cast<size_t>(j)].sweep) continue;
+    const std::array<double, 3> from = factors(*e.orbit), to = factors(*d.orbit);
+    if (!(from[0] > 0 && from[1] > 0 && from[2] > 0)) continue;
+    return {&*runs[static_cast<size_t>(j)].sweep, to[0] / from[0], to[1] / from[1], to[2] / from[2]};
+  }
+  return {};
+}
+
 // One design case: its sweep on its optical set's cores, then its temperatures.
-void runCase(const DesignContext& ctx, int k, GeometryRunResult& r, std::vector<BandCores>& cores, CaseRun& run,
-             bool show_progress, std::ostream& progress) {
+void runCase(const DesignContext& ctx, int k, GeometryRunResult& r, std::vector<BandCores>& cores,
+             std::vector<CaseRun>& runs, bool show_progress, std::ostream& progress) {
+  CaseRun& run = runs[static_cast<size_t>(k)];
   const GeometryCase& c = ctx.c;
   const DesignCase& d = c.design_cases[static_cast<size_t>(k)];
   const OpticalSet& set = c.optical_sets[static_cast<size_t>(d.optics)];
@@ -31,7 +57,9 @@ void runCase(const DesignContext& ctx, int k, GeometryRunResult& r, std::vector<
       bc = bandCores(ctx.radiative, set);
       r.cases.band_cores += 2;
     }
-    run.sweep = runSweep({*d.orbit, ctx.caster, ctx.radiative, *bc.solar, *bc.ir, ctx.solver, ctx.view_factor_stderr},
+    const LoadReuse reuse = findReuse(c, k, runs);
+    run.sweep = runSweep({*d.orbit, ctx.caster, ctx.radiative, *bc.solar, *bc.ir, ctx.solver, ctx.view_factor_stderr,
+                          reuse.from, reuse.direct, reuse.albedo, reuse.earth_ir},
                          t, show_progress, progress);
   }
   if (c.thermal) {
@@ -137,8 +165,8 @@ void runDesignCases(const DesignContext& ctx, GeometryRunResult& r, std::vector<
     const DesignCase& d = c.design_cases[k];
     out.names.push_back(d.name);
     out.optics.push_back(c.optical_sets[static_cast<size_t>(d.optics)].name);
-    CaseRun& run = runs.emplace_back();
-    runCase(ctx, static_cast<int>(k), r, cores, run, show_progress, progress);
+    CaseRun& run = runs.emplace_back();  // reserved: earlier cases' references stay valid
+    runCase(ctx, static_cast<int>(k), r, cores, runs, show_progress, progress);
     if (run.sweep) {
       if (!r.sweep) r.sweep = *run.sweep; else appendSweep(*r.sweep, *run.sweep);
     }

@@ -200,6 +200,7 @@ OpticalUncertaintyResult sampleOpticalUncertainty(const DesignContext& ctx, cons
     }
     if (bar) bar(s + 1, u.samples);
   }
+  out.sample_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out.percentiles = {percentileOf(out.sample_min, 5), percentileOf(out.sample_mean, 50),
                      percentileOf(out.sample_max, 95)};
   sensitivities(ctx, runs, true, out, band_cores, progress);

@@ -29,6 +29,24 @@ BandOutcome solveBand(const solver::LowRankBandSolver& band, const solver::Netwo
   return out;
 }
 
+// Orbit case k's irradiances from the earlier case in.reuse, scaled: direct ∝ S, albedo
+// ∝ S a, Earth IR ∝ OLR, each σ with it (the rays, shadows and view factors are the same).
+orbits::EnvironmentLoads scaledLoads(const SweepInputs& in, int k) {
+  const SweepResult& from = *in.reuse;
+  const int begin = from.case_start[static_cast<size_t>(k)], count = from.case_start[static_cast<size_t>(k) + 1] - begin;
+  const orbits::EnvironmentLoads& e = from.irradiance;
+  orbits::EnvironmentLoads out;
+  out.direct = in.direct_ratio * e.direct.middleCols(begin, count);
+  out.direct_stderr = in.direct_ratio * e.direct_stderr.middleCols(begin, count);
+  out.albedo = in.albedo_ratio * e.albedo.middleCols(begin, count);
+  out.albedo_stderr = in.albedo_ratio * e.albedo_stderr.middleCols(begin, count);
+  out.earth_ir = in.earth_ir_ratio * e.earth_ir.middleCols(begin, count);
+  out.earth_ir_stderr = in.earth_ir_ratio * e.earth_ir_stderr.middleCols(begin, count);
+  out.earth_view_factor = e.earth_view_factor.middleCols(begin, count);
+  out.shadow_cell_m = e.shadow_cell_m;
+  return out;
+}
+
 // Sweeps and loads each orbit case (an epoch × beta combination) on its own, then joins
 // the positions of all cases into one (n × P) set of irradiances.
 void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings, bool show_progress,
@@ -48,10 +66,14 @@ void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings,
              << "), nodal period " << orbit.nodalPeriod() << " s, " << positions.size() << " positions (" << events
              << " eclipse entries/exits inserted)\n";
     StageTimer t_loads(timings, Stage::EnvironmentLoads);
-    orbits::EnvironmentOptions env = o.environment;
-    if (show_progress) env.progress = progressBar(progress, "orbit loads", "positions");
-    parts.push_back(orbits::environmentLoads(in.caster, area, positions, orbits::earthFixedInBody(o.attitude),
-                                             orbit.earth().equatorial_radius_m, env));
+    if (in.reuse) {
+      parts.push_back(scaledLoads(in, static_cast<int>(k)));
+    } else {
+      orbits::EnvironmentOptions env = o.environment;
+      if (show_progress) env.progress = progressBar(progress, "orbit loads", "positions");
+      parts.push_back(orbits::environmentLoads(in.caster, area, positions, orbits::earthFixedInBody(o.attitude),
+                                               orbit.earth().equatorial_radius_m, env));
+    }
     sw.case_start.push_back(static_cast<int>(sw.positions.size()));
     sw.case_labels.push_back(o.cases[k].label);
     sw.case_period_s.push_back(orbit.nodalPeriod());
@@ -79,6 +101,12 @@ void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings,
     sw.irradiance.shadow_rays += part.shadow_rays;
     sw.irradiance.shadow_cell_m = std::max(sw.irradiance.shadow_cell_m, part.shadow_cell_m);
     sw.irradiance.seconds += part.seconds;
+  }
+  if (in.reuse) {
+    progress << "radnet: loads: the irradiances of an earlier case with the same orbit and attitude, times "
+             << in.direct_ratio << " (direct), " << in.albedo_ratio << " (albedo), " << in.earth_ir_ratio
+             << " (Earth IR): no rays cast\n";
+    return;
   }
   progress << "radnet: loads: " << sw.irradiance.planet_rays << " planet rays (cast " << sw.irradiance.planet_casts
            << " time(s) for " << P << " positions), " << sw.irradiance.shadow_rays << " shadow rays";

@@ -19,6 +19,11 @@ struct SweepInputs {
   const solver::LowRankBandSolver& ir;     ///< the IR band's core (ρ = 1 − ε)
   const solver::SolverSettings& solver;
   const Eigen::MatrixXd& view_factor_stderr;  ///< σ_F (n×n), –; empty: exact view factors
+  /// An earlier design case with the same orbits, attitude and environment but for the
+  /// solar constant, a constant albedo and the Earth IR: its irradiances are reused,
+  /// multiplied by these ratios, instead of casting the rays again.
+  const SweepResult* reuse = nullptr;
+  double direct_ratio = 1.0, albedo_ratio = 1.0, earth_ir_ratio = 1.0;
 };
 
 /// @throws NumericalError when a band solve fails

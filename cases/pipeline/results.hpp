@@ -67,7 +67,7 @@ struct SweepResult {
 struct HeatBalance {
   solver::HeatFlows flows;              ///< (n×P) W, positive into the node; environment loads are in the sweep
   double max_imbalance_w = 0.0;         ///< largest |Σ of all terms| beyond round-off over nodes and positions, W
-  double max_relative_imbalance = 0.0;  ///< the same, each relative to the largest |term| of its node and position
+  double max_relative_imbalance = 0.0;  ///< the same, each relative to the largest |term| of its node and position (at least 1e-6 of the position's largest)
 };
 
 /// Temperatures and heat flows of the thermal model: its nodes are the radiative nodes
@@ -134,7 +134,8 @@ struct OpticalUncertaintyResult {
   Eigen::MatrixXd sensitivity_absorptivity, sensitivity_emissivity;
   std::vector<Eigen::MatrixXd> case_sensitivity_absorptivity, case_sensitivity_emissivity;
   double step = 0.0;     ///< the finite-difference half step of α and ε, –
-  double seconds = 0.0;  ///< sampling and sensitivities, s
+  double sample_seconds = 0.0;  ///< the samples alone, s
+  double seconds = 0.0;         ///< sampling and sensitivities, s
 };
 
 /// A geometry-form run.

@@ -165,9 +165,14 @@ HeatBalance heatBalance(const solver::ThermalNetwork& net, const solver::Thermal
   const solver::HeatFlows& f = b.flows;
   const std::array<const Eigen::MatrixXd*, 8> terms = {&q_env,         &f.emitted, &f.radiative, &f.conducted,
                                                        &f.dissipation, &f.heater,  &f.stored,    &f.boundary};
-  for (Eigen::Index p = 0; p < q_env.cols(); ++p)
+  for (Eigen::Index p = 0; p < q_env.cols(); ++p) {
+    // A node that exchanges almost nothing (a lumped node without dissipation) is measured
+    // against kRelativeFloor of the position's largest term, not against its own near-zero.
+    constexpr double kRelativeFloor = 1e-6;
+    double position_largest = 0.0;
+    for (const Eigen::MatrixXd* m : terms) position_largest = std::max(position_largest, m->col(p).cwiseAbs().maxCoeff());
     for (Eigen::Index i = 0; i < q_env.rows(); ++i) {
-      double sum = 0.0, largest = 0.0;
+      double sum = 0.0, largest = kRelativeFloor * position_largest;
       for (const Eigen::MatrixXd* m : terms) {
         sum += (*m)(i, p);
         largest = std::max(largest, std::abs((*m)(i, p)));
@@ -177,6 +182,7 @@ HeatBalance heatBalance(const solver::ThermalNetwork& net, const solver::Thermal
       b.max_imbalance_w = std::max(b.max_imbalance_w, beyond);
       if (largest > 0) b.max_relative_imbalance = std::max(b.max_relative_imbalance, beyond / largest);
     }
+  }
   return b;
 }
 
