@@ -46,9 +46,10 @@ YAML::Node overlay(const YAML::Node& base, const YAML::Node& over) {
 }
 
 // A node as text with every mapping's keys sorted, so that the same blocks written in
-// another order read the same; `skip` keys of the top mapping left out.
+// another order read the same; `skip` keys of the top mapping left out. An absent block
+// reads as an empty one.
 std::string canonical(const YAML::Node& node, const std::vector<std::string>& skip = {}) {
-  if (!node) return "~";
+  if (!node || node.IsNull()) return "{}";
   if (node.IsScalar()) return node.Scalar();
   std::string out;
   if (node.IsSequence()) {
