@@ -38,7 +38,8 @@ bench: build
 	./$(BUILD_DIR)/bench/bench_view_factors docs/view-factor-benchmark.md
 	./$(BUILD_DIR)/bench/bench_loads docs/loads-benchmark.md
 	./$(BUILD_DIR)/bench/bench_thermal docs/thermal-benchmark.md
-	./$(BUILD_DIR)/bench/bench_design_cases bench/cases/satellite-1602-design.yaml docs/design-cases-benchmark.md
+	./$(BUILD_DIR)/bench/bench_design_cases bench/cases/satellite-1602-design.yaml docs/design-cases-benchmark.md \
+	  bench/cases/satellite-6402.yaml
 	# View3D, the reference open tool, built only to run beside radnet (never linked).
 	if [ -x ../shared/peers/view3d/build.sh ] || [ -f ../shared/peers/view3d/build.sh ]; then \
 	  bash ../shared/peers/view3d/build.sh $(BUILD_DIR)/view3d >/dev/null; fi

@@ -6,7 +6,9 @@
 //  2. the rest of an optical set: its exchange factors GR (solver policy) and temperatures;
 //  3. 64 samples of α and ε on the one decomposition, against 64 separate full runs (the
 //     run is timed three times; 64 × its median).
-// Usage: bench_design_cases <case.yaml> <out.md>
+// Part 1 is repeated on a larger model (its own optics with α + 0.15 and ε − 0.05 as the
+// extra set) when one is given: the LU grows as n³, the cores as n k².
+// Usage: bench_design_cases <design-case.yaml> <out.md> [<larger-case.yaml>]
 #include "bench_support.hpp"
 #include "cases/config/case_file.hpp"
 #include "cases/pipeline/design_run.hpp"
@@ -20,6 +22,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 using namespace radnet;
@@ -60,9 +63,62 @@ std::string machine() {
 
 }  // namespace
 
+// Part 1 on a run: the extra optical set's cores and band solves against a dense LU per band.
+struct OpticalSetCost {
+  int n = 0, rank = 0, positions = 0;
+  double cores_s = 0, solves_s = 0, lu_s = 0, gr_s = 0, eigen_s = 0, worst = 0;
+  double unrefined_s = 0, unrefined_worst = 0;  ///< the rank-k answer without refinement
+  std::string gr_method;
+};
+
+OpticalSetCost opticalSetCost(const cases::GeometryRunResult& r, const cases::OpticalSet& set) {
+  // One core for both sides: radnet_solver is built without OpenMP, while this file's
+  // Eigen LU would otherwise run its products on every core.
+  const int threads = Eigen::nbThreads();
+  Eigen::setNbThreads(1);
+  OpticalSetCost out;
+  const solver::Network& net = *r.radiative.network;
+  const orbits::EnvironmentLoads& e = r.sweep->irradiance;
+  out.n = net.size();
+  out.rank = r.radiative.pairs.rank();
+  out.positions = static_cast<int>(e.direct.cols());
+  auto t0 = Clock::now();
+  const cases::BandCores cores = cases::bandCores(r.radiative, set);
+  out.cores_s = since(t0);
+  t0 = Clock::now();
+  const Eigen::MatrixXd q_core = cases::absorbedPower(*cores.solar, *cores.ir, net, e, r.solver.refineTolerance());
+  out.solves_s = since(t0);
+  t0 = Clock::now();
+  const Eigen::MatrixXd q_lu = denseLuAbsorbed(net, set, e);
+  out.lu_s = since(t0);
+  t0 = Clock::now();
+  const Eigen::MatrixXd q_rank_k = cases::absorbedPower(*cores.solar, *cores.ir, net, e, 0.0);
+  out.unrefined_s = since(t0);
+  for (int i = 0; i < out.n; ++i) {
+    const double scale = q_lu.row(i).cwiseAbs().maxCoeff();
+    if (!(scale > 0)) continue;
+    out.worst = std::max(out.worst, (q_core.row(i) - q_lu.row(i)).cwiseAbs().maxCoeff() / scale);
+    out.unrefined_worst = std::max(out.unrefined_worst, (q_rank_k.row(i) - q_lu.row(i)).cwiseAbs().maxCoeff() / scale);
+  }
+  t0 = Clock::now();
+  out.gr_method = solver::policy::exchangeFactors(net, r.radiative.pairs, set.emissivity, r.solver).method;
+  out.gr_s = since(t0);
+  for (const auto& [stage, s] : r.timings.entries())
+    if (stage == cases::Stage::Eigendecomposition) out.eigen_s = s;
+  Eigen::setNbThreads(threads);
+  return out;
+}
+
+void writeCostTable(std::ostream& md, const OpticalSetCost& c) {
+  md << "| " << c.n << " | " << c.rank << " | " << c.positions << " | " << c.cores_s << " | " << c.solves_s << " | **"
+     << c.cores_s + c.solves_s << "** | " << c.lu_s << " | **" << c.lu_s / (c.cores_s + c.solves_s) << "×** | "
+     << c.worst << " | " << c.cores_s + c.unrefined_s << " | **" << c.lu_s / (c.cores_s + c.unrefined_s) << "×** | "
+     << c.unrefined_worst << " | " << c.gr_s << " (" << c.gr_method << ") | " << c.eigen_s << " |\n";
+}
+
 int main(int argc, char** argv) {
-  if (argc != 3) {
-    std::cerr << "usage: bench_design_cases <case.yaml> <out.md>\n";
+  if (argc != 3 && argc != 4) {
+    std::cerr << "usage: bench_design_cases <design-case.yaml> <out.md> [<larger-case.yaml>]\n";
     return 2;
   }
   std::ostringstream quiet;
@@ -79,36 +135,20 @@ int main(int argc, char** argv) {
     full.push_back(since(t0));
   }
   std::sort(full.begin(), full.end());
-  const solver::Network& net = *r.radiative.network;
-  const int n = net.size();
-  const cases::OpticalSet& eol = c.optical_sets.back();
-  const orbits::EnvironmentLoads& e = r.sweep->irradiance;
-  const int P = static_cast<int>(e.direct.cols());
-
-  // 1. One more optical set: cores and band solves against a dense LU per band.
-  auto t0 = Clock::now();
-  const cases::BandCores cores = cases::bandCores(r.radiative, eol);
-  const double t_cores = since(t0);
-  t0 = Clock::now();
-  const Eigen::MatrixXd q_core = cases::absorbedPower(*cores.solar, *cores.ir, net, e, r.solver.refineTolerance());
-  const double t_solves = since(t0);
-  t0 = Clock::now();
-  const Eigen::MatrixXd q_lu = denseLuAbsorbed(net, eol, e);
-  const double t_lu = since(t0);
-  double worst = 0.0;
-  for (int i = 0; i < n; ++i) {
-    const double scale = q_lu.row(i).cwiseAbs().maxCoeff();
-    if (scale > 0) worst = std::max(worst, (q_core.row(i) - q_lu.row(i)).cwiseAbs().maxCoeff() / scale);
+  const OpticalSetCost design = opticalSetCost(r, c.optical_sets.back());
+  std::optional<OpticalSetCost> large;
+  if (argc == 4) {
+    cases::LoadedCase big = cases::loadCase(argv[3]);
+    cases::GeometryCase& g = *big.geometry;
+    cases::OpticalSet extra = g.optical_sets.front();
+    extra.name = "extra";
+    extra.absorptivity = (extra.absorptivity.array() + 0.15).min(1.0);
+    extra.emissivity = (extra.emissivity.array() - 0.05).max(0.0);
+    large = opticalSetCost(cases::runGeometryCase(g, false, quiet), extra);
   }
-  // 2. Its exchange factors by the policy.
-  t0 = Clock::now();
-  const solver::ExchangeFactors ex = solver::policy::exchangeFactors(net, r.radiative.pairs, eol.emissivity, r.solver);
-  const double t_gr = since(t0);
-  double t_eigen = 0.0, t_thermal = 0.0;
-  for (const auto& [stage, s] : r.timings.entries()) {
-    if (stage == cases::Stage::Eigendecomposition) t_eigen = s;
+  double t_thermal = 0.0;
+  for (const auto& [stage, s] : r.timings.entries())
     if (stage == cases::Stage::Thermal) t_thermal = s;
-  }
   // 3. 64 samples on the one decomposition.
   c.optical_uncertainty = sampling;
   c.optical_uncertainty->samples = 64;
@@ -118,23 +158,23 @@ int main(int argc, char** argv) {
   std::ofstream md(argv[2]);
   md << std::setprecision(3);
   md << "# Design cases on one eigendecomposition\n\n"
-     << "Measured by `make bench` (`build/bench/bench_design_cases " << argv[1] << "`) on " << machine()
-     << ", one process; " << n << " nodes, rank " << r.radiative.pairs.rank() << ", " << P
-     << " positions over the two design cases (hot: EOL optics; cold: BOL), solver tolerance "
+     << "Measured by `make bench` (`build/bench/bench_design_cases " << argv[1] << " … " << (argc == 4 ? argv[3] : "")
+     << "`) on " << machine() << ", one process; the optical-set comparison on one core for both sides. "
+     << "The design case: " << design.n
+     << " nodes, hot (EOL optics) and cold (BOL) cases, steady temperatures, solver tolerance "
      << r.solver.refineTolerance() << ".\n\n"
      << "## One more optical set\n\n"
-     << "| step | s |\n|---|---|\n"
-     << "| two k×k band cores | " << t_cores << " |\n"
-     << "| band solves of every position (3 × " << P << " right-hand sides, refined with the full G) | " << t_solves
-     << " |\n"
-     << "| **radiative part on the decomposition** | **" << t_cores + t_solves << "** |\n"
-     << "| the same by a dense LU of (I − S F) per band | " << t_lu << " |\n"
-     << "| ratio | **" << t_lu / (t_cores + t_solves) << "×** |\n"
-     << "| exchange factors GR (" << ex.method << ", the solver policy) | " << t_gr << " |\n"
-     << "| temperatures of both cases (steady per position) | " << t_thermal << " |\n"
-     << "| a new eigendecomposition (what it does not cost) | " << t_eigen << " |\n\n"
-     << "The two answers differ by at most " << worst
-     << " of a node's orbit-maximum absorbed power (the refinement tolerance).\n\n"
+     << "Radiative part: the set's two k×k band cores, then the band solves of every position "
+     << "(direct, albedo and Earth IR, refined with the full G to the solver tolerance), against a "
+     << "dense LU of (I − S F) per band and the same solves; the two answers' largest difference "
+     << "relative to a node's orbit-maximum absorbed power; the same for the rank-k answer without "
+     << "refinement (what a case pinning `rank` without `refine` gets); then what the set costs besides.\n\n"
+     << "| nodes | rank | positions | cores, s | band solves, s | on the decomposition, s | dense LU per band, s "
+        "| ratio | difference | unrefined rank-k, s | ratio | its difference | GR, s | a new decomposition, s |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  writeCostTable(md, design);
+  if (large) writeCostTable(md, *large);
+  md << "\nThe temperatures of the design case's two cases (steady per position) took " << t_thermal << " s.\n\n"
      << "## 64 samples of α and ε\n\n"
      << "| | s |\n|---|---|\n"
      << "| one full run of both cases (median of 3) | " << full[1] << " |\n"
@@ -143,7 +183,8 @@ int main(int argc, char** argv) {
      << "| ratio | **" << 64 * full[1] / t_samples << "×** |\n\n"
      << "A sample costs the cores, band solves and GR of each optical set a case uses, and the "
      << "temperatures of every case; view factors, loads and the decomposition are not redone.\n";
-  std::cout << "one optical set: " << t_cores + t_solves << " s on the decomposition, " << t_lu
-            << " s by dense LU; 64 samples " << t_samples << " s against " << 64 * full[1] << " s\n";
+  std::cout << "one optical set at " << design.n << " nodes: " << design.cores_s + design.solves_s
+            << " s on the decomposition, " << design.lu_s << " s by dense LU; 64 samples " << t_samples
+            << " s against " << 64 * full[1] << " s\n";
   return 0;
 }

@@ -30,8 +30,12 @@ LowRankBandSolver::LowRankBandSolver(const Network& net, const EigenPairs& pairs
   sqrt_rho_ = rho_.cwiseSqrt();
   const Eigen::VectorXd s = rho_.cwiseQuotient(net.area());
   // W = Vᵀ S V (k×k) costs O(n k²); then C = (I − Λ W)⁻¹ Λ = Λ (I − W Λ)⁻¹ (push-through).
-  const Eigen::MatrixXd w = vectors_.transpose() * s.asDiagonal() * vectors_;
+  // As (S^½ V)ᵀ (S^½ V): one symmetric rank-k update, half the products of a general one.
   const int k = rank();
+  const Eigen::MatrixXd sv = s.cwiseSqrt().asDiagonal() * vectors_;
+  Eigen::MatrixXd w = Eigen::MatrixXd::Zero(k, k);
+  w.selfadjointView<Eigen::Lower>().rankUpdate(sv.transpose());
+  w.triangularView<Eigen::StrictlyUpper>() = w.transpose();
   const Eigen::MatrixXd lhs = Eigen::MatrixXd::Identity(k, k) - values_.asDiagonal() * w;
   Eigen::FullPivLU<Eigen::MatrixXd> lu(lhs);
   // I − Λ W is singular when S G'_k has the eigenvalue 1 (a closed, lossless cavity).

@@ -1,42 +1,24 @@
 #include "solver/uncertainty.hpp"
 
+#include "solver/parallel.hpp"
 #include "solver/units.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <cstdlib>
-#include <thread>
 
 namespace radnet::solver {
 namespace {
 
 constexpr Eigen::Index kRowBlock = 256;  // rows of B (and of σ_F) formed at a time
 
-// body(r, rows) for every row block of n rows, on all hardware threads. Each block's
-// arithmetic is the same whatever thread runs it, so results do not depend on the count.
-// The threads to use: OMP_NUM_THREADS when set (the count the rest of radnet obeys), else
-// all hardware threads.
-unsigned threadCount() {
-  if (const char* env = std::getenv("OMP_NUM_THREADS")) {
-    const long t = std::strtol(env, nullptr, 10);
-    if (t > 0) return static_cast<unsigned>(t);
-  }
-  return std::max(1u, std::thread::hardware_concurrency());
-}
-
+// body(r, rows) for every row block of n rows, in parallel (solver/parallel.hpp).
 template <class Body>
 void forRowBlocks(Eigen::Index n, const Body& body) {
   const Eigen::Index blocks = (n + kRowBlock - 1) / kRowBlock;
-  const unsigned threads = std::max(1u, std::min<unsigned>(threadCount(), static_cast<unsigned>(blocks)));
-  std::atomic<Eigen::Index> next{0};
-  auto work = [&] {
-    for (Eigen::Index b = next++; b < blocks; b = next++) body(b * kRowBlock, std::min(kRowBlock, n - b * kRowBlock));
-  };
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
+  parallelFor(blocks, [&](long long b) {
+    const Eigen::Index r = static_cast<Eigen::Index>(b) * kRowBlock;
+    body(r, std::min(kRowBlock, n - r));
+  });
 }
 
 // var y = A² ∘ ((σ_F ∘ σ_F) (M ∘ M)), by row blocks of σ_F.

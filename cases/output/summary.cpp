@@ -80,7 +80,11 @@ void printSweepQuality(const std::vector<std::string>& names, const SweepResult&
 void printHeatBalance(const ThermalSolution& thermal, const SweepResult* sweep, const Span& span, std::ostream& out) {
   const solver::HeatFlows& all = thermal.heat.flows;
   const Eigen::Index P = span.count;
-  const Eigen::VectorXd w = timeWeights(sweep, thermal.times_s, P, span.first_case, span.end_case);
+  // Without a sweep the case's own output times (a transient without an orbit) weigh it.
+  const std::vector<double> times =
+      sweep ? thermal.times_s
+            : std::vector<double>(thermal.times_s.begin() + span.begin, thermal.times_s.begin() + span.begin + P);
+  const Eigen::VectorXd w = timeWeights(sweep, times, P, span.first_case, span.end_case);
   const auto cols = [&](const Eigen::MatrixXd& m) { return Eigen::MatrixXd(m.middleCols(span.begin, P)); };
   solver::HeatFlows f;
   for (auto member : {&solver::HeatFlows::emitted, &solver::HeatFlows::radiative, &solver::HeatFlows::conducted,

@@ -5,9 +5,11 @@
 #include "cases/pipeline/progress.hpp"
 #include "cases/pipeline/radiative_network.hpp"
 #include "cases/pipeline/thermal_run.hpp"
+#include "solver/parallel.hpp"
 
 #include <algorithm>
 #include <chrono>
+#include <mutex>
 #include <cmath>
 #include <optional>
 #include <ostream>
@@ -75,42 +77,52 @@ std::pair<double, double> steps(const GeometryCase& c, const std::string& materi
   return {up, down};
 }
 
-// d(orbit-mean T)/d(property) of each material by central differences (one-sided at 0 or 1).
-void sensitivities(const DesignContext& ctx, const std::vector<CaseRun>& runs, bool absorptivity,
-                   OpticalUncertaintyResult& out, int& band_cores, std::ostream& progress) {
+// d(orbit-mean T)/d(property) of each material by central differences (one-sided at 0 or
+// 1): 2 variants per material and property, evaluated in parallel.
+void sensitivities(const DesignContext& ctx, const std::vector<CaseRun>& runs, OpticalUncertaintyResult& out,
+                   int& band_cores, std::ostream& progress) {
   const GeometryCase& c = ctx.c;
   const Eigen::Index M = static_cast<Eigen::Index>(out.materials.size());
   const int cases = static_cast<int>(c.design_cases.size());
-  std::vector<Eigen::MatrixXd>& per_case = absorptivity ? out.case_sensitivity_absorptivity : out.case_sensitivity_emissivity;
-  per_case.assign(static_cast<size_t>(cases), Eigen::MatrixXd());
-  for (Eigen::Index m = 0; m < M; ++m) {
-    const auto [up, down] = steps(c, out.materials[static_cast<size_t>(m)], absorptivity);
-    Eigen::VectorXd shift_up = Eigen::VectorXd::Zero(M), shift_down = Eigen::VectorXd::Zero(M);
-    shift_up[m] = up;
-    shift_down[m] = -down;
+  // Variant v: property v / (2M) (0: α, 1: ε), material (v / 2) % M, up (even v) or down.
+  const long long variants = 4 * M;
+  std::vector<CaseTemperatures> result(static_cast<size_t>(variants));
+  std::vector<double> step(static_cast<size_t>(variants));
+  std::vector<int> cores(static_cast<size_t>(variants), 0);
+  solver::parallelFor(variants, [&](long long v) {
+    const bool absorptivity = v < 2 * M, up = v % 2 == 0;
+    const Eigen::Index m = (v / 2) % M;
+    const auto [max_up, max_down] = steps(c, out.materials[static_cast<size_t>(m)], absorptivity);
+    Eigen::VectorXd shift = Eigen::VectorXd::Zero(M);
     const Eigen::VectorXd none = Eigen::VectorXd::Zero(M);
-    const CaseTemperatures hi = caseTemperaturesUnder(
-        ctx, runs, absorptivity ? shiftedSets(c, out.materials, shift_up, none) : shiftedSets(c, out.materials, none, shift_up),
-        band_cores);
-    const CaseTemperatures lo = caseTemperaturesUnder(
-        ctx, runs,
-        absorptivity ? shiftedSets(c, out.materials, shift_down, none) : shiftedSets(c, out.materials, none, shift_down),
-        band_cores);
-    const double span = up + down;
-    if (!(span > 1e-9))
-      progress << "radnet: warning: the " << (absorptivity ? "absorptivity" : "emissivity") << " of '"
-               << out.materials[static_cast<size_t>(m)] << "' is 0 in one optical set and 1 in another: its "
-               << "sensitivity is left at 0\n";
-    for (int k = 0; k < cases; ++k) {
-      Eigen::MatrixXd& s = per_case[static_cast<size_t>(k)];
-      if (s.size() == 0) s.setZero(M, hi.mean.cols());
-      if (span > 1e-9) s.row(m) = (hi.mean.row(k) - lo.mean.row(k)) / span;
+    shift[m] = up ? max_up : -max_down;
+    step[static_cast<size_t>(v)] = shift[m];
+    result[static_cast<size_t>(v)] = caseTemperaturesUnder(
+        ctx, runs, absorptivity ? shiftedSets(c, out.materials, shift, none) : shiftedSets(c, out.materials, none, shift),
+        cores[static_cast<size_t>(v)]);
+  });
+  for (int n : cores) band_cores += n;
+  for (int property = 0; property < 2; ++property) {
+    std::vector<Eigen::MatrixXd>& per_case =
+        property == 0 ? out.case_sensitivity_absorptivity : out.case_sensitivity_emissivity;
+    per_case.assign(static_cast<size_t>(cases), Eigen::MatrixXd::Zero(M, result.front().mean.cols()));
+    for (Eigen::Index m = 0; m < M; ++m) {
+      const auto hi = static_cast<size_t>(2 * (property * M + m)), lo = hi + 1;
+      const double span = step[hi] - step[lo];
+      if (!(span > 1e-9)) {
+        progress << "radnet: warning: the " << (property == 0 ? "absorptivity" : "emissivity") << " of '"
+                 << out.materials[static_cast<size_t>(m)] << "' is 0 in one optical set and 1 in another: its "
+                 << "sensitivity is left at 0\n";
+        continue;
+      }
+      for (int k = 0; k < cases; ++k)
+        per_case[static_cast<size_t>(k)].row(m) = (result[hi].mean.row(k) - result[lo].mean.row(k)) / span;
     }
+    Eigen::MatrixXd& mean = property == 0 ? out.sensitivity_absorptivity : out.sensitivity_emissivity;
+    mean = per_case.front();
+    for (size_t k = 1; k < per_case.size(); ++k) mean += per_case[k];
+    mean /= static_cast<double>(cases);
   }
-  Eigen::MatrixXd& mean = absorptivity ? out.sensitivity_absorptivity : out.sensitivity_emissivity;
-  mean = per_case.front();
-  for (size_t k = 1; k < per_case.size(); ++k) mean += per_case[k];
-  mean /= static_cast<double>(cases);
 }
 
 // A periodic transient's answer does not depend on where it starts: a variant starts from
@@ -182,29 +194,38 @@ OpticalUncertaintyResult sampleOpticalUncertainty(const DesignContext& ctx, cons
   out.samples = u.samples;
   out.step = kSensitivityStep;
   const Eigen::Index M = static_cast<Eigen::Index>(out.materials.size());
+  // Draws first, in sample order: the same numbers whatever the thread count.
   NormalDraws normal(u.seed);
-  const auto bar = show_progress ? progressBar(progress, "optical samples", "samples") : std::function<void(int, int)>();
-  for (int s = 0; s < u.samples; ++s) {
-    Eigen::VectorXd da(M), de(M);
+  std::vector<Eigen::VectorXd> da(static_cast<size_t>(u.samples), Eigen::VectorXd(M)), de = da;
+  for (int s = 0; s < u.samples; ++s)
     for (Eigen::Index m = 0; m < M; ++m) {
-      da[m] = u.absorptivity_sigma * normal.next();
-      de[m] = u.emissivity_sigma * normal.next();
+      da[static_cast<size_t>(s)][m] = u.absorptivity_sigma * normal.next();
+      de[static_cast<size_t>(s)][m] = u.emissivity_sigma * normal.next();
     }
+  const auto bar = show_progress ? progressBar(progress, "optical samples", "samples") : std::function<void(int, int)>();
+  std::mutex bar_mutex;
+  int done = 0;
+  std::vector<int> cores(static_cast<size_t>(u.samples), 0);
+  for (auto* v : {&out.sample_min, &out.sample_mean, &out.sample_max}) v->resize(static_cast<size_t>(u.samples));
+  solver::parallelFor(u.samples, [&](long long s) {
+    const auto k = static_cast<size_t>(s);
     try {
-      const CaseTemperatures t = caseTemperaturesUnder(ctx, runs, shiftedSets(c, out.materials, da, de), band_cores);
-      out.sample_min.push_back(t.min);
-      out.sample_mean.push_back(t.mean);
-      out.sample_max.push_back(t.max);
+      CaseTemperatures t = caseTemperaturesUnder(ctx, runs, shiftedSets(c, out.materials, da[k], de[k]), cores[k]);
+      out.sample_min[k] = std::move(t.min);
+      out.sample_mean[k] = std::move(t.mean);
+      out.sample_max[k] = std::move(t.max);
     } catch (const NumericalError& e) {
       throw NumericalError("optical uncertainty sample " + std::to_string(s + 1) + ": " + e.what());
     }
-    if (bar) bar(s + 1, u.samples);
-  }
+    const std::lock_guard<std::mutex> lock(bar_mutex);
+    ++done;
+    if (bar) bar(done, u.samples);
+  });
+  for (int n : cores) band_cores += n;
   out.sample_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out.percentiles = {percentileOf(out.sample_min, 5), percentileOf(out.sample_mean, 50),
                      percentileOf(out.sample_max, 95)};
-  sensitivities(ctx, runs, true, out, band_cores, progress);
-  sensitivities(ctx, runs, false, out, band_cores, progress);
+  sensitivities(ctx, runs, out, band_cores, progress);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   progress << "radnet: optical uncertainty: " << u.samples << " samples (σ_α " << u.absorptivity_sigma << ", σ_ε "
            << u.emissivity_sigma << ") and " << 4 * M << " finite-difference variants of " << M

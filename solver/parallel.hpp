@@ -1,0 +1,51 @@
+#pragma once
+// Independent tasks on std::threads, the count OMP_NUM_THREADS sets (the count the rest of
+// radnet obeys) or all hardware threads. Each task's arithmetic is the same whatever thread
+// runs it, so results do not depend on the count. radnet_solver links no OpenMP (its
+// results must be bit-identical for any thread count); this is how it goes parallel.
+#include <algorithm>
+#include <atomic>
+#include <cstdlib>
+#include <exception>
+#include <thread>
+#include <vector>
+
+namespace radnet::solver {
+
+inline unsigned threadCount() {
+  if (const char* env = std::getenv("OMP_NUM_THREADS")) {
+    const long t = std::strtol(env, nullptr, 10);
+    if (t > 0) return static_cast<unsigned>(t);
+  }
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+/// body(k) for k in [0, count), on up to `threads` threads (0: threadCount()). The first
+/// exception a task throws is rethrown here once every thread has stopped.
+template <class Body>
+void parallelFor(long long count, const Body& body, unsigned threads = 0) {
+  if (count <= 0) return;
+  if (threads == 0) threads = threadCount();
+  threads = std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(std::min<long long>(count, 1 << 20))));
+  std::atomic<long long> next{0};
+  std::atomic<bool> failed{false};
+  std::exception_ptr first;
+  std::atomic_flag storing = ATOMIC_FLAG_INIT;
+  auto work = [&] {
+    for (long long k = next++; k < count && !failed; k = next++) {
+      try {
+        body(k);
+      } catch (...) {
+        if (!storing.test_and_set()) first = std::current_exception();
+        failed = true;
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+  if (first) std::rethrow_exception(first);
+}
+
+}  // namespace radnet::solver
