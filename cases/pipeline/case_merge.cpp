@@ -18,6 +18,8 @@ void appendCols(Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   a = std::move(joined);
 }
 
+}  // namespace
+
 void appendLoads(orbits::EnvironmentLoads& all, const orbits::EnvironmentLoads& part) {
   for (auto member : {&orbits::EnvironmentLoads::direct, &orbits::EnvironmentLoads::albedo,
                       &orbits::EnvironmentLoads::earth_ir, &orbits::EnvironmentLoads::earth_view_factor,
@@ -30,8 +32,6 @@ void appendLoads(orbits::EnvironmentLoads& all, const orbits::EnvironmentLoads& 
   all.shadow_cell_m = std::max(all.shadow_cell_m, part.shadow_cell_m);
   all.seconds += part.seconds;
 }
-
-}  // namespace
 
 void appendSweep(SweepResult& all, const SweepResult& part) {
   const int offset = static_cast<int>(all.positions.size());

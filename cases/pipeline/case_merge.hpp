@@ -10,6 +10,9 @@
 
 namespace radnet::cases {
 
+/// Appends the irradiances of `part` (later positions) to `all`, adding its ray counts.
+void appendLoads(orbits::EnvironmentLoads& all, const orbits::EnvironmentLoads& part);
+
 /// Appends `part` (a later design case's sweep) to `all`.
 void appendSweep(SweepResult& all, const SweepResult& part);
 

@@ -1,6 +1,7 @@
 #include "cases/pipeline/orbit_sweep.hpp"
 
 #include "cases/config/errors.hpp"
+#include "cases/pipeline/case_merge.hpp"
 #include "cases/pipeline/progress.hpp"
 #include "solver/uncertainty.hpp"
 
@@ -53,7 +54,6 @@ void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings,
                   std::ostream& progress) {
   const OrbitSettings& o = in.orbit;
   const Eigen::VectorXd& area = in.radiative.network->area();
-  const Eigen::Index n = area.size();
   std::vector<orbits::EnvironmentLoads> parts;
   for (size_t k = 0; k < o.cases.size(); ++k) {
     const orbits::Orbit& orbit = *o.cases[k].orbit;
@@ -82,26 +82,7 @@ void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings,
   }
   const int P = static_cast<int>(sw.positions.size());
   sw.case_start.push_back(P);
-  auto join = [&](auto member) {
-    Eigen::MatrixXd all(n, P);
-    for (size_t k = 0; k < parts.size(); ++k)
-      all.middleCols(sw.case_start[k], sw.case_start[k + 1] - sw.case_start[k]) = parts[k].*member;
-    return all;
-  };
-  sw.irradiance.direct = join(&orbits::EnvironmentLoads::direct);
-  sw.irradiance.albedo = join(&orbits::EnvironmentLoads::albedo);
-  sw.irradiance.earth_ir = join(&orbits::EnvironmentLoads::earth_ir);
-  sw.irradiance.earth_view_factor = join(&orbits::EnvironmentLoads::earth_view_factor);
-  sw.irradiance.direct_stderr = join(&orbits::EnvironmentLoads::direct_stderr);
-  sw.irradiance.albedo_stderr = join(&orbits::EnvironmentLoads::albedo_stderr);
-  sw.irradiance.earth_ir_stderr = join(&orbits::EnvironmentLoads::earth_ir_stderr);
-  for (const auto& part : parts) {
-    sw.irradiance.planet_casts += part.planet_casts;
-    sw.irradiance.planet_rays += part.planet_rays;
-    sw.irradiance.shadow_rays += part.shadow_rays;
-    sw.irradiance.shadow_cell_m = std::max(sw.irradiance.shadow_cell_m, part.shadow_cell_m);
-    sw.irradiance.seconds += part.seconds;
-  }
+  for (const orbits::EnvironmentLoads& part : parts) appendLoads(sw.irradiance, part);
   if (in.reuse) {
     progress << "radnet: loads: the irradiances of an earlier case with the same orbit and attitude, times "
              << in.direct_ratio << " (direct), " << in.albedo_ratio << " (albedo), " << in.earth_ir_ratio
