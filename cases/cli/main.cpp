@@ -12,6 +12,7 @@
 
 #include <unistd.h>
 #include <filesystem>
+#include <cstdlib>
 #include <iostream>
 #include <chrono>
 #include <sstream>
@@ -78,6 +79,8 @@ void applyRunOptions(const RunOptions& o, GeometryCase& g) {
 #ifdef _OPENMP
     omp_set_num_threads(o.threads);  // the orbit loads' parallel loops too
 #endif
+    // solver/parallel.hpp's std::threads (uncertainty row blocks, optical samples) read it.
+    setenv("OMP_NUM_THREADS", std::to_string(o.threads).c_str(), 1);
   }
   if (o.seed >= 0) {  // view factors, shadow and planet rays
     g.view_factors.monte_carlo.seed = static_cast<std::uint64_t>(o.seed);
