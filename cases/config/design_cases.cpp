@@ -128,10 +128,10 @@ bool isCaseName(const std::string& name) {
   });
 }
 
-std::vector<std::string> GeometryCase::surfaceMaterials() const {
-  std::vector<std::string> m = node_material;
-  std::sort(m.begin(), m.end());
-  m.erase(std::unique(m.begin(), m.end()), m.end());
+std::vector<std::string> GeometryCase::opticalMaterials() const {
+  std::vector<std::string> m;
+  for (const auto& [name, props] : materials)  // a std::map: sorted
+    if (props.has_optics) m.push_back(name);
   return m;
 }
 

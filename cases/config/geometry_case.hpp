@@ -65,8 +65,9 @@ struct GeometryCase {
   std::vector<std::string> warnings;  ///< accepted but suspicious input, printed when the run starts
   /// True when the cases have orbits (all of them or none): network and exchange factors only without.
   bool hasOrbit() const { return !design_cases.empty() && design_cases.front().orbit.has_value(); }
-  /// The materials some radiative node is made of, sorted: the axis of the sensitivities.
-  std::vector<std::string> surfaceMaterials() const;
+  /// The materials with optical properties, sorted: the axis of the sensitivities (a
+  /// material no surface is made of has a zero row).
+  std::vector<std::string> opticalMaterials() const;
 };
 
 /// Adds each shell's capacitance and conductors to the thermal model.

@@ -89,9 +89,15 @@ void sensitivities(const DesignContext& ctx, const std::vector<CaseRun>& runs, O
   std::vector<CaseTemperatures> result(static_cast<size_t>(variants));
   std::vector<double> step(static_cast<size_t>(variants));
   std::vector<int> cores(static_cast<size_t>(variants), 0);
+  std::vector<char> used(static_cast<size_t>(M), 0);  // a material on no surface: a zero row, nothing solved
+  for (Eigen::Index m = 0; m < M; ++m)
+    used[static_cast<size_t>(m)] =
+        std::find(c.node_material.begin(), c.node_material.end(), out.materials[static_cast<size_t>(m)]) !=
+        c.node_material.end();
   solver::parallelFor(variants, [&](long long v) {
     const bool absorptivity = v < 2 * M, up = v % 2 == 0;
     const Eigen::Index m = (v / 2) % M;
+    if (!used[static_cast<size_t>(m)]) return;
     const auto [max_up, max_down] = steps(c, out.materials[static_cast<size_t>(m)], absorptivity);
     Eigen::VectorXd shift = Eigen::VectorXd::Zero(M);
     const Eigen::VectorXd none = Eigen::VectorXd::Zero(M);
@@ -105,8 +111,11 @@ void sensitivities(const DesignContext& ctx, const std::vector<CaseRun>& runs, O
   for (int property = 0; property < 2; ++property) {
     std::vector<Eigen::MatrixXd>& per_case =
         property == 0 ? out.case_sensitivity_absorptivity : out.case_sensitivity_emissivity;
-    per_case.assign(static_cast<size_t>(cases), Eigen::MatrixXd::Zero(M, result.front().mean.cols()));
+    Eigen::Index nodes = 0;
+    for (const CaseTemperatures& t : result) nodes = std::max(nodes, t.mean.cols());
+    per_case.assign(static_cast<size_t>(cases), Eigen::MatrixXd::Zero(M, nodes));
     for (Eigen::Index m = 0; m < M; ++m) {
+      if (!used[static_cast<size_t>(m)]) continue;
       const auto hi = static_cast<size_t>(2 * (property * M + m)), lo = hi + 1;
       const double span = step[hi] - step[lo];
       if (!(span > 1e-9)) {
@@ -190,7 +199,7 @@ OpticalUncertaintyResult sampleOpticalUncertainty(const DesignContext& ctx, cons
   const OpticalUncertainty& u = *c.optical_uncertainty;
   const auto start = std::chrono::steady_clock::now();
   OpticalUncertaintyResult out;
-  out.materials = c.surfaceMaterials();
+  out.materials = c.opticalMaterials();
   out.samples = u.samples;
   out.step = kSensitivityStep;
   const Eigen::Index M = static_cast<Eigen::Index>(out.materials.size());
@@ -228,8 +237,8 @@ OpticalUncertaintyResult sampleOpticalUncertainty(const DesignContext& ctx, cons
   sensitivities(ctx, runs, out, band_cores, progress);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   progress << "radnet: optical uncertainty: " << u.samples << " samples (σ_α " << u.absorptivity_sigma << ", σ_ε "
-           << u.emissivity_sigma << ") and " << 4 * M << " finite-difference variants of " << M
-           << " material(s) on the one eigendecomposition, " << out.seconds << " s\n";
+           << u.emissivity_sigma << ") and the α and ε sensitivities of " << M
+           << " material(s), on the one eigendecomposition, " << out.seconds << " s\n";
   return out;
 }
 

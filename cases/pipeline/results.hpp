@@ -123,7 +123,7 @@ struct DesignCasesResult {
 
 /// `uncertainty:` the optical properties sampled on the same decomposition.
 struct OpticalUncertaintyResult {
-  std::vector<std::string> materials;  ///< the sensitivities' rows: the materials of the surfaces
+  std::vector<std::string> materials;  ///< the sensitivities' rows: every material with optics, sorted
   int samples = 0;
   /// (c×n) K: the 5th percentile of each sample's orbit minimum, the median of its orbit
   /// mean and the 95th percentile of its orbit maximum.
