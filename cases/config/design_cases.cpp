@@ -21,7 +21,7 @@ std::string caseName(const YamlDocument& doc, const YAML::Node& key, const std::
                      std::set<std::string>& seen) {
   const std::string name = key.Scalar();
   if (!isCaseName(name))
-    throw doc.error(key, what + ": '" + name + "' is not a name; use letters, digits, '_', '-' and '.'");
+    throw doc.error(key, what + ": '" + name + "' is not a name; use letters, digits, '_', '-' and '.', starting with a letter, a digit or '_'");
   if (!seen.insert(name).second) throw doc.error(key, what + ": '" + name + "' is given twice");
   return name;
 }
@@ -123,9 +123,11 @@ DesignCase parseCase(const YamlDocument& doc, const std::string& name, const YAM
 }  // namespace
 
 bool isCaseName(const std::string& name) {
-  return !name.empty() && name.size() <= 64 && std::all_of(name.begin(), name.end(), [](char ch) {
-    return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-' || ch == '.';
-  });
+  // The first character not a '.' or '-': "." and ".." mean something in an HDF5 path.
+  return !name.empty() && name.size() <= 64 && (std::isalnum(static_cast<unsigned char>(name[0])) || name[0] == '_') &&
+         std::all_of(name.begin(), name.end(), [](char ch) {
+           return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-' || ch == '.';
+         });
 }
 
 std::vector<std::string> GeometryCase::opticalMaterials() const {

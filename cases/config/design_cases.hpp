@@ -60,8 +60,8 @@ void parseCaseDissipations(const YamlDocument& doc, GeometryCase& c);
 /// Parses `uncertainty:` into c.optical_uncertainty.
 void parseOpticalUncertainty(const YamlDocument& doc, GeometryCase& c);
 
-/// The names a design case or optical set may have: letters, digits, '_', '-' and '.'
-/// (they become HDF5 group names and orbit-case labels).
+/// The names a design case or optical set may have: letters, digits, '_', '-' and '.',
+/// starting with a letter, a digit or '_' (they become HDF5 group names and labels).
 bool isCaseName(const std::string& name);
 
 }  // namespace radnet::cases
