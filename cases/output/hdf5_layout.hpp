@@ -39,7 +39,7 @@ void writeTemperatures(Hdf5Writer& h5, const ThermalSolution& thermal, const The
 /// (P, n) K when temperatures were computed, and the error budget's split in /report.
 void writeUncertainty(Hdf5Writer& h5, const GeometryCase& c, const GeometryRunResult& r, Eigen::Index nodes);
 /// /cases, /orbit/design_case, /optics/<set>, /solution/case_temperature_*,
-/// /solution/envelope and the cases' /report attributes (docs/hdf5-layout.md, "Design cases").
+/// /solution/envelope and the cases' /report attributes (docs/hdf5-layout.md).
 void writeDesignCases(Hdf5Writer& h5, const GeometryCase& c, const GeometryRunResult& r);
 /// /uncertainty/temperature_percentiles, the samples and the sensitivities of `uncertainty:`.
 void writeOpticalUncertainty(Hdf5Writer& h5, const GeometryCase& c, const OpticalUncertaintyResult& u);
