@@ -94,6 +94,8 @@ void writeOpticalUncertainty(Hdf5Writer& h5, const GeometryCase& c, const Optica
   h5.attribute(pct, "absorptivity_sigma", spec.absorptivity_sigma);
   h5.attribute(pct, "emissivity_sigma", spec.emissivity_sigma);
   h5.attribute(pct, "seed", static_cast<long long>(spec.seed));
+  h5.attribute(pct, "clipped_absorptivity", u.clipped_absorptivity);
+  h5.attribute(pct, "clipped_emissivity", u.clipped_emissivity);
   if (c.thermal->periodic)
     h5.attribute(pct, "sample_periodic_tolerance", kSamplePeriodicFactor * c.thermal->periodic->tolerance_k);
   h5.attribute(pct, "method",

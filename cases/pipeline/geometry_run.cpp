@@ -151,6 +151,8 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
     StageTimer t_opt(r.timings, Stage::OpticalUncertainty);
     r.optical_uncertainty = sampleOpticalUncertainty(ctx, runs, r.cases.band_cores, show_progress, progress);
   }
+  // Counted, not asserted: a stage that decomposed G again would show here.
+  r.cases.eigendecompositions = r.timings.count(Stage::Eigendecomposition);
   return r;
 }
 

@@ -148,6 +148,33 @@ ThermalSettings warmStart(const CaseRun& run) {
   return ts;
 }
 
+// The share of sampled node values that [0, 1] clipped, per property: a large σ against a
+// value near 0 or 1 samples a distribution that is no longer normal, and the user is told.
+void clippedShares(const GeometryCase& c, OpticalUncertaintyResult& out, const std::vector<Eigen::VectorXd>& da,
+                   const std::vector<Eigen::VectorXd>& de, std::ostream& progress) {
+  long long total = 0, clipped_a = 0, clipped_e = 0;
+  for (size_t s = 0; s < da.size(); ++s)
+    for (size_t i = 0; i < c.node_material.size(); ++i) {
+      const auto m = std::lower_bound(out.materials.begin(), out.materials.end(), c.node_material[i]) -
+                     out.materials.begin();
+      for (const OpticalSet& set : c.optical_sets) {
+        const double a = set.absorptivity[static_cast<Eigen::Index>(i)] + da[s][m];
+        const double e = set.emissivity[static_cast<Eigen::Index>(i)] + de[s][m];
+        clipped_a += a < 0.0 || a > 1.0;
+        clipped_e += e < 0.0 || e > 1.0;
+        ++total;
+      }
+    }
+  out.clipped_absorptivity = total ? double(clipped_a) / double(total) : 0.0;
+  out.clipped_emissivity = total ? double(clipped_e) / double(total) : 0.0;
+  for (const auto& [share, name] : {std::pair{out.clipped_absorptivity, "absorptivity"},
+                                    std::pair{out.clipped_emissivity, "emissivity"}})
+    if (share > kClippedWarning)
+      progress << "radnet: warning: uncertainty: " << 100.0 * share << " % of the sampled " << name
+               << " values fell outside [0, 1] and were clipped: its σ is large against a value near 0 or 1, and "
+               << "the percentiles describe the clipped distribution, not a normal one\n";
+}
+
 }  // namespace
 
 std::vector<OpticalSet> shiftedSets(const GeometryCase& c, const std::vector<std::string>& materials,
@@ -211,6 +238,7 @@ OpticalUncertaintyResult sampleOpticalUncertainty(const DesignContext& ctx, cons
       da[static_cast<size_t>(s)][m] = u.absorptivity_sigma * normal.next();
       de[static_cast<size_t>(s)][m] = u.emissivity_sigma * normal.next();
     }
+  clippedShares(c, out, da, de, progress);
   const auto bar = show_progress ? progressBar(progress, "optical samples", "samples") : std::function<void(int, int)>();
   std::mutex bar_mutex;
   int done = 0;

@@ -13,6 +13,11 @@ namespace radnet::cases {
 /// linear over it to the percent.
 inline constexpr double kSensitivityStep = 0.01;
 
+/// A warning when more than this share of the sampled node values of α or ε is clipped: a
+/// few percent is the physics (α 0.94 ± 0.03 cannot exceed 1), beyond that the sampled
+/// distribution is no longer the normal one asked for.
+inline constexpr double kClippedWarning = 0.05;
+
 /// A sample's periodic transient settles to this many times the case's periodic_tolerance.
 inline constexpr double kSamplePeriodicFactor = 10.0;
 

@@ -116,7 +116,7 @@ struct DesignCasesResult {
   Eigen::VectorXd envelope_min, envelope_max;            ///< per thermal node over every case, K
   Eigen::VectorXi envelope_min_case, envelope_max_case;  ///< which design case sets each
   std::vector<StageTimings> timings;                     ///< per design case (its sweep, loads, bands, thermal)
-  int eigendecompositions = 1;                           ///< of G: one for every case and optical set
+  int eigendecompositions = 0;  ///< of G, as counted by the run's timings: 1 serves every case, set and sample
   int band_cores = 0;                                    ///< k×k cores built (two per optical set and sample)
   int caseCount() const { return static_cast<int>(names.size()); }
 };
@@ -134,6 +134,7 @@ struct OpticalUncertaintyResult {
   Eigen::MatrixXd sensitivity_absorptivity, sensitivity_emissivity;
   std::vector<Eigen::MatrixXd> case_sensitivity_absorptivity, case_sensitivity_emissivity;
   double step = 0.0;     ///< the finite-difference half step of α and ε, –
+  double clipped_absorptivity = 0.0, clipped_emissivity = 0.0;  ///< share of sampled node values clipped to [0, 1]
   double sample_seconds = 0.0;  ///< the samples alone, s
   double seconds = 0.0;         ///< sampling and sensitivities, s
 };

@@ -29,13 +29,23 @@ std::string_view stageName(Stage stage) {
   return "unknown";
 }
 
-void StageTimings::add(Stage stage, double seconds) {
-  for (auto& [s, total] : entries_)
-    if (s == stage) {
-      total += seconds;
+void StageTimings::add(Stage stage, double seconds) { add(stage, seconds, 1); }
+
+void StageTimings::add(Stage stage, double seconds, int times) {
+  for (size_t k = 0; k < entries_.size(); ++k)
+    if (entries_[k].first == stage) {
+      entries_[k].second += seconds;
+      counts_[k] += times;
       return;
     }
   entries_.emplace_back(stage, seconds);
+  counts_.push_back(times);
+}
+
+int StageTimings::count(Stage stage) const {
+  for (size_t k = 0; k < entries_.size(); ++k)
+    if (entries_[k].first == stage) return counts_[k];
+  return 0;
 }
 
 StageTimer::StageTimer(StageTimings& timings, Stage stage) : timings_(timings), stage_(stage), start_s_(nowSeconds()) {}
@@ -49,7 +59,8 @@ void StageTimer::stop() {
 }
 
 void StageTimings::addAll(const StageTimings& other) {
-  for (const auto& [stage, seconds] : other.entries()) add(stage, seconds);
+  for (size_t k = 0; k < other.entries_.size(); ++k)
+    add(other.entries_[k].first, other.entries_[k].second, other.counts_[k]);
 }
 
 }  // namespace radnet::cases

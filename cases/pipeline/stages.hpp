@@ -31,11 +31,15 @@ class StageTimings {
   void add(Stage stage, double seconds);
   /// (stage, seconds) in the order the stages first ran.
   const std::vector<std::pair<Stage, double>>& entries() const { return entries_; }
-  /// Adds every stage of `other` (a design case's) to these.
+  /// Adds every stage of `other` (a design case's) to these, times and counts.
   void addAll(const StageTimings& other);
+  /// How many times `stage` was timed (e.g. eigendecompositions of G), 0 if never.
+  int count(Stage stage) const;
 
  private:
+  void add(Stage stage, double seconds, int times);
   std::vector<std::pair<Stage, double>> entries_;
+  std::vector<int> counts_;  ///< per entry, how many timings it sums
 };
 
 /// Times one stage from construction to stop() (or destruction).
