@@ -5,6 +5,9 @@ JOBS ?= $(shell nproc)
 PACKAGES = cmake g++ make libeigen3-dev libspectra-dev libcgal-dev libgeographiclib-dev \
            libyaml-cpp-dev libhdf5-dev catch2 libcli11-dev \
            python3-h5py python3-matplotlib python3-numpy
+# ParaView, only to test that what users open in it loads (pvbatch under Xvfb, Mesa's
+# software OpenGL); without recommends it is about 150 MB.
+VIEW_PACKAGES = paraview python3-paraview xvfb xauth libgl1-mesa-dri
 SUDO = $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 EXAMPLE ?= cases/examples/cubesat-3u.yaml
 
@@ -15,6 +18,10 @@ deps:
 	if [ -n "$$missing" ]; then \
 	  if [ -n "$(SUDO)" ]; then echo "make deps: not root, installing with sudo:$$missing"; fi; \
 	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $$missing; \
+	fi
+	@missing=$$(for p in $(VIEW_PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'install ok installed' || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $$missing; \
 	fi
 
 build: deps

@@ -45,27 +45,10 @@ void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, cons
   writeUncertainty(h5, c, r, n);
   writeDesignCases(h5, c, r);
   if (r.optical_uncertainty) writeOpticalUncertainty(h5, c, *r.optical_uncertainty);
-  const std::vector<XdmfAttribute> cell_values = writeXdmfCellValues(h5, r);
+  const XdmfPlan xdmf = writeXdmfData(h5, c.scene, r, path);
   writeTimings(h5, r.timings);
-  std::vector<double> times;
-  if (r.sweep) {
-    // Each orbit case's times start at 0; ParaView needs one increasing series, so each case
-    // is shifted past the spans of the cases before it.
-    const SweepResult& sw = *r.sweep;
-    double offset = 0.0;
-    for (int k = 0; k < sw.caseCount(); ++k) {
-      for (int p = sw.case_start[static_cast<size_t>(k)]; p < sw.case_start[static_cast<size_t>(k) + 1]; ++p)
-        times.push_back(offset + sw.positions[static_cast<size_t>(p)].t_s);
-      offset += sw.case_sweep_s[static_cast<size_t>(k)];
-    }
-  }
-  else if (r.thermal && r.thermal->times_s.size() > 1)  // a transient without an orbit: its output times
-    times = r.thermal->times_s;
-  const std::string text =
-      xdmfText(std::filesystem::path(path).filename().string(), static_cast<long>(c.scene.vertexMatrix().rows()),
-               static_cast<long>(c.scene.faces().size()), times, cell_values);
   h5.commit();
-  writeTextAtomically(xdmfPathFor(path), text);
+  writeXdmfFiles(xdmf, path);
 }
 
 }  // namespace radnet::cases
