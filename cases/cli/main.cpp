@@ -30,8 +30,10 @@ constexpr int kExitBadInput = 2;
 constexpr int kExitNumerical = 3;
 
 struct RunOptions {
-  std::string case_path, output;
+  std::vector<std::string> case_paths;
+  std::string case_path, output;  // the case of this run, and -o as given
   bool quiet = false;
+  bool all_nodes = false;
   int threads = 0;
   long long seed = -1;
 };
@@ -90,28 +92,65 @@ void applyRunOptions(const RunOptions& o, GeometryCase& g) {
   }
 }
 
+// -o: a file for one case; an existing directory receives <case stem>.h5 for each case.
+std::string outputFor(const RunOptions& o) {
+  if (o.output.empty()) return defaultOutput(o.case_path);
+  if (std::filesystem::is_directory(o.output))
+    return (std::filesystem::path(o.output) / defaultOutput(o.case_path)).string();
+  if (o.case_paths.size() > 1)
+    throw InputError(o.output, 0, 0,
+                     "-o names one file but " + std::to_string(o.case_paths.size()) +
+                         " cases are run: give an existing directory, or run them one by one");
+  return o.output;
+}
+
 int runCommand(const RunOptions& o) {
   LoadedCase c = loadCase(o.case_path);
   std::ostringstream sink;
   std::ostream& progress = o.quiet ? static_cast<std::ostream&>(sink) : std::cerr;
-  const std::string out = o.output.empty() ? defaultOutput(o.case_path) : o.output;
+  const std::string out = outputFor(o);
   checkOutputPath(out);
   double write_s = 0.0;
   if (c.network) {
     const NetworkRunResult r = runNetworkCase(*c.network, progress);
     writeNetworkResult(*c.network, r, out);
-    printNetworkSummary(*c.network, r, std::cout);
+    printNetworkSummary(*c.network, r, std::cout, o.all_nodes);
   } else {
     applyRunOptions(o, *c.geometry);
     const GeometryRunResult r = runGeometryCase(*c.geometry, !o.quiet, progress);
     const auto t0 = std::chrono::steady_clock::now();
     writeGeometryResult(*c.geometry, r, out);
     write_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    printGeometrySummary(*c.geometry, r, std::cout);
+    printGeometrySummary(*c.geometry, r, std::cout, o.all_nodes);
   }
   // The file's own /report cannot hold the time spent writing it: it is said here.
   if (!o.quiet) std::cerr << "radnet: wrote " << out << (write_s > 0 ? " in " + std::to_string(write_s) + " s" : "") << "\n";
   return 0;
+}
+
+// Every case runs, each into its own file; the worst outcome decides the exit code.
+int runCommands(RunOptions o) {
+  int worst = 0;
+  for (const std::string& path : o.case_paths) {
+    if (o.case_paths.size() > 1) std::cout << "== " << path << "\n" << std::flush;
+    o.case_path = path;
+    worst = std::max(worst, guarded([&] { return runCommand(o); }));
+  }
+  return worst;
+}
+
+int validateCommand(const std::vector<std::string>& paths) {
+  int worst = 0;
+  for (const std::string& path : paths)
+    worst = std::max(worst, guarded([&] {
+                       const LoadedCase c = loadCase(path);
+                       if (c.geometry)
+                         for (const auto& w : c.geometry->scene.warnings())
+                           std::cerr << path << ": warning: " << w << "\n";
+                       std::cout << path << ": valid (" << c.nodeCount() << " nodes)\n";
+                       return 0;
+                     }));
+  return worst;
 }
 
 // One case of `radnet check`: runs it when it has an `expect:` block; counts failures.
@@ -152,16 +191,31 @@ int checkCommand(const std::vector<std::string>& paths) {
   return worst;
 }
 
+constexpr const char* kExamples = R"(
+Examples:
+  radnet run cases/examples/cubesat-3u.yaml -o cubesat.h5    one case: cubesat.h5 and cubesat.xmf
+  radnet run hot.yaml cold.yaml -o results/                  several cases into a directory
+  radnet run big.yaml --threads 2 --seed 7 --all             every node in the summary
+  radnet validate cases/analytic/*.yaml                      parse and check only
+  radnet check cases/analytic/*.yaml                         regression: exit 1 on any failure
+  radnet report cubesat.h5 -o report/                        Markdown, CSV and PNG report
+  radnet export cubesat.h5 --format esatan -o cubesat.d      nodes, GL and GR for another tool
+Exit codes: 0 success, 1 a check failed, 2 bad input, 3 numerical failure, 4 output not written.)";
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"radnet: thermal radiation network solver for spacecraft"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("radnet ") + RADNET_VERSION);
+  app.footer(kExamples);
 
   RunOptions run_options;
   auto* run = app.add_subcommand("run", "run a case: network, eigenpairs, band solves; write HDF5");
-  run->add_option("case", run_options.case_path, "case file (YAML)")->required();
-  run->add_option("-o,--output", run_options.output, "output HDF5 file (default: <case name>.h5 in this directory)");
+  run->add_option("cases", run_options.case_paths, "case files (YAML)")->required();
+  run->add_option("-o,--output", run_options.output,
+                  "output HDF5 file, or an existing directory for <case stem>.h5 (default: <case stem>.h5 here)");
+  run->add_flag("--all", run_options.all_nodes, "every node in the summary (default: extremes and groups above 40)");
   run->add_flag("-q,--quiet", run_options.quiet, "no progress on stderr");
   run->add_option("--threads", run_options.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
   run->add_option("--seed", run_options.seed, "random seed for ray casting (overrides the case)")
@@ -177,9 +231,9 @@ int main(int argc, char** argv) {
   auto* check = app.add_subcommand("check", "run cases with an 'expect:' block; exit 1 on any regression");
   check->add_option("cases", check_cases, "case files (YAML)")->required();
 
-  std::string validate_case;
-  auto* validate = app.add_subcommand("validate", "parse and validate a case only");
-  validate->add_option("case", validate_case, "case file (YAML)")->required();
+  std::vector<std::string> validate_cases;
+  auto* validate = app.add_subcommand("validate", "parse and validate cases only");
+  validate->add_option("cases", validate_cases, "case files (YAML)")->required();
 
   try {
     app.parse(argc, argv);
@@ -191,14 +245,7 @@ int main(int argc, char** argv) {
     app.exit(e);
     return kExitBadInput;
   }
-  if (*run) return guarded([&] { return runCommand(run_options); });
-  if (*validate)
-    return guarded([&] {
-      const LoadedCase c = loadCase(validate_case);
-      if (c.geometry)
-        for (const auto& w : c.geometry->scene.warnings()) std::cerr << "radnet: warning: " << w << "\n";
-      std::cout << validate_case << ": valid (" << c.nodeCount() << " nodes)\n";
-      return 0;
-    });
+  if (*run) return runCommands(run_options);
+  if (*validate) return validateCommand(validate_cases);
   return checkCommand(check_cases);
 }

@@ -1,5 +1,6 @@
 #include "cases/output/summary.hpp"
 
+#include "cases/output/node_table.hpp"
 #include "cases/pipeline/case_merge.hpp"
 
 #include <array>
@@ -11,6 +12,27 @@
 namespace radnet::cases {
 namespace {
 
+// How the node tables of one summary are laid out.
+struct Layout {
+  NodeGroups groups;
+  bool all = false;
+  void print(const std::vector<std::string>& names, const std::vector<NodeColumn>& columns, std::ostream& out,
+             int key_column = 0) const {
+    NodeTableOptions o;
+    o.all = all;
+    o.key_column = key_column;
+    printNodeTable(names, groups, columns, o, out);
+  }
+};
+
+NodeColumn kelvin(const char* header, Eigen::VectorXd values, Aggregate a, int width = 10) {
+  NodeColumn c{header, std::move(values), a};
+  c.fixed = true;
+  c.precision = 2;
+  c.width = width;
+  return c;
+}
+
 void printTimings(const StageTimings& timings, std::ostream& out) {
   out << "timings:";
   for (const auto& [stage, seconds] : timings.entries())
@@ -18,17 +40,13 @@ void printTimings(const StageTimings& timings, std::ostream& out) {
   out << "\n";
 }
 
-// Node min/mean/max of a (n × P) table, one row per node.
-void printNodeTemperatures(const std::vector<std::string>& names, const Eigen::MatrixXd& t, std::ostream& out) {
-  out << std::left << std::setw(20) << "node" << std::right << std::setw(10) << "min" << std::setw(10) << "mean"
-      << std::setw(10) << "max"
-      << "\n";
-  for (size_t i = 0; i < names.size(); ++i) {
-    const auto row = t.row(static_cast<Eigen::Index>(i));
-    out << std::left << std::setw(20) << names[i] << std::right << std::fixed << std::setprecision(2) << std::setw(10)
-        << row.minCoeff() << std::setw(10) << row.mean() << std::setw(10) << row.maxCoeff() << std::defaultfloat
-        << "\n";
-  }
+// Node min/mean/max of a (n × P) table, one row per node; ranked by the maximum.
+void printNodeTemperatures(const std::vector<std::string>& names, const Eigen::MatrixXd& t, const Layout& layout,
+                           std::ostream& out) {
+  layout.print(names,
+               {kelvin("min", t.rowwise().minCoeff(), Aggregate::Min), kelvin("mean", t.rowwise().mean(), Aggregate::Mean),
+                kelvin("max", t.rowwise().maxCoeff(), Aggregate::Max)},
+               out, 2);
 }
 
 // The part of a run one design case makes: its orbit cases (rows of case_heater_duty
@@ -46,23 +64,19 @@ Span caseSpan(const GeometryRunResult& r, int k) {
 }
 
 void printSweepSummary(const std::vector<std::string>& names, const SweepResult& sw, const Span& span,
-                       std::ostream& out) {
+                       const Layout& layout, std::ostream& out) {
   const auto cols = [&](const Eigen::MatrixXd& m) { return m.middleCols(span.begin, span.count); };
-  const Eigen::MatrixXd total = cols(sw.absorbed_total), solar = cols(sw.absorbed_solar),
-                        albedo = cols(sw.absorbed_albedo), ir = cols(sw.absorbed_earth_ir);
+  const Eigen::MatrixXd total = cols(sw.absorbed_total);
   out << "orbit: " << span.count << " positions; absorbed environmental power per node, W "
       << "(solar + albedo + Earth IR):\n";
-  out << std::left << std::setw(20) << "node" << std::right << std::setw(12) << "min" << std::setw(12) << "mean"
-      << std::setw(12) << "max" << std::setw(12) << "solar max" << std::setw(12) << "albedo max" << std::setw(12)
-      << "IR mean"
-      << "\n";
-  for (size_t k = 0; k < names.size(); ++k) {
-    const auto i = static_cast<Eigen::Index>(k);
-    out << std::left << std::setw(20) << names[k] << std::right << std::setprecision(5) << std::setw(12)
-        << total.row(i).minCoeff() << std::setw(12) << total.row(i).mean() << std::setw(12) << total.row(i).maxCoeff()
-        << std::setw(12) << solar.row(i).maxCoeff() << std::setw(12) << albedo.row(i).maxCoeff() << std::setw(12)
-        << ir.row(i).mean() << "\n";
-  }
+  layout.print(names,
+               {{"min", total.rowwise().minCoeff(), Aggregate::Sum},
+                {"mean", total.rowwise().mean(), Aggregate::Sum},
+                {"max", total.rowwise().maxCoeff(), Aggregate::Sum},
+                {"solar max", cols(sw.absorbed_solar).rowwise().maxCoeff(), Aggregate::Sum},
+                {"albedo max", cols(sw.absorbed_albedo).rowwise().maxCoeff(), Aggregate::Sum},
+                {"IR mean", cols(sw.absorbed_earth_ir).rowwise().mean(), Aggregate::Sum}},
+               out, 1);
 }
 
 void printSweepQuality(const std::vector<std::string>& names, const SweepResult& sw, std::ostream& out) {
@@ -77,7 +91,8 @@ void printSweepQuality(const std::vector<std::string>& names, const SweepResult&
 }
 
 // Orbit means of each node's heat flows, W, positive into the node, and each heater's duty.
-void printHeatBalance(const ThermalSolution& thermal, const SweepResult* sweep, const Span& span, std::ostream& out) {
+void printHeatBalance(const ThermalSolution& thermal, const SweepResult* sweep, const Span& span, const Layout& layout,
+                      std::ostream& out) {
   const solver::HeatFlows& all = thermal.heat.flows;
   const Eigen::Index P = span.count;
   // Without a sweep the case's own output times (a transient without an orbit) weigh it.
@@ -94,23 +109,14 @@ void printHeatBalance(const ThermalSolution& thermal, const SweepResult* sweep, 
   Eigen::MatrixXd environment = Eigen::MatrixXd::Zero(f.stored.rows(), P);  // lumped nodes absorb nothing
   if (sweep) environment.topRows(sweep->absorbed_total.rows()) = cols(sweep->absorbed_total);
   out << "heat flows, W (" << (sweep ? "orbit mean" : P > 1 ? "mean over the run" : "steady state")
-      << "; + into the node):\n"
-      << std::left << std::setw(20) << "node" << std::right;
-  for (const char* h :
-       {"environment", "emitted", "radiative", "conducted", "dissipation", "heater", "stored", "boundary"})
-    out << std::setw(12) << h;
-  out << "\n";
+      << "; + into the node):\n";
+  const std::array<const char*, 8> headers = {"environment", "emitted", "radiative", "conducted",
+                                              "dissipation", "heater",  "stored",    "boundary"};
   const std::array<const Eigen::MatrixXd*, 8> terms = {&environment,   &f.emitted, &f.radiative, &f.conducted,
                                                        &f.dissipation, &f.heater,  &f.stored,    &f.boundary};
-  for (size_t k = 0; k < thermal.node_names.size(); ++k) {
-    const auto i = static_cast<Eigen::Index>(k);
-    out << std::left << std::setw(20) << thermal.node_names[k] << std::right << std::setprecision(5);
-    for (const Eigen::MatrixXd* m : terms) {
-      const double v = m->row(i).dot(w);
-      out << std::setw(12) << (std::abs(v) < 1e-12 * (1 + std::abs(environment.row(i).dot(w))) ? 0.0 : v);
-    }
-    out << "\n";
-  }
+  std::vector<NodeColumn> columns;
+  for (size_t k = 0; k < terms.size(); ++k) columns.push_back({headers[k], *terms[k] * w, Aggregate::Sum});
+  layout.print(thermal.node_names, columns, out, 0);
   out << "heat balance: largest imbalance " << thermal.heat.max_imbalance_w << " W ("
       << thermal.heat.max_relative_imbalance << " of the largest term)\n";
   const Eigen::MatrixXd duty = thermal.case_heater_duty.middleRows(span.first_case, span.end_case - span.first_case);
@@ -136,36 +142,33 @@ std::string temperatureMode(const GeometryCase& c, const solver::ThermalResult& 
 }
 
 // Per node, the hottest and the coldest over every design case, with the case.
-void printEnvelope(const GeometryRunResult& r, std::ostream& out) {
+void printEnvelope(const GeometryRunResult& r, const Layout& layout, std::ostream& out) {
   const DesignCasesResult& c = r.cases;
-  out << "envelope over the design cases, K:\n"
-      << std::left << std::setw(20) << "node" << std::right << std::setw(10) << "max" << "  " << std::left
-      << std::setw(14) << "case" << std::right << std::setw(10) << "min" << "  " << std::left << std::setw(14) << "case"
-      << "\n";
-  for (size_t k = 0; k < r.thermal->node_names.size(); ++k) {
-    const auto i = static_cast<Eigen::Index>(k);
-    out << std::left << std::setw(20) << r.thermal->node_names[k] << std::right << std::fixed << std::setprecision(2)
-        << std::setw(10) << c.envelope_max[i] << "  " << std::left << std::setw(14)
-        << c.names[static_cast<size_t>(c.envelope_max_case[i])] << std::right << std::setw(10) << c.envelope_min[i]
-        << "  " << std::left << std::setw(14) << c.names[static_cast<size_t>(c.envelope_min_case[i])]
-        << std::defaultfloat << std::right << "\n";
-  }
+  out << "envelope over the design cases, K:\n";
+  const auto caseNames = [&](const Eigen::VectorXi& index) {
+    std::vector<std::string> names;
+    for (Eigen::Index i = 0; i < index.size(); ++i) names.push_back(c.names[static_cast<size_t>(index[i])]);
+    return names;
+  };
+  NodeColumn max_case{"case", {}, Aggregate::Max}, min_case{"case", {}, Aggregate::Min};
+  max_case.text = caseNames(c.envelope_max_case), max_case.follows = 0, max_case.width = 16;
+  min_case.text = caseNames(c.envelope_min_case), min_case.follows = 2, min_case.width = 16;
+  layout.print(r.thermal->node_names,
+               {kelvin("max", c.envelope_max, Aggregate::Max), max_case, kelvin("min", c.envelope_min, Aggregate::Min),
+                min_case},
+               out, 0);
 }
 
-void printOpticalUncertainty(const GeometryRunResult& r, std::ostream& out) {
+void printOpticalUncertainty(const GeometryRunResult& r, const Layout& layout, std::ostream& out) {
   const OpticalUncertaintyResult& u = *r.optical_uncertainty;
-  const auto& names = r.thermal->node_names;
   for (int k = 0; k < r.cases.caseCount(); ++k) {
     out << "optical uncertainty" << (r.cases.caseCount() > 1 ? " of case " + r.cases.names[static_cast<size_t>(k)] : "")
-        << ", " << u.samples << " samples, K:\n"
-        << std::left << std::setw(20) << "node" << std::right << std::setw(12) << "min 5 %" << std::setw(12)
-        << "mean 50 %" << std::setw(12) << "max 95 %" << "\n";
-    for (size_t j = 0; j < names.size(); ++j) {
-      const auto i = static_cast<Eigen::Index>(j);
-      out << std::left << std::setw(20) << names[j] << std::right << std::fixed << std::setprecision(2)
-          << std::setw(12) << u.percentiles[0](k, i) << std::setw(12) << u.percentiles[1](k, i) << std::setw(12)
-          << u.percentiles[2](k, i) << std::defaultfloat << "\n";
-    }
+        << ", " << u.samples << " samples, K:\n";
+    layout.print(r.thermal->node_names,
+                 {kelvin("min 5 %", u.percentiles[0].row(k).transpose(), Aggregate::Min, 12),
+                  kelvin("mean 50 %", u.percentiles[1].row(k).transpose(), Aggregate::Mean, 12),
+                  kelvin("max 95 %", u.percentiles[2].row(k).transpose(), Aggregate::Max, 12)},
+                 out, 2);
   }
 }
 
@@ -177,72 +180,72 @@ std::string refinementNote(const solver::BandSolution& s, const solver::SolverSe
 
 }  // namespace
 
-void printNetworkSummary(const NetworkCase& c, const NetworkRunResult& r, std::ostream& out) {
+void printNetworkSummary(const NetworkCase& c, const NetworkRunResult& r, std::ostream& out, bool all_nodes) {
   const solver::Network& net = *r.radiative.network;
   const solver::EigenPairs& pairs = r.radiative.pairs;
   out << "case " << c.name << ": " << net.size() << " nodes\n";
-  out << std::left << std::setw(16) << "node" << std::right << std::setw(12) << "area m²" << std::setw(10) << "ρ"
-      << std::setw(10) << "ε" << std::setw(14) << "M_o W/m²" << std::setw(14) << "M W/m²" << std::setw(14) << "H W/m²"
-      << std::setw(12) << "F_space"
-      << "\n";
-  for (int i = 0; i < net.size(); ++i) {
-    out << std::left << std::setw(16) << net.names()[static_cast<size_t>(i)] << std::right << std::setprecision(5)
-        << std::setw(12) << net.area()[i] << std::setw(10) << c.reflectance[i] << std::setw(10);
-    if (c.emissivity)
-      out << (*c.emissivity)[i];
-    else
-      out << "-";
-    out << std::setw(14) << c.initial_exitance[i] << std::setw(14) << r.solution.exitance(i, 0) << std::setw(14)
-        << r.solution.irradiance(i, 0) << std::setw(12) << net.spaceViewFactor()[i] << "\n";
-  }
+  Layout layout{groupsByNamePrefix(net.names()), all_nodes};
+  NodeColumn rho{"ρ", c.reflectance, Aggregate::Mean}, eps{"ε", {}, Aggregate::Mean};
+  rho.width = 10, eps.width = 10;
+  if (c.emissivity) eps.values = *c.emissivity;
+  layout.print(net.names(),
+               {{"area m²", net.area(), Aggregate::Sum}, rho, eps,
+                {"M_o W/m²", c.initial_exitance, Aggregate::Mean, 5, false, 14},
+                {"M W/m²", r.solution.exitance.col(0), Aggregate::Mean, 5, false, 14},
+                {"H W/m²", r.solution.irradiance.col(0), Aggregate::Mean, 5, false, 14},
+                {"F_space", net.spaceViewFactor(), Aggregate::Mean}},
+               out, 4);
   out << "eigenpairs: rank " << pairs.rank() << " of " << net.size() << " (" << solver::toString(pairs.method)
       << "), largest dropped |λ| ≤ " << pairs.dropped_bound << " m²\n";
   out << "residual ‖M_o − (I − S G) M‖/‖M_o‖ with the full G: " << std::scientific << std::setprecision(3)
       << r.solution.max_residual << std::defaultfloat << refinementNote(r.solution, c.solver, pairs.rank()) << "\n";
   if (r.thermal) {
-    const auto& names = r.thermal->node_names;
-    for (size_t i = 0; i < names.size(); ++i)
-      out << "temperature " << names[i] << ": " << std::fixed << std::setprecision(3)
-          << r.thermal->temperature()(static_cast<Eigen::Index>(i), 0) << std::defaultfloat << " K\n";
-    printHeatBalance(*r.thermal, nullptr, Span{0, 1, 0, r.thermal->temperature().cols()}, out);
+    const Layout thermal_layout{groupsByNamePrefix(r.thermal->node_names), all_nodes};
+    out << "temperatures, K:\n";
+    thermal_layout.print(r.thermal->node_names, {kelvin("T", r.thermal->temperature().col(0), Aggregate::Max, 12)}, out);
+    printHeatBalance(*r.thermal, nullptr, Span{0, 1, 0, r.thermal->temperature().cols()}, thermal_layout, out);
   }
   if (const auto& ex = r.radiative.exchange)
     out << "exchange factors GR (" << ex->method << "), Σ GR_space = " << ex->gr_space.sum() << " m²\n";
   printTimings(r.timings, out);
 }
 
-void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std::ostream& out) {
+void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std::ostream& out, bool all_nodes) {
   const solver::Network& net = *r.radiative.network;
   const solver::ExchangeFactors& ex = *r.radiative.exchange;
   out << "case " << c.name << ": " << c.scene.faces().size() << " triangles, " << net.size() << " nodes\n";
-  out << std::left << std::setw(20) << "node" << std::right << std::setw(12) << "area m²" << std::setw(8) << "ε"
-      << std::setw(8) << "α" << std::setw(12) << "F_space" << std::setw(12) << "GR_space" << std::setw(12) << "max σ(F)"
-      << "\n";
-  for (int i = 0; i < net.size(); ++i) {
-    out << std::left << std::setw(20) << net.names()[static_cast<size_t>(i)] << std::right << std::setprecision(5)
-        << std::setw(12) << net.area()[i] << std::setw(8) << c.emissivity[i] << std::setw(8) << c.absorptivity[i]
-        << std::setw(12) << net.spaceViewFactor()[i] << std::setw(12) << ex.gr_space[i] << std::setw(12)
-        << (r.view_factor_stderr.cols() ? r.view_factor_stderr.row(i).maxCoeff() : 0.0) << "\n";
-  }
+  const Layout layout{groupsByPrimitive(c.scene, net.names()), all_nodes};
+  const Layout thermal_layout{r.thermal ? groupsByPrimitive(c.scene, r.thermal->node_names) : NodeGroups{}, all_nodes};
+  NodeColumn eps{"ε", c.emissivity, Aggregate::Mean}, alpha{"α", c.absorptivity, Aggregate::Mean};
+  eps.width = alpha.width = 8;
+  layout.print(net.names(),
+               {{"area m²", net.area(), Aggregate::Sum}, eps, alpha,
+                {"F_space", net.spaceViewFactor(), Aggregate::Mean},
+                {"GR_space", ex.gr_space, Aggregate::Sum},
+                {"max σ(F)", r.view_factor_stderr.cols() ? Eigen::VectorXd(r.view_factor_stderr.rowwise().maxCoeff())
+                                                        : Eigen::VectorXd::Zero(net.size()),
+                 Aggregate::Max}},
+               out, 0);
   const int cases = r.cases.caseCount();
   if (cases > 1)
     out << "design cases: " << cases << " on " << r.cases.eigendecompositions << " eigendecomposition, "
         << r.cases.band_cores << " band cores\n";
-  if (r.thermal && cases > 1) printEnvelope(r, out);
+  if (r.thermal && cases > 1) printEnvelope(r, thermal_layout, out);
   for (int k = 0; k < cases; ++k) {
     const Span span = caseSpan(r, k);
     if (cases > 1)
       out << "case " << r.cases.names[static_cast<size_t>(k)] << " (optics " << r.cases.optics[static_cast<size_t>(k)]
           << ", dissipation × " << c.design_cases[static_cast<size_t>(k)].dissipation_scale << "):\n";
-    if (r.sweep) printSweepSummary(net.names(), *r.sweep, span, out);
+    if (r.sweep) printSweepSummary(net.names(), *r.sweep, span, layout, out);
     if (r.thermal) {
       out << "temperatures, K (" << temperatureMode(c, r.thermal->solve) << "):\n";
-      printNodeTemperatures(r.thermal->node_names, r.thermal->temperature().middleCols(span.begin, span.count), out);
-      printHeatBalance(*r.thermal, r.sweep ? &*r.sweep : nullptr, span, out);
+      printNodeTemperatures(r.thermal->node_names, r.thermal->temperature().middleCols(span.begin, span.count),
+                            thermal_layout, out);
+      printHeatBalance(*r.thermal, r.sweep ? &*r.sweep : nullptr, span, thermal_layout, out);
     }
   }
   if (r.sweep) printSweepQuality(net.names(), *r.sweep, out);
-  if (r.optical_uncertainty) printOpticalUncertainty(r, out);
+  if (r.optical_uncertainty) printOpticalUncertainty(r, thermal_layout, out);
   out << "view factors: ";
   if (r.exact)
     out << r.exact->pairs_unoccluded + r.exact->pairs_occluded << " patch pairs exact ("

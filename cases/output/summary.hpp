@@ -8,7 +8,10 @@
 
 namespace radnet::cases {
 
-void printNetworkSummary(const NetworkCase& c, const NetworkRunResult& r, std::ostream& out);
-void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std::ostream& out);
+/// Up to 40 nodes, or with `all_nodes`, every node has a row; beyond, each table shows its
+/// extremes and one row per primitive (cases/output/node_table.hpp).
+void printNetworkSummary(const NetworkCase& c, const NetworkRunResult& r, std::ostream& out, bool all_nodes = false);
+void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std::ostream& out,
+                          bool all_nodes = false);
 
 }  // namespace radnet::cases

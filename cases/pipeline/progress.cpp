@@ -1,16 +1,43 @@
 #include "cases/pipeline/progress.hpp"
 
+#include <unistd.h>
 #include <algorithm>
+#include <atomic>
 #include <iomanip>
-#include <ostream>
+#include <iostream>
+#include <memory>
+#include <string>
 
 namespace radnet::cases {
+namespace {
+
+// A terminal gets a bar redrawn in place; a file or pipe gets plain lines, because every
+// '\r' redraw would stay in a log as one endless joined line.
+bool isTerminal(const std::ostream& out) { return &out == &std::cerr && ::isatty(STDERR_FILENO) == 1; }
+
+}  // namespace
 
 std::function<void(int, int)> progressBar(std::ostream& out, const char* stage, const char* unit) {
-  return [&out, stage, unit](int done, int total) {
-    if (done == total || done % std::max(1, total / 50) == 0)
-      out << "\rradnet: " << stage << " " << std::setw(3) << (100 * done / total) << " % (" << done << "/" << total
-          << " " << unit << ")" << (done == total ? "\n" : "") << std::flush;
+  if (isTerminal(out))
+    return [&out, stage, unit](int done, int total) {
+      if (total <= 0 || (done != total && done % std::max(1, total / 50) != 0)) return;
+      const int filled = 30 * done / total;
+      out << "\rradnet: " << stage << " [" << std::string(static_cast<size_t>(filled), '#')
+          << std::string(static_cast<size_t>(30 - filled), ' ') << "] " << std::setw(3) << (100 * done / total)
+          << " % (" << done << "/" << total << " " << unit << ")" << (done == total ? "\n" : "") << std::flush;
+    };
+  // Plain lines at 0, 25, 50, 75 and 100 %: each quarter once, whatever order the loop reports.
+  auto printed = std::make_shared<std::atomic<int>>(-1);
+  return [&out, stage, unit, printed](int done, int total) {
+    if (total <= 0) return;
+    const int quarter = 4 * done / total;
+    int last = printed->load();
+    while (quarter > last)
+      if (printed->compare_exchange_weak(last, quarter)) {
+        out << "radnet: " << stage << " " << 25 * quarter << " % (" << done << "/" << total << " " << unit << ")\n"
+            << std::flush;
+        return;
+      }
   };
 }
 

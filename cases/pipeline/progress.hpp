@@ -5,8 +5,10 @@
 
 namespace radnet::cases {
 
-/// A progress line "radnet: <stage> NN % (done/total <unit>)", redrawn in place about
-/// 50 times per stage; (done, total) as the geometry and orbit loops report them.
+/// Progress of one stage; (done, total) as the geometry and orbit loops report them. On a
+/// terminal (std::cerr on a tty) a bar "radnet: <stage> [###   ] NN % (done/total <unit>)"
+/// redrawn in place about 50 times; elsewhere (a log file, a pipe) plain lines at 0, 25, 50,
+/// 75 and 100 %.
 std::function<void(int, int)> progressBar(std::ostream& out, const char* stage, const char* unit);
 
 }  // namespace radnet::cases
