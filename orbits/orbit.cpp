@@ -4,6 +4,7 @@
 
 #include "orbits/sun.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -90,6 +91,52 @@ OrbitState Orbit::state(double t) const {
                                             Eigen::AngleAxisd(argp, Eigen::Vector3d::UnitZ()))
                                                .toRotationMatrix();
   return {eciFromPerifocal * pos_pf, eciFromPerifocal * vel_pf};
+}
+
+KeplerElements Orbit::elementsAt(double t) const {
+  KeplerElements el = el_;
+  const double e = el_.eccentricity;
+  const double ecc = solveKepler(m0_ + mean_motion_ * t, e);
+  const auto wrap = [](double angle) {
+    const double w = std::fmod(angle, 2 * M_PI);
+    return w < 0 ? w + 2 * M_PI : w;
+  };
+  el.raan_rad = wrap(el_.raan_rad + raan_rate_ * t);
+  el.arg_perigee_rad = wrap(el_.arg_perigee_rad + argp_rate_ * t);
+  el.true_anomaly_rad =
+      wrap(2 * std::atan2(std::sqrt(1 + e) * std::sin(ecc / 2), std::sqrt(1 - e) * std::cos(ecc / 2)));
+  return el;
+}
+
+KeplerElements elementsFromState(const OrbitState& s, double mu) {
+  const Eigen::Vector3d& r = s.position_eci_m;
+  const Eigen::Vector3d& v = s.velocity_eci_m_s;
+  const Eigen::Vector3d h = r.cross(v), node = Eigen::Vector3d::UnitZ().cross(h);
+  const Eigen::Vector3d e_vec = ((v.squaredNorm() - mu / r.norm()) * r - r.dot(v) * v) / mu;
+  const double energy = v.squaredNorm() / 2 - mu / r.norm();
+  if (!(energy < 0) || !(h.norm() > 0)) throw OrbitError("the state is not a bound orbit");
+  const auto angle = [](const Eigen::Vector3d& from, const Eigen::Vector3d& to, bool flip) {
+    const double c = std::clamp(from.normalized().dot(to.normalized()), -1.0, 1.0);
+    return flip ? 2 * M_PI - std::acos(c) : std::acos(c);
+  };
+  KeplerElements el;
+  el.semi_major_axis_m = -mu / (2 * energy);
+  el.eccentricity = e_vec.norm();
+  el.inclination_rad = std::acos(std::clamp(h.z() / h.norm(), -1.0, 1.0));
+  constexpr double kTiny = 1e-11;
+  const bool equatorial = node.norm() < kTiny * h.norm(), circular = el.eccentricity < kTiny;
+  el.raan_rad = equatorial ? 0.0 : angle(Eigen::Vector3d::UnitX(), node, node.y() < 0);
+  const Eigen::Vector3d reference = equatorial ? Eigen::Vector3d::UnitX() : node;  // where ω (or u) starts
+  if (!circular) {
+    // An equatorial orbit measures ω from x, in the direction of motion.
+    const bool flip = equatorial ? (h.z() >= 0 ? e_vec.y() < 0 : e_vec.y() > 0) : e_vec.z() < 0;
+    el.arg_perigee_rad = angle(reference, e_vec, flip);
+    el.true_anomaly_rad = angle(e_vec, r, r.dot(v) < 0);
+  } else {
+    const bool flip = equatorial ? (h.z() >= 0 ? r.y() < 0 : r.y() > 0) : r.z() < 0;
+    el.true_anomaly_rad = angle(reference, r, flip);  // argument of latitude (or true longitude)
+  }
+  return el;
 }
 
 double Orbit::nodalPeriod() const { return 2 * M_PI / (mean_motion_ + argp_rate_); }

@@ -30,6 +30,12 @@ struct OrbitState {
   Eigen::Vector3d velocity_eci_m_s;
 };
 
+/// Osculating two-body elements of a state for the gravitational parameter μ (m³/s²)
+/// (Vallado, Algorithm 9, RV2COE). Angles in [0, 2π); an undefined node or perigee (equatorial
+/// or circular orbit) is 0 and the angle it would measure from moves to the next defined one.
+/// @throws OrbitError for a state that is not a bound ellipse
+KeplerElements elementsFromState(const OrbitState& state, double mu_m3_s2);
+
 /// Solves Kepler's equation M = E − e sin E for E (e in [0, 1)), to 1e-15 rad.
 /// Newton from a starting value that converges for every M and e < 1 (Danby's E₀ = M + 0.85 e sign(sin M)).
 double solveKepler(double mean_anomaly_rad, double eccentricity);
@@ -41,6 +47,10 @@ class Orbit {
 
   /// Position and velocity t seconds after the epoch (two-body + secular J2).
   OrbitState state(double t_s) const;
+  /// The elements state(t) is computed from: a and e as at the epoch, Ω and ω drifted at the
+  /// secular J2 rates, the true anomaly reached at t. They are the osculating elements of
+  /// state(t) for the gravitational parameter n̄² a³ (n̄ the J2-corrected mean motion).
+  KeplerElements elementsAt(double t_s) const;
   /// Anomalistic period of the unperturbed orbit, 2π √(a³/GM), s.
   double period() const;
   /// Nodal (draconic) period, s: ascending node to ascending node under the secular J2

@@ -58,6 +58,8 @@ std::vector<SweepPosition> sweepOrbit(const Orbit& orbit, const AttitudeSpec& at
     const Eigen::Vector3d to_sun = (sun_pos - st.position_eci_m).normalized();
     p.body_from_eci = bodyFromEci(attitude, orbit, st, to_sun, t);
     p.position_eci_m = st.position_eci_m;
+    p.velocity_eci_m_s = st.velocity_eci_m_s;
+    p.elements = orbit.elementsAt(t);
     p.sun_body = p.body_from_eci * to_sun;
     p.earth_body = p.body_from_eci * (-st.position_eci_m.normalized());
     p.earth_distance_m = st.position_eci_m.norm();

@@ -30,6 +30,8 @@ struct SweepPosition {
   bool event = false;            ///< an inserted eclipse entry/exit
   Eigen::Matrix3d body_from_eci;
   Eigen::Vector3d position_eci_m;
+  Eigen::Vector3d velocity_eci_m_s;
+  KeplerElements elements;  ///< the propagator's elements at t (Orbit::elementsAt)
 };
 
 /// @throws OrbitError on invalid options

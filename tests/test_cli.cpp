@@ -242,6 +242,23 @@ TEST_CASE("cli: the 3U CubeSat example runs end to end with every orbit dataset"
     for (double v : d.values) CHECK(v >= -1e-9);
   }
   CHECK(readDataset(file, "/orbit/sun_body").dims == std::vector<hsize_t>{P, 3});
+  {  // The orbit as data: a 500 km circular orbit, |r| = a and |v| = √(μ/a) (μ: WGS84's GM;
+     // 0.2 % allows J2's mean-motion correction, about 1e-3 at 500 km).
+    const H5Data r = readDataset(file, "/orbit/position_eci"), v = readDataset(file, "/orbit/velocity_eci");
+    const H5Data a = readDataset(file, "/orbit/semi_major_axis");
+    REQUIRE(r.dims == std::vector<hsize_t>{P, 3});
+    REQUIRE(v.dims == std::vector<hsize_t>{P, 3});
+    CHECK(r.units == "m");
+    CHECK(v.units == "m/s");
+    for (hsize_t p = 0; p < P; ++p) {
+      const double rn = std::hypot(r.values[3 * p], r.values[3 * p + 1], r.values[3 * p + 2]);
+      const double vn = std::hypot(v.values[3 * p], v.values[3 * p + 1], v.values[3 * p + 2]);
+      CHECK(rn == Approx(a.values[p]).epsilon(1e-6));
+      CHECK(a.values[p] == Approx(6378137.0 + 500e3).epsilon(1e-6));
+      CHECK(vn == Approx(std::sqrt(3.986004418e14 / a.values[p])).epsilon(2e-3));
+    }
+    CHECK(readDataset(file, "/orbit/inclination").units == "deg");
+  }
   CHECK(readDataset(file, "/orbit/beta").units == "deg");
   const H5Data temp = readDataset(file, "/solution/temperature");  // transient, last of 3 orbits
   CHECK(temp.dims == std::vector<hsize_t>{P, 13});

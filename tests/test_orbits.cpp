@@ -295,3 +295,43 @@ TEST_CASE("bad orbits are rejected with clear errors") {
   CHECK_THROWS_AS(perigeeApogeeElements(500e3, 400e3, 0, 0, 0, 0), OrbitError);
   CHECK_THROWS_AS(betaElements(500e3, 120.0, kEpoch), OrbitError);
 }
+
+TEST_CASE("osculating elements from a state: Vallado's Example 2-5, and the propagator's own elements") {
+  // Vallado, Fundamentals of Astrodynamics (4th ed.), Example 2-5: r, v in km and km/s.
+  const double mu_km = 398600.4418;
+  const OrbitState s{{6524.834e3, 6862.875e3, 6448.296e3}, {4.901327e3, 5.533756e3, -1.976341e3}};
+  const KeplerElements el = elementsFromState(s, mu_km * 1e9);
+  const double deg = M_PI / 180;
+  // The book prints 5 to 6 digits: a = 36 127.343 km, e = 0.832 853, i = 87.870°, Ω = 227.89°,
+  // ω = 53.38°, ν = 92.335°; tolerances are half a unit of the last printed digit, a whole
+  // one for Ω, which the book truncates (227.898° printed 227.89°).
+  CHECK(el.semi_major_axis_m / 1e3 == Approx(36127.343).margin(5e-3));
+  CHECK(el.eccentricity == Approx(0.832853).margin(5e-7));
+  CHECK(el.inclination_rad / deg == Approx(87.870).margin(5e-4));
+  CHECK(el.raan_rad / deg == Approx(227.89).margin(1e-2));
+  CHECK(el.arg_perigee_rad / deg == Approx(53.38).margin(5e-3));
+  CHECK(el.true_anomaly_rad / deg == Approx(92.335).margin(5e-4));
+
+  // The propagator's elements at t are the osculating elements of its state for μ = n̄² a³,
+  // at any t (Ω and ω have drifted), to round-off.
+  KeplerElements start;
+  start.semi_major_axis_m = 7.4e6;
+  start.eccentricity = 0.07;
+  start.inclination_rad = 63.4 * deg;
+  start.raan_rad = 40 * deg;
+  start.arg_perigee_rad = 270 * deg;
+  start.true_anomaly_rad = 10 * deg;
+  const Orbit orbit(start, 2461000.5);
+  const double mu = std::pow(orbit.meanMotion(), 2) * std::pow(start.semi_major_axis_m, 3);
+  for (double t : {0.0, 1234.5, 86400.0 * 3.3}) {
+    INFO("t = " << t << " s");
+    const KeplerElements model = orbit.elementsAt(t), back = elementsFromState(orbit.state(t), mu);
+    CHECK(back.semi_major_axis_m == Approx(model.semi_major_axis_m).epsilon(1e-10));
+    CHECK(back.eccentricity == Approx(model.eccentricity).margin(1e-10));
+    CHECK(back.inclination_rad == Approx(model.inclination_rad).margin(1e-10));
+    CHECK(back.raan_rad == Approx(model.raan_rad).margin(1e-9));
+    CHECK(back.arg_perigee_rad == Approx(model.arg_perigee_rad).margin(1e-8));
+    CHECK(back.true_anomaly_rad == Approx(model.true_anomaly_rad).margin(1e-8));
+  }
+  CHECK_THROWS_AS(elementsFromState({{7e6, 0, 0}, {0, 2e4, 0}}, mu), OrbitError);  // hyperbolic
+}

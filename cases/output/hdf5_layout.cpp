@@ -100,9 +100,14 @@ namespace {
 void writeOrbit(Hdf5Writer& h5, const SweepResult& sw) {
   const int P = static_cast<int>(sw.positions.size());
   Eigen::VectorXd time(P), sunlit(P), beta(P), flux(P), event(P);
-  Eigen::MatrixXd sun(P, 3), earth(P, 3);
+  Eigen::MatrixXd sun(P, 3), earth(P, 3), position(P, 3), velocity(P, 3), elements(P, 6);
   for (int p = 0; p < P; ++p) {
     const auto& q = sw.positions[static_cast<size_t>(p)];
+    position.row(p) = q.position_eci_m.transpose();
+    velocity.row(p) = q.velocity_eci_m_s.transpose();
+    const orbits::KeplerElements& el = q.elements;
+    elements.row(p) << el.semi_major_axis_m, el.eccentricity, units::radToDeg(el.inclination_rad),
+        units::radToDeg(el.raan_rad), units::radToDeg(el.arg_perigee_rad), units::radToDeg(el.true_anomaly_rad);
     time[p] = q.t_s;
     sunlit[p] = q.sunlit_fraction;
     beta[p] = units::radToDeg(q.beta_rad);
@@ -112,6 +117,17 @@ void writeOrbit(Hdf5Writer& h5, const SweepResult& sw) {
     earth.row(p) = q.earth_body.transpose();
   }
   h5.writeVector("/orbit/time", time, "s");
+  h5.writeMatrix("/orbit/position_eci", position, "m");
+  h5.writeMatrix("/orbit/velocity_eci", velocity, "m/s");
+  h5.writeVector("/orbit/semi_major_axis", elements.col(0), "m");
+  h5.writeVector("/orbit/eccentricity", elements.col(1), "1");
+  h5.writeVector("/orbit/inclination", elements.col(2), "deg");
+  h5.writeVector("/orbit/raan", elements.col(3), "deg");
+  h5.writeVector("/orbit/arg_perigee", elements.col(4), "deg");
+  h5.writeVector("/orbit/true_anomaly", elements.col(5), "deg");
+  h5.attribute("/orbit/semi_major_axis", "kind",
+               std::string("the propagator's elements at each position (two-body + secular J2): the osculating "
+                           "elements of position_eci/velocity_eci for mu = n^2 a^3, n the J2-corrected mean motion"));
   h5.writeMatrix("/orbit/sun_body", sun, "1");
   h5.writeMatrix("/orbit/earth_body", earth, "1");
   h5.writeVector("/orbit/sunlit_fraction", sunlit, "1");
