@@ -3,6 +3,7 @@
 #include "cases/config/case_file.hpp"
 #include "cases/config/errors.hpp"
 #include "cases/output/expectations.hpp"
+#include "cases/output/export.hpp"
 #include "cases/output/result_files.hpp"
 #include "cases/output/summary.hpp"
 #include "cases/pipeline/geometry_run.hpp"
@@ -28,6 +29,7 @@ using namespace radnet::cases;
 constexpr int kExitCheckFailed = 1;
 constexpr int kExitBadInput = 2;
 constexpr int kExitNumerical = 3;
+constexpr int kExitOutput = 4;
 
 struct RunOptions {
   std::vector<std::string> case_paths;
@@ -59,6 +61,9 @@ int guarded(Body&& body) {
   } catch (const InputError& e) {
     std::cerr << e.what() << "\n";
     return kExitBadInput;
+  } catch (const OutputError& e) {
+    std::cerr << "radnet: output not written: " << e.what() << "\n";
+    return kExitOutput;
   } catch (const NumericalError& e) {
     std::cerr << "radnet: numerical failure: " << e.what() << "\n";
     return kExitNumerical;
@@ -235,6 +240,21 @@ int main(int argc, char** argv) {
   auto* validate = app.add_subcommand("validate", "parse and validate cases only");
   validate->add_option("cases", validate_cases, "case files (YAML)")->required();
 
+  std::string export_result;
+  ExportOptions export_options;
+  auto* exporter = app.add_subcommand("export", "write a result's nodes, GL and GR for ESATAN-TMS, SINDA/FLUINT or CSV");
+  exporter->add_option("result", export_result, "radnet result (HDF5)")->required();
+  exporter->add_option("--format", export_options.format, "esatan (TMD deck), sinda (input deck) or csv")
+      ->check(CLI::IsMember({"esatan", "sinda", "csv"}));
+  exporter->add_option("-o,--output", export_options.output,
+                       "deck file (default <stem>.d or <stem>.sin), or directory for csv (default <stem>-export)");
+  exporter->add_option("--case", export_options.design_case, "design case (default: the first)");
+  exporter->add_option("--position", export_options.position,
+                       "position whose loads and conductances are written (default: the case's first)")
+      ->check(CLI::NonNegativeNumber);
+  exporter->add_option("--min-gr", export_options.min_gr,
+                       "leave out GR_ij smaller than this share of both nodes' sum of GR (default 0: every GR)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -247,5 +267,11 @@ int main(int argc, char** argv) {
   }
   if (*run) return runCommands(run_options);
   if (*validate) return validateCommand(validate_cases);
+  if (*exporter)
+    return guarded([&] {
+      for (const std::string& file : exportResult(export_result, export_options))
+        std::cout << "radnet: wrote " << file << "\n";
+      return 0;
+    });
   return checkCommand(check_cases);
 }

@@ -1,6 +1,6 @@
 #pragma once
 // The error channels of a case run (docs/design.md, "Contracts"): bad input (exit 2)
-// located at file:line:column, and numerical failure (exit 3). A failed check is not an
+// located at file:line:column, numerical failure (exit 3) and output not written (exit 4). A failed check is not an
 // exception: `radnet check` counts failures and exits 1.
 #include <stdexcept>
 #include <string>
@@ -24,6 +24,13 @@ class InputError : public std::runtime_error {
   std::string file_;
   int line_;
   int column_;
+};
+
+/// The output could not be written (exit 4): a file that cannot be created, a full disk, a
+/// rename that fails. Nothing partial is left under the requested name.
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 /// A numerical failure: no convergence, singular system, non-finite result.

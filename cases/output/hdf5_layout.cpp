@@ -2,6 +2,7 @@
 
 #include "solver/units.hpp"
 
+#include <map>
 #include <ctime>
 
 namespace radnet::cases {
@@ -193,8 +194,56 @@ void writeHeaters(Hdf5Writer& h5, const ThermalSolution& thermal, const ThermalS
 
 }  // namespace
 
+namespace {
+
+// Pairs i < j of symmetric triplets given in both directions, duplicates summed.
+std::map<std::pair<int, int>, double> upperPairs(const std::vector<Eigen::Triplet<double>>& both_directions) {
+  std::map<std::pair<int, int>, double> pairs;
+  for (const auto& t : both_directions)
+    if (t.row() < t.col()) pairs[{t.row(), t.col()}] += t.value();
+  return pairs;
+}
+
+// /thermal: what the couplings of the thermal model are, for export to other tools
+// (cases/output/export.cpp): conductors at every position's temperatures (tabled ones
+// at the mean of their nodes'), user couplings and MLI as GR, boundary temperatures.
+void writeThermalModel(Hdf5Writer& h5, const ThermalSolution& thermal, const ThermalSettings& settings) {
+  const auto constant = upperPairs(settings.conductors);
+  std::map<std::pair<int, int>, size_t> column;
+  for (const auto& [ij, g] : constant) column.emplace(ij, column.size());
+  for (const auto& t : settings.tabled_conductors)
+    column.emplace(std::pair{std::min(t.i, t.j), std::max(t.i, t.j)}, column.size());
+  const Eigen::MatrixXd& temperature = thermal.temperature();  // (n × P)
+  Eigen::MatrixXi nodes(static_cast<Eigen::Index>(column.size()), 2);
+  Eigen::MatrixXd conductance = Eigen::MatrixXd::Zero(temperature.cols(), nodes.rows());
+  for (const auto& [ij, k] : column) nodes.row(static_cast<Eigen::Index>(k)) << ij.first, ij.second;
+  for (const auto& [ij, g] : constant) conductance.col(static_cast<Eigen::Index>(column[ij])).array() += g;
+  for (const auto& t : settings.tabled_conductors) {
+    const auto k = static_cast<Eigen::Index>(column[{std::min(t.i, t.j), std::max(t.i, t.j)}]);
+    for (Eigen::Index p = 0; p < temperature.cols(); ++p)
+      conductance(p, k) += t.conductance.at(0.5 * (temperature(t.i, p) + temperature(t.j, p)));
+  }
+  h5.writeIntegers("/thermal/conductor_nodes", nodes, "1");
+  h5.writeMatrix("/thermal/conductance", conductance, "W/K");
+  const auto couplings = upperPairs(settings.radiative_couplings);
+  Eigen::MatrixXi coupling_nodes(static_cast<Eigen::Index>(couplings.size()), 2);
+  Eigen::VectorXd coupling_gr(coupling_nodes.rows());
+  Eigen::Index k = 0;
+  for (const auto& [ij, gr] : couplings) {
+    coupling_nodes.row(k) << ij.first, ij.second;
+    coupling_gr[k++] = gr;
+  }
+  h5.writeIntegers("/thermal/coupling_nodes", coupling_nodes, "1");
+  h5.writeVector("/thermal/coupling_gr", coupling_gr, "m^2");
+  h5.writeVector("/thermal/fixed_temperature", settings.fixed_temperature, "K");
+  h5.attribute("/thermal", "space_temperature", settings.space_temperature);
+}
+
+}  // namespace
+
 void writeTemperatures(Hdf5Writer& h5, const ThermalSolution& thermal, const ThermalSettings& settings,
                        const SweepResult* sweep) {
+  writeThermalModel(h5, thermal, settings);
   h5.writeMatrix("/solution/temperature", thermal.temperature().transpose(), "K");
   h5.attribute("/solution/temperature", "mode", std::string(settings.isTransient() ? "transient" : "steady"));
   h5.attribute("/solution/temperature", "kind", thermal.mode);

@@ -1,5 +1,7 @@
 #include "cases/output/hdf5_writer.hpp"
 
+#include "cases/config/errors.hpp"
+
 #include <algorithm>
 
 #include <hdf5.h>
@@ -13,10 +15,10 @@ namespace {
 
 
 void check(herr_t status, const std::string& what) {
-  if (status < 0) throw std::runtime_error("HDF5: " + what + " failed");
+  if (status < 0) throw OutputError("HDF5: " + what + " failed");
 }
 hid_t checkId(hid_t id, const std::string& what) {
-  if (id < 0) throw std::runtime_error("HDF5: " + what + " failed");
+  if (id < 0) throw OutputError("HDF5: " + what + " failed");
   return id;
 }
 
@@ -54,7 +56,7 @@ Hdf5Writer::Hdf5Writer(std::string final_path) : final_path_(std::move(final_pat
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported by exceptions, not printed
   temp_path_ = final_path_ + ".tmp-" + std::to_string(::getpid());
   file_ = H5Fcreate(temp_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (file_ < 0) throw std::runtime_error("cannot create the output file '" + temp_path_ + "'");
+  if (file_ < 0) throw OutputError("cannot create the output file '" + temp_path_ + "'");
 }
 
 Hdf5Writer::~Hdf5Writer() {
@@ -232,9 +234,9 @@ void Hdf5Writer::commit() {
   // The id is released whether or not the close succeeds: the destructor must not close it again.
   const herr_t closed = H5Fclose(static_cast<hid_t>(file_));
   file_ = -1;
-  if (closed < 0) throw std::runtime_error("HDF5: closing '" + temp_path_ + "' failed");
+  if (closed < 0) throw OutputError("HDF5: closing '" + temp_path_ + "' failed");
   if (std::rename(temp_path_.c_str(), final_path_.c_str()) != 0)
-    throw std::runtime_error("cannot rename '" + temp_path_ + "' to '" + final_path_ + "'");
+    throw OutputError("cannot rename '" + temp_path_ + "' to '" + final_path_ + "'");
   committed_ = true;
 }
 

@@ -1,5 +1,7 @@
 #include "cases/output/xdmf.hpp"
 
+#include "cases/config/errors.hpp"
+
 #include <unistd.h>
 #include <cstdio>
 #include <filesystem>
@@ -223,12 +225,12 @@ void writeTextAtomically(const std::string& path, const std::string& text) {
     out << text;
     if (!out) {
       std::remove(temp.c_str());
-      throw std::runtime_error("cannot write '" + temp + "'");
+      throw OutputError("cannot write '" + temp + "'");
     }
   }
   if (std::rename(temp.c_str(), path.c_str()) != 0) {
     std::remove(temp.c_str());
-    throw std::runtime_error("cannot rename '" + temp + "' to '" + path + "'");
+    throw OutputError("cannot rename '" + temp + "' to '" + path + "'");
   }
 }
 

@@ -1,0 +1,286 @@
+#include "cases/output/export.hpp"
+
+#include "cases/config/errors.hpp"
+#include "cases/output/hdf5_reader.hpp"
+#include "cases/output/xdmf.hpp"
+#include "solver/units.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <map>
+#include <sstream>
+
+namespace radnet::cases {
+namespace {
+
+constexpr double kStefanBoltzmann = 5.670374419e-8;  // W/(m² K⁴), CODATA 2018 (exact in SI)
+constexpr double kZeroCelsius = 273.15;
+
+Eigen::VectorXd orZeros(const Hdf5Reader& h5, const std::string& path, Eigen::Index n) {
+  if (!h5.has(path)) return Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd v = h5.vector(path);
+  v.conservativeResize(n);
+  return v;
+}
+
+// Row p of a (P, n) dataset, or zeros when the result does not have it.
+Eigen::VectorXd rowOf(const Hdf5Reader& h5, const std::string& path, int p, Eigen::Index n) {
+  if (!h5.has(path)) return Eigen::VectorXd::Zero(n);
+  const Eigen::MatrixXd m = h5.matrix(path);
+  if (p >= m.rows() || m.cols() != n) throw InputError(h5.path(), 0, 0, path + " does not have position " + std::to_string(p));
+  return m.row(p).transpose();
+}
+
+// Picks the design case and the position, and the optics set whose GR the case uses.
+std::string selectCase(const Hdf5Reader& h5, const ExportOptions& o, ExportedNetwork& net, int positions) {
+  int first = 0, end = positions, k = 0;
+  std::string optics = "base";
+  if (h5.has("/cases/name")) {
+    const std::vector<std::string> names = h5.strings("/cases/name");
+    if (!o.design_case.empty()) {
+      const auto it = std::find(names.begin(), names.end(), o.design_case);
+      if (it == names.end()) {
+        std::string list;
+        for (const std::string& name : names) list += (list.empty() ? "" : ", ") + name;
+        throw InputError(h5.path(), 0, 0, "no design case '" + o.design_case + "' (the result has: " + list + ")");
+      }
+      k = static_cast<int>(it - names.begin());
+    }
+    const Eigen::VectorXd start = h5.vector("/cases/position_start");
+    first = static_cast<int>(start[k]), end = static_cast<int>(start[k + 1]);
+    optics = h5.strings("/cases/optics")[static_cast<size_t>(k)];
+    net.design_case = names[static_cast<size_t>(k)];
+  } else if (!o.design_case.empty()) {
+    throw InputError(h5.path(), 0, 0, "--case '" + o.design_case + "': the result has no design cases");
+  }
+  net.position = o.position < 0 ? first : o.position;
+  if (net.position < first || net.position >= end)
+    throw InputError(h5.path(), 0, 0,
+                     "--position " + std::to_string(net.position) + " is not a position of " +
+                         (net.design_case.empty() ? "the run" : "case '" + net.design_case + "'") + " (" +
+                         std::to_string(first) + " … " + std::to_string(end - 1) + ")");
+  const std::string set = "/optics/" + optics + "/";
+  return h5.has(set + "radiative_exchange") ? set : "/network/";
+}
+
+// GR between nodes (i < j) and to space (j = n), user couplings and MLI added.
+void readCouplings(const Hdf5Reader& h5, const std::string& gr_group, ExportedNetwork& net, double min_gr) {
+  const auto n = static_cast<Eigen::Index>(net.nodes.size());
+  const Eigen::MatrixXd exchange = h5.matrix(gr_group + "radiative_exchange");
+  const Eigen::VectorXd to_space = h5.vector(gr_group + "gr_space");
+  Eigen::MatrixXd gr = Eigen::MatrixXd::Zero(n, n + 1);
+  gr.topLeftCorner(exchange.rows(), exchange.cols()) = exchange;
+  gr.col(n).head(to_space.size()) = to_space;
+  if (h5.has("/thermal/coupling_nodes") && h5.vector("/thermal/coupling_gr").size()) {
+    const Eigen::MatrixXd pairs = h5.matrix("/thermal/coupling_nodes");
+    const Eigen::VectorXd value = h5.vector("/thermal/coupling_gr");
+    for (Eigen::Index k = 0; k < pairs.rows(); ++k) {
+      const auto i = static_cast<Eigen::Index>(pairs(k, 0)), j = static_cast<Eigen::Index>(pairs(k, 1));
+      gr(i, j) += value[k], gr(j, i) += value[k];
+    }
+  }
+  Eigen::VectorXd total = gr.leftCols(n).rowwise().sum() - gr.leftCols(n).diagonal();
+  total += gr.col(n);
+  Eigen::VectorXd dropped = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (Eigen::Index j = i + 1; j < n; ++j) {
+      const double g = gr(i, j);
+      if (!(g > 0)) continue;
+      if (g < min_gr * total[i] && g < min_gr * total[j]) {
+        dropped[i] += g, dropped[j] += g;
+        continue;
+      }
+      net.gr.push_back({static_cast<int>(i), static_cast<int>(j), g});
+    }
+    if (gr(i, n) > 0) net.gr.push_back({static_cast<int>(i), static_cast<int>(n), gr(i, n)});
+  }
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (total[i] > 0) net.dropped_gr_share = std::max(net.dropped_gr_share, dropped[i] / total[i]);
+}
+
+void readThermal(const Hdf5Reader& h5, ExportedNetwork& net) {
+  const auto n = static_cast<Eigen::Index>(net.nodes.size());
+  const int p = net.position;
+  net.temperature_k = rowOf(h5, "/solution/temperature", p, n);
+  net.capacitance_j_k = orZeros(h5, "/nodes/capacitance", n);
+  net.q_solar_w = rowOf(h5, "/solution/heat/solar", p, n);
+  net.q_albedo_w = rowOf(h5, "/solution/heat/albedo", p, n);
+  net.q_earth_ir_w = rowOf(h5, "/solution/heat/earth_ir", p, n);
+  net.q_internal_w = rowOf(h5, "/solution/heat/dissipation", p, n) + rowOf(h5, "/solution/heat/heater", p, n);
+  net.fixed_temperature_k = h5.has("/thermal/fixed_temperature") ? h5.vector("/thermal/fixed_temperature")
+                                                                 : Eigen::VectorXd::Constant(n, NAN);
+  net.space_temperature_k = h5.attribute("/thermal", "space_temperature", 3.0);
+  if (h5.has("/thermal/conductor_nodes") && h5.matrix("/thermal/conductance").size()) {
+    const Eigen::MatrixXd pairs = h5.matrix("/thermal/conductor_nodes");
+    const Eigen::MatrixXd g = h5.matrix("/thermal/conductance");
+    for (Eigen::Index k = 0; k < pairs.rows(); ++k)
+      net.gl.push_back({static_cast<int>(pairs(k, 0)), static_cast<int>(pairs(k, 1)), g(p, k)});
+  }
+}
+
+std::string number(double v) {
+  std::ostringstream s;
+  s << std::setprecision(12) << v;
+  return s.str();
+}
+
+std::string celsius(double k) { return number(k - kZeroCelsius); }
+
+bool isFixed(const ExportedNetwork& net, Eigen::Index i) { return std::isfinite(net.fixed_temperature_k[i]); }
+
+// The temperature a node starts from (or is held at): radnet's, else 20 °C.
+double startTemperature(const ExportedNetwork& net, Eigen::Index i) {
+  if (isFixed(net, i)) return net.fixed_temperature_k[i];
+  return std::isfinite(net.temperature_k[i]) && net.thermal ? net.temperature_k[i] : 293.15;
+}
+
+std::string header(const ExportedNetwork& net, const char* comment) {
+  std::ostringstream h;
+  h << comment << " radnet export of '" << net.name << "'"
+    << (net.design_case.empty() ? "" : ", design case '" + net.design_case + "'") << ", position " << net.position
+    << " (t = " << number(net.time_s) << " s)\n"
+    << comment << " " << net.nodes.size() << " nodes + space, " << net.gl.size() << " GL, " << net.gr.size()
+    << " GR; heat loads and conductances are those of this position\n";
+  if (net.dropped_gr_share > 0)
+    h << comment << " GR below the --min-gr threshold left out: at most " << number(100 * net.dropped_gr_share)
+      << " % of a node's sum of GR\n";
+  return h.str();
+}
+
+}  // namespace
+
+ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& o) {
+  if (!(o.min_gr >= 0 && o.min_gr < 1)) throw InputError(h5.path(), 0, 0, "--min-gr must be in [0, 1)");
+  ExportedNetwork net;
+  net.name = h5.textAttribute("/meta", "case_name", "radnet");
+  net.nodes = h5.strings("/nodes/name");
+  const auto n = static_cast<Eigen::Index>(net.nodes.size());
+  net.thermal = h5.has("/solution/temperature");
+  const int positions = net.thermal ? static_cast<int>(h5.matrix("/solution/temperature").rows()) : 1;
+  const std::string gr_group = selectCase(h5, o, net, positions);
+  const Eigen::Index radiative = h5.matrix("/network/radiative_exchange").rows();
+  for (Eigen::Index i = 0; i < n; ++i) net.lumped.push_back(i >= radiative);
+  net.area_m2 = orZeros(h5, "/nodes/area", n);
+  net.emissivity = orZeros(h5, gr_group == "/network/" ? "/nodes/emissivity" : gr_group + "emissivity", n);
+  net.absorptivity = orZeros(h5, gr_group == "/network/" ? "/nodes/absorptivity" : gr_group + "absorptivity", n);
+  if (h5.has("/orbit/time")) net.time_s = h5.vector("/orbit/time")[net.position];
+  if (net.thermal) {
+    readThermal(h5, net);
+  } else {
+    net.temperature_k = net.fixed_temperature_k = Eigen::VectorXd::Constant(n, NAN);
+    net.capacitance_j_k = net.q_solar_w = net.q_albedo_w = net.q_earth_ir_w = net.q_internal_w =
+        Eigen::VectorXd::Zero(n);
+  }
+  readCouplings(h5, gr_group, net, o.min_gr);
+  return net;
+}
+
+std::string esatanDeck(const ExportedNetwork& net) {
+  std::ostringstream d;
+  const int space = std::max(99999, static_cast<int>(net.nodes.size()) + 1);
+  d << header(net, "#") << "# Node n is radnet node n−1; temperatures in °C (TABS = 273.15); GR in m²,\n"
+    << "# ESATAN applies STEFAN itself; QS, QA, QE: absorbed solar, albedo and Earth IR, W;\n"
+    << "# QI: dissipation and heater power at this position, W.\n"
+    << "$MODEL RADNET\n$NODES\n";
+  for (size_t k = 0; k < net.nodes.size(); ++k) {
+    const auto i = static_cast<Eigen::Index>(k);
+    const double c = net.capacitance_j_k[i];
+    const char kind = isFixed(net, i) ? 'B' : c > 0 ? 'D' : 'X';  // boundary, diffusion, arithmetic
+    d << "  " << kind << k + 1 << " = '" << net.nodes[k] << "', T = " << celsius(startTemperature(net, i));
+    if (kind == 'D') d << ", C = " << number(c);
+    if (!net.lumped[k])
+      d << ", A = " << number(net.area_m2[i]) << ", ALP = " << number(net.absorptivity[i])
+        << ", EPS = " << number(net.emissivity[i]);
+    if (kind != 'B')
+      d << ", QS = " << number(net.q_solar_w[i]) << ", QA = " << number(net.q_albedo_w[i])
+        << ", QE = " << number(net.q_earth_ir_w[i]) << ", QI = " << number(net.q_internal_w[i]);
+    d << ";\n";
+  }
+  d << "  B" << space << " = 'SPACE', T = " << celsius(net.space_temperature_k) << ";\n$CONDUCTORS\n";
+  const auto id = [&](int i) { return i == static_cast<int>(net.nodes.size()) ? space : i + 1; };
+  for (const auto& c : net.gl) d << "  GL(" << id(c.i) << ", " << id(c.j) << ") = " << number(c.value) << ";\n";
+  for (const auto& c : net.gr) d << "  GR(" << id(c.i) << ", " << id(c.j) << ") = " << number(c.value) << ";\n";
+  d << "$CONSTANTS\n$CONTROL\n  TABS = 273.15;\n  STEFAN = " << number(kStefanBoltzmann) << ";\n"
+    << "  RELXCA = 1.0E-6;\n  NLOOP = 1000;\n$EXECUTION\n  CALL SOLVFM;\n$OUTPUTS\n"
+    << "  CALL PRNDTB(' ', 'L, T, QI', CURRENT);\n$ENDMODEL RADNET\n";
+  return d.str();
+}
+
+std::string sindaDeck(const ExportedNetwork& net) {
+  std::ostringstream d;
+  const int space = std::max(99999, static_cast<int>(net.nodes.size()) + 1);
+  d << header(net, "C") << "C Node n is radnet node n-1; temperatures in deg C (ABSZRO = -273.15).\n"
+    << "C Radiation conductors (negative ids) hold sigma * GR, W/K^4, so SIGMA = 1.0 below.\n"
+    << "HEADER OPTIONS DATA\nTITLE radnet export: " << net.name << "\n"
+    << "HEADER CONTROL DATA, GLOBAL\n    UID = SI\n    ABSZRO = -273.15\n    SIGMA = 1.0\n"
+    << "    NLOOPS = 1000\n    ARLXCA = 1.0E-6\n"
+    << "HEADER NODE DATA, RADNET\n";
+  for (size_t k = 0; k < net.nodes.size(); ++k) {
+    const auto i = static_cast<Eigen::Index>(k);
+    const double c = net.capacitance_j_k[i];
+    if (isFixed(net, i))  // boundary nodes: negative node number
+      d << "    -" << k + 1 << ", " << celsius(startTemperature(net, i)) << ", 0.0";
+    else
+      d << "    " << k + 1 << ", " << celsius(startTemperature(net, i)) << ", " << (c > 0 ? number(c) : "-1.0");
+    d << "    $ " << net.nodes[k] << "\n";
+  }
+  d << "    -" << space << ", " << celsius(net.space_temperature_k) << ", 0.0    $ SPACE\n";
+  d << "HEADER CONDUCTOR DATA, RADNET\n";
+  const auto id = [&](int i) { return i == static_cast<int>(net.nodes.size()) ? space : i + 1; };
+  int conductor = 0;
+  for (const auto& c : net.gl)
+    d << "    " << ++conductor << ", " << id(c.i) << ", " << id(c.j) << ", " << number(c.value) << "    $ GL W/K\n";
+  for (const auto& c : net.gr)
+    d << "    -" << ++conductor << ", " << id(c.i) << ", " << id(c.j) << ", " << number(kStefanBoltzmann * c.value)
+      << "    $ GR " << number(c.value) << " m^2\n";
+  d << "HEADER SOURCE DATA, RADNET\n";
+  for (size_t k = 0; k < net.nodes.size(); ++k) {
+    const auto i = static_cast<Eigen::Index>(k);
+    const double q = net.q_solar_w[i] + net.q_albedo_w[i] + net.q_earth_ir_w[i] + net.q_internal_w[i];
+    if (q != 0 && !isFixed(net, i)) d << "    " << k + 1 << ", " << number(q) << "    $ W\n";
+  }
+  d << "HEADER END\n";
+  return d.str();
+}
+
+std::vector<std::string> csvTables(const ExportedNetwork& net) {
+  std::ostringstream nodes, couplings;
+  nodes << "index,name,kind,area_m2,emissivity,absorptivity,capacitance_J_K,temperature_K,fixed,"
+           "q_solar_W,q_albedo_W,q_earth_ir_W,q_internal_W\n";
+  for (size_t k = 0; k < net.nodes.size(); ++k) {
+    const auto i = static_cast<Eigen::Index>(k);
+    nodes << k << ",\"" << net.nodes[k] << "\"," << (net.lumped[k] ? "lumped" : "surface") << ","
+          << number(net.area_m2[i]) << "," << number(net.emissivity[i]) << "," << number(net.absorptivity[i]) << ","
+          << number(net.capacitance_j_k[i]) << "," << number(startTemperature(net, i)) << ","
+          << (isFixed(net, i) ? 1 : 0) << "," << number(net.q_solar_w[i]) << "," << number(net.q_albedo_w[i]) << ","
+          << number(net.q_earth_ir_w[i]) << "," << number(net.q_internal_w[i]) << "\n";
+  }
+  nodes << net.nodes.size() << ",\"space\",space,0,0,0,0," << number(net.space_temperature_k) << ",1,0,0,0,0\n";
+  couplings << "kind,node_a,node_b,value,units\n";
+  for (const auto& c : net.gl) couplings << "GL," << c.i << "," << c.j << "," << number(c.value) << ",W/K\n";
+  for (const auto& c : net.gr) couplings << "GR," << c.i << "," << c.j << "," << number(c.value) << ",m^2\n";
+  return {nodes.str(), couplings.str()};
+}
+
+std::vector<std::string> exportResult(const std::string& h5_path, const ExportOptions& o) {
+  const Hdf5Reader h5(h5_path);
+  const ExportedNetwork net = readExportedNetwork(h5, o);
+  const std::filesystem::path stem = std::filesystem::path(h5_path).stem();
+  if (o.format == "csv") {
+    const std::filesystem::path dir = o.output.empty() ? stem.string() + "-export" : o.output;
+    std::filesystem::create_directories(dir);
+    const std::vector<std::string> tables = csvTables(net);
+    writeTextAtomically((dir / "nodes.csv").string(), tables[0]);
+    writeTextAtomically((dir / "conductors.csv").string(), tables[1]);
+    return {(dir / "nodes.csv").string(), (dir / "conductors.csv").string()};
+  }
+  if (o.format != "esatan" && o.format != "sinda")
+    throw InputError(h5_path, 0, 0, "--format '" + o.format + "': expected esatan, sinda or csv");
+  const std::string out = o.output.empty() ? stem.string() + (o.format == "esatan" ? ".d" : ".sin") : o.output;
+  writeTextAtomically(out, o.format == "esatan" ? esatanDeck(net) : sindaDeck(net));
+  return {out};
+}
+
+}  // namespace radnet::cases

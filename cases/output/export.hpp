@@ -1,0 +1,57 @@
+#pragma once
+// radnet export: a result's thermal network for another tool (docs/export.md): nodes with
+// capacitance, temperature and heat loads at one position, GL and GR couplings, and the
+// space node. Formats: ESATAN-TMS (TMD deck), SINDA/FLUINT (input deck), CSV.
+#include <Eigen/Dense>
+
+#include <string>
+#include <vector>
+
+namespace radnet::cases {
+
+class Hdf5Reader;
+
+/// The network as read back from a result, at one position of one design case.
+struct ExportedNetwork {
+  std::string name;
+  std::string design_case;   ///< "" without design cases
+  int position = 0;          ///< global position index (row of /solution/temperature)
+  double time_s = 0.0;       ///< of that position within its orbit case
+  std::vector<std::string> nodes;
+  std::vector<bool> lumped;
+  Eigen::VectorXd area_m2, emissivity, absorptivity;  ///< (n)
+  Eigen::VectorXd capacitance_j_k;                    ///< (n); 0: arithmetic node
+  Eigen::VectorXd temperature_k;                      ///< (n), radnet's at the position (NaN without thermal)
+  Eigen::VectorXd fixed_temperature_k;                ///< (n), NaN for free nodes
+  Eigen::VectorXd q_solar_w, q_albedo_w, q_earth_ir_w, q_internal_w;  ///< (n) at the position; internal: dissipation + heaters
+  struct Coupling {
+    int i, j;  ///< node indices, i < j; j == n: the space node
+    double value;
+  };
+  std::vector<Coupling> gl;  ///< W/K
+  std::vector<Coupling> gr;  ///< m²
+  double space_temperature_k = 3.0;
+  double dropped_gr_share = 0.0;  ///< the largest share of a node's Σ GR left out by min_gr
+  bool thermal = false;
+};
+
+struct ExportOptions {
+  std::string format = "esatan";  ///< esatan | sinda | csv
+  std::string output;             ///< file (esatan, sinda) or directory (csv)
+  std::string design_case;        ///< by name; "" the first
+  int position = -1;              ///< global index; −1: the first of the design case
+  double min_gr = 0.0;            ///< GR_ij below min_gr × Σ_k GR_ik of both nodes are left out
+};
+
+/// Reads the network to export. @throws InputError on an unknown case, a position outside it, or min_gr ∉ [0, 1)
+ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& options);
+
+std::string esatanDeck(const ExportedNetwork& net);
+std::string sindaDeck(const ExportedNetwork& net);
+/// nodes.csv and conductors.csv, in that order.
+std::vector<std::string> csvTables(const ExportedNetwork& net);
+
+/// The whole command: read, format, write (atomically). @return the files written
+std::vector<std::string> exportResult(const std::string& h5_path, const ExportOptions& options);
+
+}  // namespace radnet::cases

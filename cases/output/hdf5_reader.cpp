@@ -1,0 +1,112 @@
+#include "cases/output/hdf5_reader.hpp"
+
+#include "cases/config/errors.hpp"
+
+#include <hdf5.h>
+
+namespace radnet::cases {
+namespace {
+
+struct Handle {
+  hid_t id;
+  herr_t (*close)(hid_t);
+  ~Handle() {
+    if (id >= 0) close(id);
+  }
+};
+
+// HDF5 prints its own error stack on stderr; the messages here say what is wrong instead.
+void quiet() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+
+}  // namespace
+
+Hdf5Reader::Hdf5Reader(const std::string& path) : path_(path) {
+  quiet();
+  if (H5Fis_hdf5(path.c_str()) <= 0) throw InputError(path, 0, 0, "not an HDF5 file (or it does not exist)");
+  file_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file_ < 0) throw InputError(path, 0, 0, "cannot open the HDF5 file");
+  if (!has("/meta")) throw InputError(path, 0, 0, "not a radnet result: it has no /meta group");
+}
+
+Hdf5Reader::~Hdf5Reader() {
+  if (file_ >= 0) H5Fclose(static_cast<hid_t>(file_));
+}
+
+bool Hdf5Reader::has(const std::string& path) const {
+  // Each part of the path must exist before the next is asked for.
+  for (size_t end = path.find('/', 1);; end = path.find('/', end + 1)) {
+    const std::string part = path.substr(0, end);
+    if (H5Lexists(static_cast<hid_t>(file_), part.c_str(), H5P_DEFAULT) <= 0) return false;
+    if (end == std::string::npos) return true;
+  }
+}
+
+Eigen::MatrixXd Hdf5Reader::matrix(const std::string& path) const {
+  if (!has(path)) throw InputError(path_, 0, 0, "the result has no " + path);
+  Handle ds{H5Dopen2(static_cast<hid_t>(file_), path.c_str(), H5P_DEFAULT), H5Dclose};
+  Handle space{H5Dget_space(ds.id), H5Sclose};
+  const int rank = H5Sget_simple_extent_ndims(space.id);
+  hsize_t dims[2] = {1, 1};
+  if (rank < 1 || rank > 2 || H5Sget_simple_extent_dims(space.id, dims, nullptr) < 0)
+    throw InputError(path_, 0, 0, path + " is not a 1-D or 2-D dataset");
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> m(dims[0], rank == 2 ? dims[1] : 1);
+  if (m.size() && H5Dread(ds.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, m.data()) < 0)
+    throw InputError(path_, 0, 0, "cannot read " + path + " as numbers");
+  return m;
+}
+
+Eigen::VectorXd Hdf5Reader::vector(const std::string& path) const {
+  const Eigen::MatrixXd m = matrix(path);
+  if (m.cols() != 1) throw InputError(path_, 0, 0, path + " is not 1-D");
+  return m.col(0);
+}
+
+std::vector<std::string> Hdf5Reader::strings(const std::string& path) const {
+  if (!has(path)) throw InputError(path_, 0, 0, "the result has no " + path);
+  Handle ds{H5Dopen2(static_cast<hid_t>(file_), path.c_str(), H5P_DEFAULT), H5Dclose};
+  Handle space{H5Dget_space(ds.id), H5Sclose};
+  const hssize_t count = H5Sget_simple_extent_npoints(space.id);
+  Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
+  H5Tset_size(type.id, H5T_VARIABLE);
+  H5Tset_cset(type.id, H5T_CSET_UTF8);
+  std::vector<char*> raw(static_cast<size_t>(std::max<hssize_t>(count, 0)), nullptr);
+  if (count > 0 && H5Dread(ds.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, raw.data()) < 0)
+    throw InputError(path_, 0, 0, "cannot read " + path + " as strings");
+  std::vector<std::string> out;
+  for (char* s : raw) out.emplace_back(s ? s : "");
+  if (count > 0) H5Dvlen_reclaim(type.id, space.id, H5P_DEFAULT, raw.data());
+  return out;
+}
+
+double Hdf5Reader::attribute(const std::string& object, const std::string& name, double fallback) const {
+  if (!has(object) || H5Aexists_by_name(static_cast<hid_t>(file_), object.c_str(), name.c_str(), H5P_DEFAULT) <= 0)
+    return fallback;
+  Handle a{H5Aopen_by_name(static_cast<hid_t>(file_), object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT),
+           H5Aclose};
+  double v = fallback;
+  if (H5Aread(a.id, H5T_NATIVE_DOUBLE, &v) < 0) return fallback;
+  return v;
+}
+
+std::string Hdf5Reader::textAttribute(const std::string& object, const std::string& name,
+                                      const std::string& fallback) const {
+  if (!has(object) || H5Aexists_by_name(static_cast<hid_t>(file_), object.c_str(), name.c_str(), H5P_DEFAULT) <= 0)
+    return fallback;
+  Handle a{H5Aopen_by_name(static_cast<hid_t>(file_), object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT),
+           H5Aclose};
+  Handle type{H5Aget_type(a.id), H5Tclose};
+  if (H5Tget_class(type.id) != H5T_STRING) return fallback;
+  if (H5Tis_variable_str(type.id) > 0) {
+    char* s = nullptr;
+    Handle mem{H5Tget_native_type(type.id, H5T_DIR_ASCEND), H5Tclose};
+    if (H5Aread(a.id, mem.id, &s) < 0 || !s) return fallback;
+    std::string out(s);
+    H5free_memory(s);
+    return out;
+  }
+  std::string out(H5Tget_size(type.id), '\0');
+  if (H5Aread(a.id, type.id, out.data()) < 0) return fallback;
+  return out.substr(0, out.find('\0'));
+}
+
+}  // namespace radnet::cases
