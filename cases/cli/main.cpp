@@ -11,7 +11,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include <sys/wait.h>
 #include <unistd.h>
+#include <algorithm>
 #include <filesystem>
 #include <cstdlib>
 #include <iostream>
@@ -196,6 +198,37 @@ int checkCommand(const std::vector<std::string>& paths) {
   return worst;
 }
 
+// The report's tables and figures are drawn by docs/radnet_report.py with Debian's python3,
+// h5py and matplotlib: found beside the executable's source tree or installed beside it.
+int reportCommand(const char* argv0, const std::string& result, std::string dir, const std::string& limits) {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> candidates = {fs::path(RADNET_SOURCE_DIR) / "docs" / "radnet_report.py"};
+  std::error_code ec;
+  const fs::path self = fs::canonical(fs::path("/proc/self/exe"), ec);
+  if (!ec) candidates.push_back(self.parent_path().parent_path() / "share" / "radnet" / "radnet_report.py");
+  (void)argv0;
+  const auto script = std::find_if(candidates.begin(), candidates.end(), [](const fs::path& p) { return fs::exists(p); });
+  if (script == candidates.end()) {
+    std::cerr << "radnet report: docs/radnet_report.py not found (looked in " << candidates.front() << ")\n";
+    return kExitOutput;
+  }
+  if (!fs::exists(result)) {
+    std::cerr << result << ":0:0: no such file\n";
+    return kExitBadInput;
+  }
+  if (dir.empty()) dir = (fs::path(result).parent_path() / fs::path(result).stem()).string() + "-report";
+  const auto quote = [](const std::string& s) {
+    std::string q = "'";
+    for (char ch : s) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+    return q + "'";
+  };
+  std::string command = "/usr/bin/python3 " + quote(script->string()) + " " + quote(result) + " " + quote(dir);
+  if (!limits.empty()) command += " --limits " + quote(limits);
+  const int status = std::system(command.c_str());
+  if (status == -1 || !WIFEXITED(status)) return kExitOutput;
+  return WEXITSTATUS(status);
+}
+
 constexpr const char* kExamples = R"(
 Examples:
   radnet run cases/examples/cubesat-3u.yaml -o cubesat.h5    one case: cubesat.h5 and cubesat.xmf
@@ -255,6 +288,12 @@ int main(int argc, char** argv) {
   exporter->add_option("--min-gr", export_options.min_gr,
                        "leave out GR_ij smaller than this share of both nodes' sum of GR (default 0: every GR)");
 
+  std::string report_result, report_dir, report_limits;
+  auto* report = app.add_subcommand("report", "Markdown and CSV tables and PNG figures of a result");
+  report->add_option("result", report_result, "radnet result (HDF5)")->required();
+  report->add_option("-o,--output", report_dir, "directory (default: <stem>-report beside the result)");
+  report->add_option("--limits", report_limits, "node limits 'node: [min_K, max_K]' (default: the case's limits:)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -267,6 +306,7 @@ int main(int argc, char** argv) {
   }
   if (*run) return runCommands(run_options);
   if (*validate) return validateCommand(validate_cases);
+  if (*report) return reportCommand(argv[0], report_result, report_dir, report_limits);
   if (*exporter)
     return guarded([&] {
       for (const std::string& file : exportResult(export_result, export_options))

@@ -59,6 +59,8 @@ void parseCaseDissipations(const YamlDocument& doc, GeometryCase& c);
 
 /// Parses `uncertainty:` into c.optical_uncertainty.
 void parseOpticalUncertainty(const YamlDocument& doc, GeometryCase& c);
+/// `limits: {node: [min_K, max_K]}` (needs `thermal`; min < max, both within the thermal range).
+void parseLimits(const YamlDocument& doc, GeometryCase& c);
 
 /// The names a design case or optical set may have: letters, digits, '_', '-' and '.',
 /// starting with a letter, a digit or '_' (they become HDF5 group names and labels).

@@ -175,7 +175,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
   const YAML::Node& root = doc.root();
   doc.expectMap(root, "case",
                 {"name", "description", "materials", "geometry", "solver", "expect", "orbit", "attitude", "environment",
-                 "thermal", "optics", "cases", "uncertainty"});
+                 "thermal", "optics", "cases", "uncertainty", "limits"});
   GeometryCase c;
   c.file = doc.file();
   c.yaml_text = doc.text();
@@ -210,6 +210,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
   c.thermal = parseThermalSettings(doc, c.node_names, area, orbit_period_s);
   parseCaseDissipations(doc, c);
   parseOpticalUncertainty(doc, c);
+  parseLimits(doc, c);
   applyShells(c);
   applyErrorBudget(c);
   if (root["expect"])

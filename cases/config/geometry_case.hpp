@@ -59,6 +59,12 @@ struct GeometryCase {
   std::vector<OpticalSet> optical_sets;    ///< `base` (the materials as given) first, then `optics:`
   std::vector<DesignCase> design_cases;    ///< at least one (`base` without `cases:`); their orbits
   std::optional<OpticalUncertainty> optical_uncertainty;
+  /// `limits: {node: [min_K, max_K]}`: allowed temperatures (radnet report checks the envelope)
+  struct TemperatureLimit {
+    int node;
+    double min_k, max_k;
+  };
+  std::vector<TemperatureLimit> limits;
   std::optional<ThermalSettings> thermal;  ///< absent: no temperatures
   std::vector<ShellSpec> shells;
   std::vector<Expectation> expectations;

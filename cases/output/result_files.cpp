@@ -45,6 +45,17 @@ void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, cons
   writeUncertainty(h5, c, r, n);
   writeDesignCases(h5, c, r);
   if (r.optical_uncertainty) writeOpticalUncertainty(h5, c, *r.optical_uncertainty);
+  if (!c.limits.empty()) {
+    std::vector<std::string> node;
+    Eigen::VectorXd lo(static_cast<Eigen::Index>(c.limits.size())), hi(lo.size());
+    for (size_t k = 0; k < c.limits.size(); ++k) {
+      node.push_back(c.thermal->node_names[static_cast<size_t>(c.limits[k].node)]);
+      lo[static_cast<Eigen::Index>(k)] = c.limits[k].min_k, hi[static_cast<Eigen::Index>(k)] = c.limits[k].max_k;
+    }
+    h5.writeStrings("/limits/node", node);
+    h5.writeVector("/limits/min", lo, "K");
+    h5.writeVector("/limits/max", hi, "K");
+  }
   const XdmfPlan xdmf = writeXdmfData(h5, c.scene, r, path);
   writeTimings(h5, r.timings);
   h5.commit();

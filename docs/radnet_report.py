@@ -1,0 +1,385 @@
+#!/usr/bin/python3
+"""The report of a radnet result: Markdown and CSV tables and PNG figures (`radnet report`).
+
+    /usr/bin/python3 docs/radnet_report.py RESULT.h5 OUTDIR [--limits FILE.yaml]
+
+Needs Debian's python3-h5py, python3-numpy and python3-matplotlib. Writes into OUTDIR:
+  report.md            per design case: node min / time-weighted mean / max temperature,
+                       orbit-mean heat flows by kind, heater duty; the hot/cold envelope
+                       (against limits when given); the run's speed and error budget
+  temperatures.csv     case, node, min_K, mean_K, max_K
+  heat_flows.csv       case, node, then each kind of heat flow (orbit mean, W, + into the node)
+  heaters.csv          case, heater, node, duty, mean_W
+  envelope.csv         node, min_K, min_case, max_K, max_case[, limit_min_K, limit_max_K, margin_K, ok]
+  <case>_temperature.png, <case>_loads.png   over the orbit, eclipses shaded, one colour per node
+  heat_balance.png     orbit-mean heat flows per node and kind, each design case
+  envelope.png         min/max per node over the design cases, against the limits
+  budget.png           where the run's time went, and its error budget
+Limits: the case file's `limits: {node: [min_K, max_K]}` (/limits), or lines
+"node: [min_K, max_K]" in FILE.yaml.
+Exit: 0 written, 2 not a radnet result (or bad limits), 4 the directory cannot be written.
+"""
+import csv
+import os
+import re
+import sys
+
+try:
+    import h5py
+    import matplotlib
+    import numpy as np
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt  # noqa: E402
+except ImportError as missing:  # pragma: no cover - a machine without Debian's packages
+    sys.stderr.write(f"radnet report: {missing}: install python3-h5py python3-numpy python3-matplotlib\n")
+    sys.exit(4)
+
+KINDS = ["solar", "albedo", "earth_ir", "emitted", "radiative", "conducted", "dissipation", "heater", "stored",
+         "boundary"]
+MAX_LINES = 14  # nodes drawn one by one; the rest are summed ("others")
+
+
+def text(values):
+    return [v.decode() if isinstance(v, bytes) else str(v) for v in values]
+
+
+def fail(code, message):
+    sys.stderr.write(f"radnet report: {message}\n")
+    sys.exit(code)
+
+
+class Result:
+    """What the report needs from a result, per design case."""
+
+    def __init__(self, f):
+        self.f = f
+        self.name = f["/meta"].attrs["case_name"]
+        self.name = self.name.decode() if isinstance(self.name, bytes) else str(self.name)
+        self.nodes = text(f["/nodes/name"][()])
+        self.thermal = "/solution/temperature" in f
+        self.orbit = "/orbit/time" in f
+        positions = f["/solution/temperature"].shape[0] if self.thermal else (
+            f["/orbit/time"].shape[0] if self.orbit else 1)
+        if "/cases/name" in f:
+            self.cases = text(f["/cases/name"][()])
+            start = f["/cases/position_start"][()]
+        else:
+            self.cases, start = ["run"], np.array([0, positions])
+        self.spans = [np.arange(start[k], start[k + 1]) for k in range(len(self.cases))]
+        self.weights = [self.time_weights(span) for span in self.spans]
+
+    def time_weights(self, span):
+        """Trapezoid weights over each orbit case's periodic sweep (equal weights otherwise)."""
+        if not self.orbit or len(span) < 2:
+            return np.full(len(span), 1.0 / max(len(span), 1))
+        t, case = self.f["/orbit/time"][()][span], self.f["/orbit/case"][()][span]
+        period = self.f["/orbit/period"][()]
+        w = np.zeros(len(span))
+        for k in np.unique(case):
+            idx = np.flatnonzero(case == k)
+            tk = np.append(t[idx], t[idx[0]] + period[k])
+            dt = np.diff(tk)
+            w[idx] += 0.5 * (dt + np.roll(dt, 1))
+        return w / w.sum()
+
+
+def limits_of(result, path):
+    """Node limits {name: (min_K, max_K)}: the case file's `limits:` (/limits in the result),
+    or, with --limits FILE, lines "node: [min_K, max_K]" of that file."""
+    limits = {}
+    if path:
+        entries = re.findall(r"^\s*['\"]?([\w.+\-]+)['\"]?\s*:\s*\[\s*([-+0-9.eE]+)\s*,\s*([-+0-9.eE]+)\s*\]",
+                             open(path).read(), re.M)
+    elif "/limits/node" in result.f:
+        entries = zip(text(result.f["/limits/node"][()]), result.f["/limits/min"][()], result.f["/limits/max"][()])
+    else:
+        return {}
+    for node, low, high in entries:
+        if node not in result.nodes:
+            fail(2, f"limits: no node '{node}' in the result")
+        if not float(low) < float(high):
+            fail(2, f"limits: {node}: min {low} K is not below max {high} K")
+        limits[node] = (float(low), float(high))
+    return limits
+
+
+def colours(result, key_values):
+    """One colour per node for every figure: the MAX_LINES largest by key, the rest grey."""
+    order = np.argsort(-key_values)[:MAX_LINES]
+    palette = plt.get_cmap("tab20").colors
+    return {int(i): palette[(2 * k) % 20 if k < 10 else (2 * (k - 10) + 1) % 20] for k, i in enumerate(order)}
+
+
+def shade_eclipses(ax, t, sunlit):
+    dark = sunlit < 1.0
+    for k in range(len(t) - 1):
+        if dark[k] or dark[k + 1]:
+            ax.axvspan(t[k], t[k + 1], color="0.88", lw=0, zorder=0)
+
+
+def node_lines(ax, t, data, shown, names):
+    for i, colour in shown.items():
+        ax.plot(t, data[:, i], color=colour, lw=1.3, label=names[i])
+    rest = [i for i in range(data.shape[1]) if i not in shown]
+    return rest
+
+
+def case_figures(result, out, shown):
+    f, written = result.f, []
+    for k, (case, span) in enumerate(zip(result.cases, result.spans)):
+        if not result.orbit or len(span) < 2:
+            continue
+        t = (f["/orbit/time"][()][span]) / 60.0
+        sunlit = f["/orbit/sunlit_fraction"][()][span]
+        breaks = np.flatnonzero(np.diff(f["/orbit/case"][()][span]) != 0) + 1
+        t = np.insert(t, breaks, np.nan)
+        sunlit = np.insert(sunlit, breaks, 1.0)
+        stem = re.sub(r"[^\w.-]", "_", case)
+        if result.thermal:
+            temperature = np.insert(f["/solution/temperature"][()][span], breaks, np.nan, axis=0)
+            fig, ax = plt.subplots(figsize=(10, 5.5))
+            shade_eclipses(ax, t, sunlit)
+            rest = node_lines(ax, t, temperature, shown, result.nodes)
+            if rest:
+                ax.fill_between(t, np.nanmin(temperature[:, rest], axis=1), np.nanmax(temperature[:, rest], axis=1),
+                                color="0.6", alpha=0.35, label=f"{len(rest)} other nodes (range)")
+            ax.set_ylabel("temperature [K]")
+            ax.set_xlabel("time from the orbit case's start [min]  (grey: eclipse)")
+            ax.set_title(f"{result.name}, case {case}: node temperatures")
+            ax.grid(alpha=0.3)
+            ax.legend(fontsize=7, ncol=2, loc="center left", bbox_to_anchor=(1.01, 0.5))
+            fig.tight_layout()
+            written.append(save(fig, out, f"{stem}_temperature.png"))
+        fig, axes = plt.subplots(3, 1, figsize=(10, 9), sharex=True)
+        for ax, kind, label in zip(axes, ["solar", "albedo", "earth_ir"], ["direct solar", "albedo", "Earth IR"]):
+            data = np.insert(f["/loads/" + kind][()][span], breaks, np.nan, axis=0)
+            shade_eclipses(ax, t, sunlit)
+            rest = node_lines(ax, t, data, shown, result.nodes)
+            if rest:
+                ax.plot(t, np.nansum(data[:, rest], axis=1), color="0.5", ls="--", lw=1.0,
+                        label=f"{len(rest)} other nodes (sum)")
+            ax.set_ylabel(f"{label} [W]")
+            ax.grid(alpha=0.3)
+        axes[0].legend(fontsize=7, ncol=2, loc="center left", bbox_to_anchor=(1.01, -0.6))
+        axes[-1].set_xlabel("time from the orbit case's start [min]  (grey: eclipse)")
+        fig.suptitle(f"{result.name}, case {case}: absorbed environmental power")
+        fig.tight_layout()
+        written.append(save(fig, out, f"{stem}_loads.png"))
+    return written
+
+
+def save(fig, out, name):
+    path = os.path.join(out, name)
+    fig.savefig(path, dpi=110, bbox_inches="tight")
+    plt.close(fig)
+    return path
+
+
+def heat_flows(result):
+    """Orbit-mean heat flow per case, kind and node, W (+ into the node)."""
+    f = result.f
+    flows = np.zeros((len(result.cases), len(KINDS), len(result.nodes)))
+    for k, (span, w) in enumerate(zip(result.spans, result.weights)):
+        for j, kind in enumerate(KINDS):
+            if "/solution/heat/" + kind in f:
+                flows[k, j] = w @ f["/solution/heat/" + kind][()][span]
+    scale = np.abs(flows).max(axis=(1, 2), keepdims=True)
+    flows[np.abs(flows) < 1e-12 * np.maximum(scale, 1e-300)] = 0.0  # round-off is not a heat flow
+    return flows
+
+
+def heat_balance_figure(result, flows, out):
+    totals = np.abs(flows).sum(axis=(0, 1))
+    order = np.argsort(-totals)[:20]
+    fig, axes = plt.subplots(len(result.cases), 1, figsize=(11, 3.2 * len(result.cases) + 1), squeeze=False)
+    palette = plt.get_cmap("tab10").colors
+    for k, ax in enumerate(axes[:, 0]):
+        bottom_pos, bottom_neg = np.zeros(len(order)), np.zeros(len(order))
+        for j, kind in enumerate(KINDS):
+            v = flows[k, j, order]
+            if not np.any(flows[:, j, order]):  # a kind some case has gets its colour in every panel
+                continue
+            base = np.where(v >= 0, bottom_pos, bottom_neg)
+            ax.bar(range(len(order)), v, bottom=base, color=palette[j % 10], label=kind)
+            bottom_pos += np.maximum(v, 0)
+            bottom_neg += np.minimum(v, 0)
+        ax.axhline(0, color="k", lw=0.8)
+        ax.set_xticks(range(len(order)), [result.nodes[i] for i in order], rotation=45, ha="right", fontsize=7)
+        ax.set_ylabel("orbit mean [W]")
+        ax.set_title(f"case {result.cases[k]}: heat flows into (+) and out of (−) each node", fontsize=9)
+        ax.grid(axis="y", alpha=0.3)
+    axes[0, 0].legend(fontsize=7, ncol=5)
+    fig.tight_layout()
+    return save(fig, out, "heat_balance.png")
+
+
+def envelope_figure(result, low, high, low_case, high_case, limits, out):
+    order = np.argsort(-high)[:40] if len(result.nodes) > 40 else np.arange(len(result.nodes))
+    fig, ax = plt.subplots(figsize=(11, 5))
+    x = np.arange(len(order))
+    ax.vlines(x, low[order], high[order], color="tab:blue", lw=5, alpha=0.7, label="min … max over the design cases")
+    for xi, i in zip(x, order):
+        name = result.nodes[i]
+        if name in limits:
+            lo, hi = limits[name]
+            bad = low[i] < lo or high[i] > hi
+            ax.hlines([lo, hi], xi - 0.35, xi + 0.35, color="tab:red" if bad else "tab:green", lw=2)
+            if bad:
+                ax.annotate("!", (xi, hi), color="tab:red", ha="center", va="bottom", fontsize=12, weight="bold")
+    if limits:
+        ax.plot([], [], color="tab:green", lw=2, label="limits (red: violated)")
+    ax.set_xticks(x, [result.nodes[i] for i in order], rotation=45, ha="right", fontsize=7)
+    ax.set_ylabel("temperature [K]")
+    ax.set_title(f"{result.name}: temperature envelope per node" + (" (40 hottest)" if len(result.nodes) > 40 else ""))
+    ax.grid(axis="y", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return save(fig, out, "envelope.png")
+
+
+def budget_figure(result, out):
+    attrs = result.f["/report"].attrs
+    stages = [(k[5:-2].replace("_", " "), float(attrs[k])) for k in attrs if re.fullmatch(r"time_\w+_s", k)]
+    stages = [s for s in stages if s[1] > 0]
+    parts = [(p.replace("_", " "), float(attrs[f"absorbed_uncertainty_{p}_max_relative"]))
+             for p in ("view_factors", "loads", "truncation") if f"absorbed_uncertainty_{p}_max_relative" in attrs]
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4))
+    left.barh([s[0] for s in stages], [s[1] for s in stages], color="tab:blue")
+    left.set_xlabel("wall time [s]")
+    left.set_title(f"where the {sum(s[1] for s in stages):.3g} s went", fontsize=9)
+    if parts:
+        right.bar([p[0] for p in parts], [100 * p[1] for p in parts], color="tab:orange")
+        if "accuracy" in attrs:
+            right.axhline(100 * float(attrs["accuracy"]), color="tab:red", ls="--", label="accuracy asked")
+            right.legend(fontsize=8)
+        right.set_ylabel("1σ of a node's orbit-max absorbed power [%]")
+        right.set_title("error budget: the largest share over nodes, per source", fontsize=9)
+    else:
+        right.text(0.5, 0.5, "no orbit loads: no absorbed-power error budget", ha="center", va="center")
+        right.set_axis_off()
+    fig.tight_layout()
+    return save(fig, out, "budget.png")
+
+
+def md_table(headers, rows):
+    lines = ["| " + " | ".join(headers) + " |", "|" + "---|" * len(headers)]
+    lines += ["| " + " | ".join(rows_i) + " |" for rows_i in rows]
+    return "\n".join(lines) + "\n"
+
+
+def write_csv(path, headers, rows):
+    with open(path, "w", newline="") as out:
+        w = csv.writer(out)
+        w.writerow(headers)
+        w.writerows(rows)
+
+
+def main(path, out, limits_path):
+    try:
+        f = h5py.File(path, "r")
+    except OSError as e:
+        fail(2, f"{path}: not an HDF5 file ({e})")
+    if "/meta" not in f or "/nodes/name" not in f:
+        fail(2, f"{path}: not a radnet result (no /meta or /nodes/name)")
+    try:
+        os.makedirs(out, exist_ok=True)
+    except OSError as e:
+        fail(4, f"cannot create {out}: {e}")
+    result = Result(f)
+    limits = limits_of(result, limits_path)
+    md = [f"# radnet report: {result.name}\n", f"Result `{os.path.basename(path)}`: {len(result.nodes)} nodes, "
+          f"{len(result.cases)} design case(s): {', '.join(result.cases)}.\n"]
+    figures, temp_rows, flow_rows, heater_rows = [], [], [], []
+    flows = heat_flows(result) if result.thermal else None
+    key = np.abs(f["/loads/solar"][()]).max(axis=0) if result.orbit else np.zeros(len(result.nodes))
+    if result.thermal:
+        key = np.pad(key, (0, len(result.nodes) - len(key))) + f["/solution/temperature"][()].max(axis=0) * 1e-9
+    shown = colours(result, key)
+    for k, (case, span, w) in enumerate(zip(result.cases, result.spans, result.weights)):
+        md.append(f"\n## Case {case}\n")
+        if not result.thermal:
+            continue
+        t = f["/solution/temperature"][()][span]
+        rows = [(result.nodes[i], f"{t[:, i].min():.2f}", f"{w @ t[:, i]:.2f}", f"{t[:, i].max():.2f}")
+                for i in range(len(result.nodes))]
+        temp_rows += [(case, *r) for r in rows]
+        md.append("Temperatures, K (minimum, time-weighted mean, maximum over the case's positions):\n\n")
+        md.append(md_table(["node", "min", "mean", "max"], rows))
+        frows = [(result.nodes[i], *[f"{flows[k, j, i]:.4g}" for j in range(len(KINDS))])
+                 for i in range(len(result.nodes))]
+        flow_rows += [(case, *r) for r in frows]
+        md.append("\nHeat flows, W (orbit mean, + into the node):\n\n")
+        md.append(md_table(["node", *KINDS], frows))
+        if "/heaters/name" in f:
+            names, node = text(f["/heaters/name"][()]), text(f["/heaters/node"][()])
+            power = f["/heaters/power"][()][span]
+            duty = f["/heaters/case_duty"][()] if "/heaters/case_duty" in f else None
+            first_orbit_case = f["/cases/orbit_case_start"][()][k] if "/cases/orbit_case_start" in f else 0
+            hrows = [(n, node[h],
+                      f"{100 * (duty[first_orbit_case, h] if duty is not None else 0):.1f} %", f"{w @ power[:, h]:.4g}")
+                     for h, n in enumerate(names)]
+            heater_rows += [(case, *r) for r in hrows]
+            md.append("\nHeaters:\n\n" + md_table(["heater", "node", "duty", "mean power W"], hrows))
+    if result.thermal:
+        if "/solution/envelope/temperature_max" in f:
+            low, high = f["/solution/envelope/temperature_min"][()], f["/solution/envelope/temperature_max"][()]
+            low_case = [result.cases[c] for c in f["/solution/envelope/temperature_min_case"][()]]
+            high_case = [result.cases[c] for c in f["/solution/envelope/temperature_max_case"][()]]
+        else:
+            temperature = f["/solution/temperature"][()]
+            low, high = temperature.min(axis=0), temperature.max(axis=0)
+            low_case = high_case = [result.cases[0]] * len(result.nodes)
+        env_rows, violations = [], 0
+        for i, name in enumerate(result.nodes):
+            row = [name, f"{low[i]:.2f}", low_case[i], f"{high[i]:.2f}", high_case[i]]
+            if limits:
+                lo, hi = limits.get(name, (None, None))
+                if lo is not None:
+                    margin = min(low[i] - lo, hi - high[i])
+                    ok = margin >= 0
+                    violations += not ok
+                    row += [f"{lo:.2f}", f"{hi:.2f}", f"{margin:.2f}", "yes" if ok else "**NO**"]
+                else:
+                    row += ["", "", "", ""]
+            env_rows.append(row)
+        head = ["node", "min K", "min case", "max K", "max case"] + (
+            ["limit min K", "limit max K", "margin K", "within"] if limits else [])
+        md.append("\n## Envelope over the design cases\n\n")
+        if limits:
+            md.append(f"{violations} node(s) outside their limits.\n\n")
+        md.append(md_table(head, env_rows))
+        write_csv(os.path.join(out, "envelope.csv"), [h.replace(" ", "_") for h in head],
+                  [[c.replace("**", "") for c in r] for r in env_rows])
+        write_csv(os.path.join(out, "temperatures.csv"), ["case", "node", "min_K", "mean_K", "max_K"], temp_rows)
+        write_csv(os.path.join(out, "heat_flows.csv"), ["case", "node", *[k + "_W" for k in KINDS]], flow_rows)
+        write_csv(os.path.join(out, "heaters.csv"), ["case", "heater", "node", "duty", "mean_W"], heater_rows)
+        figures.append(heat_balance_figure(result, flows, out))
+        figures.append(envelope_figure(result, low, high, low_case, high_case, limits, out))
+    figures += case_figures(result, out, shown)
+    figures.append(budget_figure(result, out))
+    md.append("\n## Speed and error\n\n")
+    attrs = f["/report"].attrs
+    for key_name, label in (("absorbed_uncertainty_max_relative", "largest 1σ of absorbed power (share of orbit max)"),
+                            ("accuracy", "accuracy asked"), ("view_factor_error", "largest σ of a view factor"),
+                            ("heat_balance_max_imbalance_w", "largest heat-balance imbalance, W")):
+        if key_name in attrs:
+            md.append(f"- {label}: {float(attrs[key_name]):.3g}\n")
+    md.append("\n## Figures\n\n" + "".join(f"![{os.path.basename(p)}]({os.path.basename(p)})\n" for p in figures))
+    with open(os.path.join(out, "report.md"), "w") as report:
+        report.write("".join(md))
+    for p in ["report.md", *[os.path.basename(p) for p in figures]]:
+        print(os.path.join(out, p))
+    return 0
+
+
+if __name__ == "__main__":
+    args = sys.argv[1:]
+    limits_file = None
+    if "--limits" in args:
+        at = args.index("--limits")
+        limits_file = args[at + 1]
+        del args[at:at + 2]
+    if len(args) != 2:
+        fail(2, "usage: radnet_report.py RESULT.h5 OUTDIR [--limits FILE.yaml]")
+    sys.exit(main(args[0], args[1], limits_file))

@@ -1,0 +1,64 @@
+#!/usr/bin/python3
+"""`radnet report` on the hot/cold CubeSat (design cases, heaters, transient) with limits.
+
+usage: check_report.py RADNET SOURCE_DIR WORK_DIR
+
+Checks: every table and figure is written; the report's time-weighted mean temperature of
+each case and node (computed in docs/radnet_report.py from /solution/temperature) equals
+radnet's own /solution/case_temperature_mean (computed in C++), a second method, and min and
+max equal /solution/case_temperature_min/_max, each to the 0.01 K printed (5e-3 K); the envelope
+flags exactly the nodes whose limits the run violates; bad input exits 2.
+"""
+import csv
+import os
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+radnet, source, work = sys.argv[1:4]
+os.makedirs(work, exist_ok=True)
+failures = []
+h5 = os.path.join(work, "hc.h5")
+subprocess.run([radnet, "run", os.path.join(source, "cases/examples/cubesat-hot-cold.yaml"), "-o", h5, "-q"],
+               check=True, capture_output=True)
+limits = os.path.join(work, "limits.yaml")
+open(limits, "w").write("panel_py: [233.15, 343.15]\nbattery: [273.15, 318.15]\nbus.+x: [200.0, 400.0]\n")
+out = os.path.join(work, "report")
+run = subprocess.run([radnet, "report", h5, "-o", out, "--limits", limits], capture_output=True, text=True)
+if run.returncode != 0:
+    failures.append(f"radnet report exited {run.returncode}: {run.stderr}")
+for name in ("report.md", "temperatures.csv", "heat_flows.csv", "heaters.csv", "envelope.csv", "heat_balance.png",
+             "envelope.png", "hot_temperature.png", "cold_temperature.png", "hot_loads.png", "budget.png"):
+    if not os.path.getsize(os.path.join(out, name)) > 0:
+        failures.append(f"{name} missing or empty")
+with h5py.File(h5) as f:
+    cases = [c.decode() for c in f["cases/name"][()]]
+    nodes = [n.decode() for n in f["nodes/name"][()]]
+    mean, low, high = (f[f"solution/case_temperature_{k}"][()] for k in ("mean", "min", "max"))
+    envelope = f["solution/envelope/temperature_min"][()], f["solution/envelope/temperature_max"][()]
+rows = list(csv.DictReader(open(os.path.join(out, "temperatures.csv"))))
+if len(rows) != len(cases) * len(nodes):
+    failures.append(f"temperatures.csv has {len(rows)} rows, expected {len(cases) * len(nodes)}")
+for row in rows:
+    k, i = cases.index(row["case"]), nodes.index(row["node"])
+    if abs(float(row["mean_K"]) - mean[k, i]) > 5e-3 + 1e-9:  # printed to 0.01 K
+        failures.append(f"{row['case']} {row['node']}: mean {row['mean_K']} K, radnet {mean[k, i]:.6f} K")
+    if abs(float(row["min_K"]) - low[k, i]) > 5e-3 or abs(float(row["max_K"]) - high[k, i]) > 5e-3:
+        failures.append(f"{row['case']} {row['node']}: min/max differ from radnet's")
+expected = {"panel_py": envelope[0][nodes.index("panel_py")] < 233.15 or envelope[1][nodes.index("panel_py")] > 343.15,
+            "battery": envelope[0][nodes.index("battery")] < 273.15 or envelope[1][nodes.index("battery")] > 318.15,
+            "bus.+x": False}
+for row in csv.DictReader(open(os.path.join(out, "envelope.csv"))):
+    if row["node"] in expected and (row["within"] == "NO") != expected[row["node"]]:
+        failures.append(f"envelope: {row['node']} flagged {row['within']}, expected violated={expected[row['node']]}")
+if not any(expected.values()):
+    failures.append("the limits chosen violate nothing: the test would not see a missing flag")
+run = subprocess.run([radnet, "report", limits], capture_output=True, text=True)
+if run.returncode != 2:
+    failures.append(f"a YAML file as the result: exit {run.returncode}, expected 2")
+for f in failures:
+    print("FAIL:", f)
+print(f"report checked, {len(failures)} failure(s)")
+sys.exit(1 if failures else 0)
