@@ -240,15 +240,7 @@ Examples:
   radnet export cubesat.h5 --format esatan -o cubesat.d      nodes, GL and GR for another tool
 Exit codes: 0 success, 1 a check failed, 2 bad input, 3 numerical failure, 4 output not written.)";
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{"radnet: thermal radiation network solver for spacecraft"};
-  app.require_subcommand(1);
-  app.set_version_flag("--version", std::string("radnet ") + RADNET_VERSION);
-  app.footer(kExamples);
-
-  RunOptions run_options;
+CLI::App* addRunCommand(CLI::App& app, RunOptions& run_options) {
   auto* run = app.add_subcommand("run", "run a case: network, eigenpairs, band solves; write HDF5");
   run->add_option("cases", run_options.case_paths, "case files (YAML)")->required();
   run->add_option("-o,--output", run_options.output,
@@ -264,17 +256,10 @@ int main(int argc, char** argv) {
                        : "a seed is a whole number >= 0, not '" + text + "'";
           },
           "SEED >= 0"));
+  return run;
+}
 
-  std::vector<std::string> check_cases;
-  auto* check = app.add_subcommand("check", "run cases with an 'expect:' block; exit 1 on any regression");
-  check->add_option("cases", check_cases, "case files (YAML)")->required();
-
-  std::vector<std::string> validate_cases;
-  auto* validate = app.add_subcommand("validate", "parse and validate cases only");
-  validate->add_option("cases", validate_cases, "case files (YAML)")->required();
-
-  std::string export_result;
-  ExportOptions export_options;
+CLI::App* addExportCommand(CLI::App& app, std::string& export_result, ExportOptions& export_options) {
   auto* exporter = app.add_subcommand("export", "write a result's nodes, GL and GR for ESATAN-TMS, SINDA/FLUINT or CSV");
   exporter->add_option("result", export_result, "radnet result (HDF5)")->required();
   exporter->add_option("--format", export_options.format, "esatan (TMD deck), sinda (input deck) or csv")
@@ -287,6 +272,31 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   exporter->add_option("--min-gr", export_options.min_gr,
                        "leave out GR_ij smaller than this share of both nodes' sum of GR (default 0: every GR)");
+  return exporter;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"radnet: thermal radiation network solver for spacecraft"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("radnet ") + RADNET_VERSION);
+  app.footer(kExamples);
+
+  RunOptions run_options;
+  CLI::App* run = addRunCommand(app, run_options);
+
+  std::vector<std::string> check_cases;
+  auto* check = app.add_subcommand("check", "run cases with an 'expect:' block; exit 1 on any regression");
+  check->add_option("cases", check_cases, "case files (YAML)")->required();
+
+  std::vector<std::string> validate_cases;
+  auto* validate = app.add_subcommand("validate", "parse and validate cases only");
+  validate->add_option("cases", validate_cases, "case files (YAML)")->required();
+
+  std::string export_result;
+  ExportOptions export_options;
+  CLI::App* exporter = addExportCommand(app, export_result, export_options);
 
   std::string report_result, report_dir, report_limits;
   auto* report = app.add_subcommand("report", "Markdown and CSV tables and PNG figures of a result");
