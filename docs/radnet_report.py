@@ -152,21 +152,39 @@ def case_figures(result, out, shown):
             fig.tight_layout()
             written.append(save(fig, out, f"{stem}_temperature.png"))
         fig, axes = plt.subplots(3, 1, figsize=(10, 9), sharex=True)
+        groups = primitive_groups(result.nodes) if len(result.nodes) > 40 else None
         for ax, kind, label in zip(axes, ["solar", "albedo", "earth_ir"], ["direct solar", "albedo", "Earth IR"]):
             data = np.insert(f["/loads/" + kind][()][span], breaks, np.nan, axis=0)
             shade_eclipses(ax, t, sunlit)
-            rest = node_lines(ax, t, data, shown, result.nodes)
-            if rest:
-                ax.plot(t, np.nansum(data[:, rest], axis=1), color="0.5", ls="--", lw=1.0,
-                        label=f"{len(rest)} other nodes (sum)")
+            if groups:  # a large model: one line per primitive (its nodes summed), one colour each
+                palette = plt.get_cmap("tab20").colors
+                for g, (name, members) in enumerate(groups.items()):
+                    ax.plot(t, data[:, members].sum(axis=1), color=palette[g % 20], lw=1.3,
+                            label=f"{name} ({len(members)} nodes)")
+            else:
+                rest = node_lines(ax, t, data, shown, result.nodes)
+                if rest:
+                    ax.plot(t, np.nansum(data[:, rest], axis=1), color="0.5", ls="--", lw=1.0,
+                            label=f"{len(rest)} other nodes (sum)")
             ax.set_ylabel(f"{label} [W]")
             ax.grid(alpha=0.3)
-        axes[0].legend(fontsize=7, ncol=2, loc="center left", bbox_to_anchor=(1.01, -0.6))
+        handles, labels = axes[0].get_legend_handles_labels()
+        fig.legend(handles, labels, fontsize=7, ncol=1, loc="center left", bbox_to_anchor=(1.0, 0.5))
         axes[-1].set_xlabel("time from the orbit case's start [min]  (grey: eclipse)")
         fig.suptitle(f"{result.name}, case {case}: absorbed environmental power")
         fig.tight_layout()
         written.append(save(fig, out, f"{stem}_loads.png"))
     return written
+
+
+def primitive_groups(nodes):
+    """Nodes by primitive: a node grid's cells <primitive>.<i>.<j>[.back] grouped as
+    <primitive>[.back]."""
+    groups = {}
+    for i, name in enumerate(nodes):
+        key = re.sub(r"\.\d+\.\d+(?=(\.back)?$)", "", name)
+        groups.setdefault(key, []).append(i)
+    return groups
 
 
 def save(fig, out, name):
