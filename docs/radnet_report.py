@@ -67,21 +67,15 @@ class Result:
         else:
             self.cases, start = ["run"], np.array([0, positions])
         self.spans = [np.arange(start[k], start[k + 1]) for k in range(len(self.cases))]
-        self.weights = [self.time_weights(span) for span in self.spans]
-
-    def time_weights(self, span):
-        """Trapezoid weights over each orbit case's periodic sweep (equal weights otherwise)."""
-        if not self.orbit or len(span) < 2:
-            return np.full(len(span), 1.0 / max(len(span), 1))
-        t, case = self.f["/orbit/time"][()][span], self.f["/orbit/case"][()][span]
-        period = self.f["/orbit/period"][()]
-        w = np.zeros(len(span))
-        for k in np.unique(case):
-            idx = np.flatnonzero(case == k)
-            tk = np.append(t[idx], t[idx[0]] + period[k])
-            dt = np.diff(tk)
-            w[idx] += 0.5 * (dt + np.roll(dt, 1))
-        return w / w.sum()
+        # radnet's own weights of each position in its case's time mean (the periodic
+        # trapezoid over each orbit case's sweep): the report's means are radnet's.
+        weight = f["/cases/time_weight"][()] if "/cases/time_weight" in f else None
+        if weight is None and "/solution/time" in f and f["/solution/time"].shape[0] > 1:
+            t = f["/solution/time"][()]  # a network transient: the trapezoid of its output times
+            weight = 0.5 * (np.append(t[1:], t[-1]) - np.insert(t[:-1], 0, t[0]))
+            weight /= weight.sum()
+        self.weights = [weight[span] if weight is not None else np.full(len(span), 1.0 / len(span))
+                        for span in self.spans]
 
 
 def limits_of(result, path):

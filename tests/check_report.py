@@ -5,8 +5,9 @@ usage: check_report.py RADNET SOURCE_DIR WORK_DIR
 
 Checks: every table and figure is written; the report's time-weighted mean temperature of
 each case and node (computed in docs/radnet_report.py from /solution/temperature) equals
-radnet's own /solution/case_temperature_mean (computed in C++), a second method, and min and
-max equal /solution/case_temperature_min/_max, each to the 0.01 K printed (5e-3 K); the envelope
+radnet's own /solution/case_temperature_mean (computed in C++ from the temperatures and
+/cases/time_weight, which the report uses), and min and max equal
+/solution/case_temperature_min/_max, each to the 0.01 K printed (5e-3 K); the envelope
 flags exactly the nodes whose limits the run violates; bad input exits 2.
 """
 import csv

@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <iostream>
 #include <chrono>
+#include <map>
 #include <sstream>
 
 #ifdef _OPENMP
@@ -137,6 +138,21 @@ int runCommand(const RunOptions& o) {
 
 // Every case runs, each into its own file; the worst outcome decides the exit code.
 int runCommands(RunOptions o) {
+  // Two cases with the same file stem would write the same output: the second would replace
+  // the first without a word. Refused before anything runs.
+  std::map<std::string, std::string> output_of;
+  const int clash = guarded([&] {
+    for (const std::string& path : o.case_paths) {
+      o.case_path = path;
+      const std::string out = std::filesystem::weakly_canonical(outputFor(o)).string();
+      const auto [it, fresh] = output_of.emplace(out, path);
+      if (!fresh)
+        throw InputError(path, 0, 0, "writes " + out + ", as " + it->second + " does: give the cases different "
+                                     "file names or run them into different directories");
+    }
+    return 0;
+  });
+  if (clash) return clash;
   int worst = 0;
   for (const std::string& path : o.case_paths) {
     if (o.case_paths.size() > 1) std::cout << "== " << path << "\n" << std::flush;
@@ -309,6 +325,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     app.exit(e);

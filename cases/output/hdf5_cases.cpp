@@ -35,6 +35,10 @@ void writeCaseTemperatures(Hdf5Writer& h5, const DesignCasesResult& cases) {
   h5.attribute("/solution/case_temperature_mean", "meaning",
                std::string("time-weighted mean over each design case's positions (periodic trapezoid rule per orbit "
                            "case, each orbit case weighted by the time its sweep spans)"));
+  h5.writeVector("/cases/time_weight", cases.time_weight, "1");
+  h5.attribute("/cases/time_weight", "meaning",
+               std::string("each position's weight in its design case's time mean (sums to 1 per design case): "
+                           "the weights of /solution/case_temperature_mean"));
   h5.writeVector("/solution/envelope/temperature_min", cases.envelope_min, "K");
   h5.writeVector("/solution/envelope/temperature_max", cases.envelope_max, "K");
   h5.writeIntegers("/solution/envelope/temperature_min_case", cases.envelope_min_case, "1");

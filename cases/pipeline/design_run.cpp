@@ -76,10 +76,15 @@ void caseStatistics(const std::vector<CaseRun>& runs, DesignCasesResult& out) {
   if (runs.empty() || !runs.front().thermal) return;
   const int cases = static_cast<int>(runs.size());
   CaseTemperatures t;
+  std::vector<double> weights;
   for (int k = 0; k < cases; ++k) {
     const CaseRun& run = runs[static_cast<size_t>(k)];
-    setCaseRow(t, k, cases, *run.thermal, run.sweep ? &*run.sweep : nullptr);
+    const SweepResult* sweep = run.sweep ? &*run.sweep : nullptr;
+    setCaseRow(t, k, cases, *run.thermal, sweep);
+    const Eigen::VectorXd w = timeWeights(sweep, run.thermal->times_s, run.thermal->temperature().cols());
+    weights.insert(weights.end(), w.data(), w.data() + w.size());
   }
+  out.time_weight = Eigen::Map<const Eigen::VectorXd>(weights.data(), static_cast<Eigen::Index>(weights.size()));
   out.temperature_min = t.min;
   out.temperature_mean = t.mean;
   out.temperature_max = t.max;

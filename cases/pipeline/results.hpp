@@ -113,6 +113,9 @@ struct DesignCasesResult {
   /// Per design case and thermal node (c×n), K: the minimum over its positions, the
   /// time-weighted orbit mean and the maximum.
   Eigen::MatrixXd temperature_min, temperature_mean, temperature_max;
+  /// (P) with thermal: each position's weight in its design case's time mean (timeWeights;
+  /// they sum to 1 per design case), the weights of temperature_mean
+  Eigen::VectorXd time_weight;
   Eigen::VectorXd envelope_min, envelope_max;            ///< per thermal node over every case, K
   Eigen::VectorXi envelope_min_case, envelope_max_case;  ///< which design case sets each
   std::vector<StageTimings> timings;                     ///< per design case (its sweep, loads, bands, thermal)
