@@ -20,8 +20,9 @@ constexpr double kZeroCelsius = 273.15;
 
 Eigen::VectorXd orZeros(const Hdf5Reader& h5, const std::string& path, Eigen::Index n) {
   if (!h5.has(path)) return Eigen::VectorXd::Zero(n);
-  Eigen::VectorXd v = h5.vector(path);
-  v.conservativeResize(n);
+  const Eigen::VectorXd stored = h5.vector(path);  // optics sets hold the radiative nodes only
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(n);
+  v.head(std::min(n, stored.size())) = stored.head(std::min(n, stored.size()));
   return v;
 }
 
@@ -101,6 +102,11 @@ void readCouplings(const Hdf5Reader& h5, const std::string& gr_group, ExportedNe
 }
 
 void readThermal(const Hdf5Reader& h5, ExportedNetwork& net) {
+  // Without /thermal the deck would lack every conductor and boundary node, and look fine.
+  if (!h5.has("/thermal/conductor_nodes"))
+    throw InputError(h5.path(), 0, 0,
+                     "the result has temperatures but no /thermal group (written by an older radnet): run the case "
+                     "again to export its conductors");
   const auto n = static_cast<Eigen::Index>(net.nodes.size());
   const int p = net.position;
   net.temperature_k = rowOf(h5, "/solution/temperature", p, n);
@@ -128,6 +134,20 @@ std::string number(double v) {
 
 std::string celsius(double k) { return number(k - kZeroCelsius); }
 
+// Deck node numbers: radnet node i is i + 1; the space node (index n) is 99999, or n + 1 on
+// a model that large.
+int deckNumber(const ExportedNetwork& net, int i) {
+  const int n = static_cast<int>(net.nodes.size());
+  return i == n ? std::max(99999, n + 1) : i + 1;
+}
+
+// A node name inside a quoted label or field: the quote it would end is replaced.
+std::string quoted(const std::string& name, char quote) {
+  std::string s = name;
+  std::replace(s.begin(), s.end(), quote, '_');
+  return s;
+}
+
 bool isFixed(const ExportedNetwork& net, Eigen::Index i) { return std::isfinite(net.fixed_temperature_k[i]); }
 
 // The temperature a node starts from (or is held at): radnet's, else 20 °C.
@@ -143,6 +163,9 @@ std::string header(const ExportedNetwork& net, const char* comment) {
     << " (t = " << number(net.time_s) << " s)\n"
     << comment << " " << net.nodes.size() << " nodes + space, " << net.gl.size() << " GL, " << net.gr.size()
     << " GR; heat loads and conductances are those of this position\n";
+  if (net.transient)
+    h << comment << " the temperatures are radnet's transient ones at this position: a steady solve of this deck\n"
+      << comment << " gives the steady state under this position's loads, not these temperatures\n";
   if (net.dropped_gr_share > 0)
     h << comment << " GR below the --min-gr threshold left out: at most " << number(100 * net.dropped_gr_share)
       << " % of a node's sum of GR\n";
@@ -158,6 +181,7 @@ ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& o
   net.nodes = h5.strings("/nodes/name");
   const auto n = static_cast<Eigen::Index>(net.nodes.size());
   net.thermal = h5.has("/solution/temperature");
+  net.transient = h5.textAttribute("/solution/temperature", "mode", "steady") == "transient";
   const int positions = net.thermal ? static_cast<int>(h5.matrix("/solution/temperature").rows()) : 1;
   const std::string gr_group = selectCase(h5, o, net, positions);
   const Eigen::Index radiative = h5.matrix("/network/radiative_exchange").rows();
@@ -179,7 +203,7 @@ ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& o
 
 std::string esatanDeck(const ExportedNetwork& net) {
   std::ostringstream d;
-  const int space = std::max(99999, static_cast<int>(net.nodes.size()) + 1);
+  const int space = deckNumber(net, static_cast<int>(net.nodes.size()));
   d << header(net, "#") << "# Node n is radnet node n−1; temperatures in °C (TABS = 273.15); GR in m²,\n"
     << "# ESATAN applies STEFAN itself; QS, QA, QE: absorbed solar, albedo and Earth IR, W;\n"
     << "# QI: dissipation and heater power at this position, W.\n"
@@ -188,7 +212,7 @@ std::string esatanDeck(const ExportedNetwork& net) {
     const auto i = static_cast<Eigen::Index>(k);
     const double c = net.capacitance_j_k[i];
     const char kind = isFixed(net, i) ? 'B' : c > 0 ? 'D' : 'X';  // boundary, diffusion, arithmetic
-    d << "  " << kind << k + 1 << " = '" << net.nodes[k] << "', T = " << celsius(startTemperature(net, i));
+    d << "  " << kind << k + 1 << " = '" << quoted(net.nodes[k], '\'') << "', T = " << celsius(startTemperature(net, i));
     if (kind == 'D') d << ", C = " << number(c);
     if (!net.lumped[k])
       d << ", A = " << number(net.area_m2[i]) << ", ALP = " << number(net.absorptivity[i])
@@ -199,7 +223,7 @@ std::string esatanDeck(const ExportedNetwork& net) {
     d << ";\n";
   }
   d << "  B" << space << " = 'SPACE', T = " << celsius(net.space_temperature_k) << ";\n$CONDUCTORS\n";
-  const auto id = [&](int i) { return i == static_cast<int>(net.nodes.size()) ? space : i + 1; };
+  const auto id = [&](int i) { return deckNumber(net, i); };
   for (const auto& c : net.gl) d << "  GL(" << id(c.i) << ", " << id(c.j) << ") = " << number(c.value) << ";\n";
   for (const auto& c : net.gr) d << "  GR(" << id(c.i) << ", " << id(c.j) << ") = " << number(c.value) << ";\n";
   d << "$CONSTANTS\n$CONTROL\n  TABS = 273.15;\n  STEFAN = " << number(kStefanBoltzmann) << ";\n"
@@ -210,7 +234,7 @@ std::string esatanDeck(const ExportedNetwork& net) {
 
 std::string sindaDeck(const ExportedNetwork& net) {
   std::ostringstream d;
-  const int space = std::max(99999, static_cast<int>(net.nodes.size()) + 1);
+  const int space = deckNumber(net, static_cast<int>(net.nodes.size()));
   d << header(net, "C") << "C Node n is radnet node n-1; temperatures in deg C (ABSZRO = -273.15).\n"
     << "C Radiation conductors (negative ids) hold sigma * GR, W/K^4, so SIGMA = 1.0 below.\n"
     << "HEADER OPTIONS DATA\nTITLE radnet export: " << net.name << "\n"
@@ -228,7 +252,7 @@ std::string sindaDeck(const ExportedNetwork& net) {
   }
   d << "    -" << space << ", " << celsius(net.space_temperature_k) << ", 0.0    $ SPACE\n";
   d << "HEADER CONDUCTOR DATA, RADNET\n";
-  const auto id = [&](int i) { return i == static_cast<int>(net.nodes.size()) ? space : i + 1; };
+  const auto id = [&](int i) { return deckNumber(net, i); };
   int conductor = 0;
   for (const auto& c : net.gl)
     d << "    " << ++conductor << ", " << id(c.i) << ", " << id(c.j) << ", " << number(c.value) << "    $ GL W/K\n";
@@ -251,7 +275,7 @@ std::vector<std::string> csvTables(const ExportedNetwork& net) {
            "q_solar_W,q_albedo_W,q_earth_ir_W,q_internal_W\n";
   for (size_t k = 0; k < net.nodes.size(); ++k) {
     const auto i = static_cast<Eigen::Index>(k);
-    nodes << k << ",\"" << net.nodes[k] << "\"," << (net.lumped[k] ? "lumped" : "surface") << ","
+    nodes << k << ",\"" << quoted(net.nodes[k], '"') << "\"," << (net.lumped[k] ? "lumped" : "surface") << ","
           << number(net.area_m2[i]) << "," << number(net.emissivity[i]) << "," << number(net.absorptivity[i]) << ","
           << number(net.capacitance_j_k[i]) << "," << number(startTemperature(net, i)) << ","
           << (isFixed(net, i) ? 1 : 0) << "," << number(net.q_solar_w[i]) << "," << number(net.q_albedo_w[i]) << ","

@@ -33,6 +33,7 @@ struct ExportedNetwork {
   double space_temperature_k = 3.0;
   double dropped_gr_share = 0.0;  ///< the largest share of a node's Σ GR left out by min_gr
   bool thermal = false;
+  bool transient = false;  ///< radnet's temperatures come from a transient (a steady solve of the deck differs)
 };
 
 struct ExportOptions {
