@@ -74,6 +74,9 @@ class Result:
             t = f["/solution/time"][()]  # a network transient: the trapezoid of its output times
             weight = 0.5 * (np.append(t[1:], t[-1]) - np.insert(t[:-1], 0, t[0]))
             weight /= weight.sum()
+        if weight is None and self.thermal and max(len(s) for s in self.spans) > 1:
+            sys.stderr.write("radnet report: warning: the result has no /cases/time_weight (an older radnet): "
+                             "means are plain averages over the positions, not radnet's time-weighted ones\n")
         self.weights = [weight[span] if weight is not None else np.full(len(span), 1.0 / len(span))
                         for span in self.spans]
 
