@@ -24,14 +24,14 @@ NodeGroups groupsByKey(const std::vector<std::string>& keys) {
 }
 
 // A primitive's node grid names its cells <primitive>.<i>.<j> (cases/config/primitive_specs.cpp):
-// the cell indices are dropped.
+// the two cell indices are dropped; any other name is its own primitive.
 std::string primitiveOf(const std::string& surface) {
   std::string s = surface;
   for (int k = 0; k < 2; ++k) {
     const size_t dot = s.rfind('.');
-    if (dot == std::string::npos || dot + 1 == s.size() ||
-        s.find_first_not_of("0123456789", dot + 1) != std::string::npos)
-      return k == 2 ? s : surface;
+    const bool index = dot != std::string::npos && dot + 1 < s.size() &&
+                       s.find_first_not_of("0123456789", dot + 1) == std::string::npos;
+    if (!index) return surface;
     s.resize(dot);
   }
   return s;
