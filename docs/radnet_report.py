@@ -15,6 +15,7 @@ Needs Debian's python3-h5py, python3-numpy and python3-matplotlib. Writes into O
   heat_balance.png     orbit-mean heat flows per node and kind, each design case
   envelope.png         min/max per node over the design cases, against the limits
   budget.png           where the run's time went, and its error budget
+  modes.png            the radiative network's exchange modes kept by the eigendecomposition
 Limits: the case file's `limits: {node: [min_K, max_K]}` (/limits), or lines
 "node: [min_K, max_K]" in FILE.yaml.
 Exit: 0 written, 2 not a radnet result (or bad limits), 4 the directory cannot be written.
@@ -277,6 +278,39 @@ def budget_figure(result, out):
     return save(fig, out, "budget.png")
 
 
+def modes_figure(result, out):
+    """The radiative network's exchange modes: the eigenvalues of G = A F the run kept, and
+    how much of G they hold (Σ kept λ² / ‖G‖²_F: 1 means the truncation dropped nothing)."""
+    f = result.f
+    if "/eigen/values" not in f or "/network/conductance" not in f:
+        return None
+    values = np.sort(np.abs(f["/eigen/values"][()]))[::-1]
+    if not np.any(values > 0):  # a single plate: G = 0, no exchange to show
+        return None
+    g = f["/network/conductance"]
+    frobenius = sum(float(np.sum(g[r:r + 512] ** 2)) for r in range(0, g.shape[0], 512))
+    held = np.cumsum(values ** 2) / frobenius
+    bound = float(f["/eigen"].attrs.get("largest_dropped_eigenvalue_bound", 0.0))
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4))
+    k = np.arange(1, len(values) + 1)
+    left.semilogy(k, values, "o-", ms=3, label="kept modes")
+    if bound > 0:
+        left.axhline(bound, color="tab:red", ls="--", label="largest dropped mode (bound)")
+    left.set_xlabel("exchange mode k (strongest first)")
+    left.set_ylabel("|λ_k| of G = A F [m²]")
+    left.set_title(f"{len(values)} of {g.shape[0]} modes kept ({f['/eigen'].attrs['method']})", fontsize=9)
+    left.grid(alpha=0.3, which="both")
+    left.legend(fontsize=8)
+    right.semilogy(k, np.maximum(1 - held, 1e-16), color="tab:green")
+    right.set_xlabel("modes kept")
+    right.set_ylabel("share of ‖G‖² not held, 1 − Σλ²/‖G‖²")
+    right.set_title(f"the kept modes hold {100 * held[-1]:.4g} % of G", fontsize=9)
+    right.grid(alpha=0.3)
+    fig.suptitle(f"{result.name}: radiative exchange modes (one eigendecomposition serves every case)")
+    fig.tight_layout()
+    return save(fig, out, "modes.png")
+
+
 def md_table(headers, rows):
     lines = ["| " + " | ".join(headers) + " |", "|" + "---|" * len(headers)]
     lines += ["| " + " | ".join(rows_i) + " |" for rows_i in rows]
@@ -373,6 +407,9 @@ def main(path, out, limits_path):
         figures.append(envelope_figure(result, low, high, low_case, high_case, limits, out))
     figures += case_figures(result, out, shown)
     figures.append(budget_figure(result, out))
+    modes = modes_figure(result, out)
+    if modes:
+        figures.append(modes)
     md.append("\n## Speed and error\n\n")
     attrs = f["/report"].attrs
     for key_name, label in (("absorbed_uncertainty_max_relative", "largest 1σ of absorbed power (share of orbit max)"),

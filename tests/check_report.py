@@ -31,7 +31,7 @@ run = subprocess.run([radnet, "report", h5, "-o", out, "--limits", limits], capt
 if run.returncode != 0:
     failures.append(f"radnet report exited {run.returncode}: {run.stderr}")
 for name in ("report.md", "temperatures.csv", "heat_flows.csv", "heaters.csv", "envelope.csv", "heat_balance.png",
-             "envelope.png", "hot_temperature.png", "cold_temperature.png", "hot_loads.png", "budget.png"):
+             "envelope.png", "hot_temperature.png", "cold_temperature.png", "hot_loads.png", "budget.png", "modes.png"):
     if not os.path.getsize(os.path.join(out, name)) > 0:
         failures.append(f"{name} missing or empty")
 with h5py.File(h5) as f:
