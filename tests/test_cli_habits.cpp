@@ -2,10 +2,16 @@
 // progress a log can hold, the summary of a large model, exit 4.
 #include "cli_support.hpp"
 
+#include "cases/output/output_guard.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <algorithm>
 #include <fstream>
+
+#include <sys/wait.h>
+#include <unistd.h>
+#include <csignal>
 
 using namespace radnet::test;
 
@@ -93,12 +99,84 @@ TEST_CASE("cli: round-off is not printed as a heat flow") {
   for (const char* tiny : {"e-13", "e-14", "e-15", "e-16", "e-17", "e-18"}) CHECK(table.find(tiny) == std::string::npos);
 }
 
-TEST_CASE("cli: output that cannot be written exits 4 and leaves nothing") {
+TEST_CASE("cli: output that cannot be written exits 4 and leaves nothing, neither the result nor a sidecar") {
   TempDir dir;
-  const Run run = runRadnet("run '" + source("cases/analytic/lumped-nodes.yaml") + "' -o r.h5 -q", dir);
-  REQUIRE(run.exit_code == 0);
-  const Run r = runRadnet("export r.h5 --format esatan -o missing-dir/r.d", dir);
+  // The hot case's ParaView file name is taken by a directory: found only when the sidecars
+  // are written, after the HDF5 file. Exit 4, and neither the result nor any sidecar remains.
+  fs::create_directories(dir.path / "r.hot.xmf");
+  const Run r = runRadnet("run '" + source("cases/examples/cubesat-hot-cold.yaml") + "' -o r.h5 -q", dir);
   CHECK(r.exit_code == 4);
   CHECK(r.err.find("output not written") != std::string::npos);
-  CHECK_FALSE(fs::exists(dir.path / "missing-dir"));
+  CHECK_FALSE(fs::exists(dir.path / "r.h5"));
+  CHECK_FALSE(fs::exists(dir.path / "r.cold.xmf"));
+  CHECK_FALSE(fs::exists(dir.path / "r.xmf"));
+  for (const auto& entry : fs::directory_iterator(dir.path))
+    CHECK(entry.path().filename().string().find(".tmp-") == std::string::npos);
+}
+
+TEST_CASE("cli: -o never replaces an input, a non-regular file or the sidecar's name") {
+  TempDir dir;
+  fs::copy_file(source("cases/analytic/lumped-nodes.yaml"), dir.path / "case.yaml");
+  const std::string before = slurp(dir.path / "case.yaml");
+  const Run input = runRadnet("run case.yaml -o case.yaml -q", dir);
+  CHECK(input.exit_code == 2);
+  CHECK(slurp(dir.path / "case.yaml") == before);
+  const Run sidecar = runRadnet("run case.yaml -o r.xmf -q", dir);
+  CHECK(sidecar.exit_code == 2);
+  CHECK_FALSE(fs::exists(dir.path / "r.xmf"));
+  // A FIFO made here (never a real device file) stands for any non-regular target.
+  REQUIRE(std::system(("mkfifo '" + (dir.path / "pipe.h5").string() + "'").c_str()) == 0);
+  const Run fifo = runRadnet("run case.yaml -o pipe.h5 -q", dir);
+  CHECK(fifo.exit_code == 2);
+  CHECK(fifo.err.find("not a regular file") != std::string::npos);
+  CHECK(fs::is_fifo(dir.path / "pipe.h5"));
+  fs::create_symlink(dir.path / "pipe.h5", dir.path / "link.h5");  // a link to it, too
+  CHECK(runRadnet("run case.yaml -o link.h5 -q", dir).exit_code == 2);
+  // A result given as export's output is refused, not overwritten.
+  REQUIRE(runRadnet("run case.yaml -o r.h5 -q", dir).exit_code == 0);
+  CHECK(runRadnet("export r.h5 --format esatan -o r.h5", dir).exit_code == 2);
+  CHECK(runRadnet("export r.h5 --format esatan -o r.d", dir).exit_code == 0);
+}
+
+TEST_CASE("cli: a run ended by SIGTERM or SIGINT leaves no temporary file") {
+  TempDir dir;
+  for (const char* sig : {"TERM", "INT"}) {
+    INFO(sig);
+    // The hot/cold CubeSat with its 64 optical samples runs for several seconds; the signal
+    // comes while it computes or writes. Either way nothing named *.tmp-* may remain.
+    const std::string cmd = "cd '" + dir.path.string() + "' && ( '" + RADNET_EXE + "' run '" +
+                            source("cases/examples/cubesat-hot-cold.yaml") +
+                            "' -o s.h5 -q > /dev/null 2>&1 & pid=$!; sleep 1.5; kill -" + sig +
+                            " $pid; wait $pid; echo $? > rc.txt )";
+    REQUIRE(std::system(cmd.c_str()) == 0);
+    const int rc = std::stoi(slurp(dir.path / "rc.txt"));
+    CHECK(rc != 0);  // killed (128 + signal), not a success
+    for (const auto& entry : fs::directory_iterator(dir.path))
+      CHECK(entry.path().filename().string().find(".tmp-") == std::string::npos);
+    CHECK_FALSE(fs::exists(dir.path / "s.h5"));
+  }
+}
+
+TEST_CASE("output guard: a signal removes the registered temporary files and ends the process as it would") {
+  TempDir dir;
+  for (int sig : {SIGTERM, SIGINT, SIGHUP}) {
+    INFO(sig);
+    const fs::path temp = dir.path / "out.h5.tmp-1", kept = dir.path / "other.txt";
+    std::ofstream(temp) << "partial";
+    std::ofstream(kept) << "not registered";
+    const pid_t child = fork();
+    REQUIRE(child >= 0);
+    if (child == 0) {  // the child: what radnet does while it writes, then the signal
+      radnet::cases::removeTemporariesOnSignal();
+      radnet::cases::registerTemporary(temp.string());
+      std::raise(sig);
+      _exit(0);  // not reached: the default action ends the process
+    }
+    int status = 0;
+    waitpid(child, &status, 0);
+    CHECK(WIFSIGNALED(status));
+    CHECK(WTERMSIG(status) == sig);
+    CHECK_FALSE(fs::exists(temp));
+    CHECK(fs::exists(kept));
+  }
 }

@@ -4,6 +4,7 @@
 #include "cases/config/errors.hpp"
 #include "cases/output/expectations.hpp"
 #include "cases/output/export.hpp"
+#include "cases/output/output_guard.hpp"
 #include "cases/output/result_files.hpp"
 #include "cases/output/summary.hpp"
 #include "cases/pipeline/geometry_run.hpp"
@@ -45,15 +46,6 @@ struct RunOptions {
 
 std::string defaultOutput(const std::string& case_path) {
   return std::filesystem::path(case_path).stem().string() + ".h5";
-}
-
-// Fails early, before any computing, when the output cannot be written.
-void checkOutputPath(const std::string& out) {
-  const std::filesystem::path dir = std::filesystem::absolute(out).parent_path();
-  if (!std::filesystem::is_directory(dir))
-    throw InputError(out, 0, 0, "output directory '" + dir.string() + "' does not exist");
-  if (::access(dir.c_str(), W_OK) != 0)
-    throw InputError(out, 0, 0, "output directory '" + dir.string() + "' is not writable");
 }
 
 // Runs `body`, mapping each error channel to its exit code with a message on stderr.
@@ -117,7 +109,10 @@ int runCommand(const RunOptions& o) {
   std::ostringstream sink;
   std::ostream& progress = o.quiet ? static_cast<std::ostream&>(sink) : std::cerr;
   const std::string out = outputFor(o);
-  checkOutputPath(out);
+  std::vector<std::string> inputs = {o.case_path};
+  if (c.geometry)
+    for (const auto& [file, text] : c.geometry->included) inputs.push_back(file);
+  checkOutputTarget(out, inputs, c.geometry.has_value());
   double write_s = 0.0;
   if (c.network) {
     const NetworkRunResult r = runNetworkCase(*c.network, progress);
@@ -294,6 +289,7 @@ CLI::App* addExportCommand(CLI::App& app, std::string& export_result, ExportOpti
 }  // namespace
 
 int main(int argc, char** argv) {
+  removeTemporariesOnSignal();  // Ctrl-C, kill or a closed terminal leave no OUT.h5.tmp-PID
   CLI::App app{"radnet: thermal radiation network solver for spacecraft"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("radnet ") + RADNET_VERSION);

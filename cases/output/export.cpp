@@ -2,6 +2,7 @@
 
 #include "cases/config/errors.hpp"
 #include "cases/output/hdf5_reader.hpp"
+#include "cases/output/output_guard.hpp"
 #include "cases/output/xdmf.hpp"
 #include "solver/units.hpp"
 
@@ -303,6 +304,7 @@ std::vector<std::string> exportResult(const std::string& h5_path, const ExportOp
   if (o.format != "esatan" && o.format != "sinda")
     throw InputError(h5_path, 0, 0, "--format '" + o.format + "': expected esatan, sinda or csv");
   const std::string out = o.output.empty() ? stem.string() + (o.format == "esatan" ? ".d" : ".sin") : o.output;
+  checkOutputTarget(out, {h5_path}, false);
   writeTextAtomically(out, o.format == "esatan" ? esatanDeck(net) : sindaDeck(net));
   return {out};
 }

@@ -1,6 +1,7 @@
 #include "cases/output/hdf5_writer.hpp"
 
 #include "cases/config/errors.hpp"
+#include "cases/output/output_guard.hpp"
 
 #include <algorithm>
 
@@ -55,14 +56,19 @@ void writeStringAttribute(hid_t obj, const std::string& name, const std::string&
 Hdf5Writer::Hdf5Writer(std::string final_path) : final_path_(std::move(final_path)) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported by exceptions, not printed
   temp_path_ = final_path_ + ".tmp-" + std::to_string(::getpid());
+  registerTemporary(temp_path_);  // a signal removes it (cases/output/output_guard.hpp)
   file_ = H5Fcreate(temp_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (file_ < 0) throw OutputError("cannot create the output file '" + temp_path_ + "'");
+  if (file_ < 0) {
+    unregisterTemporary(temp_path_);
+    throw OutputError("cannot create the output file '" + temp_path_ + "'");
+  }
 }
 
 Hdf5Writer::~Hdf5Writer() {
   if (!committed_) {
     if (file_ >= 0) H5Fclose(static_cast<hid_t>(file_));
     std::remove(temp_path_.c_str());
+    unregisterTemporary(temp_path_);
   }
 }
 
@@ -238,6 +244,7 @@ void Hdf5Writer::commit() {
   if (std::rename(temp_path_.c_str(), final_path_.c_str()) != 0)
     throw OutputError("cannot rename '" + temp_path_ + "' to '" + final_path_ + "'");
   committed_ = true;
+  unregisterTemporary(temp_path_);
 }
 
 }  // namespace radnet::cases

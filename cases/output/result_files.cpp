@@ -1,8 +1,10 @@
 #include "cases/output/result_files.hpp"
 
+#include "cases/config/errors.hpp"
 #include "cases/output/hdf5_layout.hpp"
 #include "cases/output/xdmf.hpp"
 
+#include <cstdio>
 #include <filesystem>
 
 namespace radnet::cases {
@@ -59,7 +61,12 @@ void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, cons
   const XdmfPlan xdmf = writeXdmfData(h5, c.scene, r, path);
   writeTimings(h5, r.timings);
   h5.commit();
-  writeXdmfFiles(xdmf, path);
+  try {
+    writeXdmfFiles(xdmf, path);
+  } catch (const OutputError&) {
+    std::remove(path.c_str());  // the result and its ParaView files, or neither
+    throw;
+  }
 }
 
 }  // namespace radnet::cases

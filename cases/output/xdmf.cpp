@@ -1,6 +1,7 @@
 #include "cases/output/xdmf.hpp"
 
 #include "cases/config/errors.hpp"
+#include "cases/output/output_guard.hpp"
 
 #include <unistd.h>
 #include <cstdio>
@@ -208,9 +209,17 @@ std::string xdmfText(const XdmfPlan& plan, int series, const std::string& h5) {
 
 void writeXdmfFiles(const XdmfPlan& plan, const std::string& h5_path) {
   const std::string h5 = std::filesystem::path(h5_path).filename().string();
-  for (size_t k = 0; k < plan.series.size(); ++k)
-    writeTextAtomically(plan.series[k].file, xdmfText(plan, static_cast<int>(k), h5));
-  if (!plan.overview_file.empty()) writeTextAtomically(plan.overview_file, xdmfText(plan, -1, h5));
+  std::vector<std::string> written;
+  try {
+    for (size_t k = 0; k < plan.series.size(); ++k) {
+      writeTextAtomically(plan.series[k].file, xdmfText(plan, static_cast<int>(k), h5));
+      written.push_back(plan.series[k].file);
+    }
+    if (!plan.overview_file.empty()) writeTextAtomically(plan.overview_file, xdmfText(plan, -1, h5));
+  } catch (const OutputError&) {
+    for (const std::string& f : written) std::remove(f.c_str());  // all the sidecars or none
+    throw;
+  }
 }
 
 std::string xdmfPathFor(const std::string& h5_path) {
@@ -220,18 +229,20 @@ std::string xdmfPathFor(const std::string& h5_path) {
 
 void writeTextAtomically(const std::string& path, const std::string& text) {
   const std::string temp = path + ".tmp-" + std::to_string(::getpid());
+  registerTemporary(temp);
+  const auto fail = [&](const std::string& message) {
+    std::remove(temp.c_str());
+    unregisterTemporary(temp);
+    throw OutputError(message);
+  };
   {
     std::ofstream out(temp, std::ios::binary);
     out << text;
-    if (!out) {
-      std::remove(temp.c_str());
-      throw OutputError("cannot write '" + temp + "'");
-    }
+    out.flush();
+    if (!out) fail("cannot write '" + temp + "'");  // a full disk shows here, not as a 0-byte file
   }
-  if (std::rename(temp.c_str(), path.c_str()) != 0) {
-    std::remove(temp.c_str());
-    throw OutputError("cannot rename '" + temp + "' to '" + path + "'");
-  }
+  if (std::rename(temp.c_str(), path.c_str()) != 0) fail("cannot rename '" + temp + "' to '" + path + "'");
+  unregisterTemporary(temp);
 }
 
 }  // namespace radnet::cases

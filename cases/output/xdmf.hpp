@@ -62,7 +62,8 @@ XdmfPlan writeXdmfData(Hdf5Writer& h5, const geometry::Scene& scene, const Geome
 /// The text of one series file (`series` < 0: the static overview).
 std::string xdmfText(const XdmfPlan& plan, int series, const std::string& h5_name);
 
-/// Writes every file of the plan (after the HDF5 file is committed).
+/// Writes every file of the plan (after the HDF5 file is committed); on failure removes those
+/// it wrote and throws OutputError.
 void writeXdmfFiles(const XdmfPlan& plan, const std::string& h5_path);
 
 /// The sidecar's path beside the HDF5 file: same folder and stem, extension .xmf.
