@@ -129,6 +129,15 @@ EigenPairs decomposeConductance(const Network& net, const EigenRequest& req) {
   const int cap = req.max_rank > 0 ? std::min(req.max_rank, n) : n;
 
   EigenMethod method = policy::eigenMethod(req.method, n, req.rank);
+  // No exchange at all (a lone flat plate cut into nodes, nodes that see only space): G = 0
+  // has no eigenpair worth keeping, and the iterative solvers fail on a zero matrix.
+  if (net.spectralBound() == 0.0) {
+    EigenPairs none;
+    none.method = method;
+    none.vectors = Eigen::MatrixXd::Zero(n, 0);
+    none.tolerance = req.rank > 0 ? 0.0 : req.tolerance;
+    return none;
+  }
   // Spectra needs nev < n and a Krylov space larger than nev.
   if (method == EigenMethod::Lanczos && (n < 4 || req.rank >= n - 1)) method = EigenMethod::Dense;
 

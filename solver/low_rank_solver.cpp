@@ -22,12 +22,17 @@ Eigen::VectorXd relativeResidual(const Eigen::Ref<const Eigen::MatrixXd>& gm, co
 LowRankBandSolver::LowRankBandSolver(const Network& net, const EigenPairs& pairs, Eigen::VectorXd reflectance)
     : net_(net), rho_(std::move(reflectance)), values_(pairs.values), vectors_(pairs.vectors) {
   checkRange(net, rho_, "reflectance", 0.0, 1.0);
-  if (pairs.status != Status::Converged || pairs.rank() == 0 || vectors_.rows() != net.size()) {
+  if (pairs.status != Status::Converged || vectors_.rows() != net.size()) {
     status_ = pairs.status == Status::Converged ? Status::Singular : pairs.status;
-    message_ = "no usable eigenpairs: " + (pairs.message.empty() ? std::string("rank 0") : pairs.message);
+    message_ = "no usable eigenpairs: " +
+               (pairs.message.empty() ? "vectors of " + std::to_string(vectors_.rows()) + " rows" : pairs.message);
     return;
   }
   sqrt_rho_ = rho_.cwiseSqrt();
+  if (pairs.rank() == 0) {  // G'_0 = 0 (no exchange worth a pair): H' = 0, refinement sees the full G
+    core_.resize(0, 0);
+    return;
+  }
   const Eigen::VectorXd s = rho_.cwiseQuotient(net.area());
   // W = Vᵀ S V (k×k) costs O(n k²); then C = (I − Λ W)⁻¹ Λ = Λ (I − W Λ)⁻¹ (push-through).
   // As (S^½ V)ᵀ (S^½ V): one symmetric rank-k update, half the products of a general one.

@@ -155,3 +155,26 @@ TEST_CASE("rank from a tolerance: the a-priori bound ‖S (G − G'_k)‖₂ ≤
     }
   }
 }
+
+TEST_CASE("a network with no exchange at all (G = 0) keeps rank 0 and solves exactly: M = M_o, H = 0") {
+  // 500 nodes of one flat plate: every view factor is 0. The iterative eigensolvers fail on a
+  // zero matrix ("TridiagEigen failed" before); none is needed.
+  const int n = 500;
+  std::vector<std::string> names;
+  for (int i = 0; i < n; ++i) names.push_back("cell" + std::to_string(i));
+  const solver::Network net(names, Eigen::VectorXd::Constant(n, 0.002), Eigen::MatrixXd::Zero(n, n));
+  for (int rank : {0, 20}) {
+    INFO("requested rank " << rank);
+    solver::EigenRequest req;
+    req.rank = rank;
+    const solver::EigenPairs pairs = solver::decomposeConductance(net, req);
+    REQUIRE(pairs.status == solver::Status::Converged);
+    CHECK(pairs.rank() == 0);
+    const solver::LowRankBandSolver band(net, pairs, Eigen::VectorXd::Constant(n, 0.3));
+    const Eigen::MatrixXd mo = Eigen::MatrixXd::Random(n, 3).cwiseAbs();
+    const solver::BandSolution s = band.solve(mo, 1e-12, 50);
+    REQUIRE(s.status == solver::Status::Converged);
+    CHECK((s.exitance - mo).cwiseAbs().maxCoeff() == 0.0);
+    CHECK(s.irradiance.cwiseAbs().maxCoeff() == 0.0);
+  }
+}

@@ -22,9 +22,11 @@ NetworkRunResult runNetworkCase(const NetworkCase& c, std::ostream& progress) {
   Eigen::VectorXd rho_max = c.reflectance;
   if (c.emissivity) rho_max = rho_max.cwiseMax(Eigen::VectorXd::Ones(net.size()) - *c.emissivity);
   r.radiative.pairs = decomposeNetwork(net, rho_max, c.solver, r.timings);
-  progress << "radnet: " << r.radiative.pairs.rank() << " eigenpairs (" << solver::toString(r.radiative.pairs.method)
-           << "), largest |λ| " << std::abs(r.radiative.pairs.values[0]) << " m², largest dropped ≤ "
-           << r.radiative.pairs.dropped_bound << " m²\n";
+  const solver::EigenPairs& pairs = r.radiative.pairs;
+  progress << "radnet: " << pairs.rank() << " eigenpairs (" << solver::toString(pairs.method) << ")";
+  if (pairs.rank() > 0) progress << ", largest |λ| " << std::abs(pairs.values[0]) << " m²";
+  else progress << ": no exchange between the nodes (G = 0)";
+  progress << ", largest dropped ≤ " << pairs.dropped_bound << " m²\n";
 
   StageTimer t_band(r.timings, Stage::BandSolves);
   const solver::LowRankBandSolver band(net, r.radiative.pairs, c.reflectance);
