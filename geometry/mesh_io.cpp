@@ -144,6 +144,15 @@ void checkStlCount(const std::string& path) {
                         " (truncated, or a wrong count)");
 }
 
+// Only regular files: a FIFO would block the run forever and a device such as /dev/zero
+// would be read without end.
+void checkRegularFile(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw GeometryError(path + ": mesh file not found");
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw GeometryError(path + ": not a regular file (a FIFO, device or directory cannot be a mesh)");
+}
+
 void checkScale(double scale, const std::string& path) {
   if (!(std::isfinite(scale) && scale > 0)) throw GeometryError(path + ": scale must be a finite value > 0");
 }
@@ -155,7 +164,7 @@ TriangleSoup readMesh(const std::string& path, double scale) {
   const std::string ext = lowerExtension(path);
   if (ext != ".off" && ext != ".obj" && ext != ".stl" && ext != ".ply")
     throw GeometryError(path + ": unknown mesh format '" + ext + "'; expected .off, .obj, .stl or .ply");
-  if (!std::filesystem::exists(path)) throw GeometryError(path + ": mesh file not found");
+  checkRegularFile(path);
   if (ext == ".ply") checkPlyHeader(path);
   if (ext == ".off") checkOffCounts(path);
   if (ext == ".stl") checkStlCount(path);
@@ -235,6 +244,7 @@ MeshGroup objGroup(const std::string& name, const std::vector<std::vector<int>>&
 
 std::vector<MeshGroup> readObjGroups(const std::string& path, double scale) {
   checkScale(scale, path);
+  checkRegularFile(path);
   std::ifstream in(path);
   if (!in) throw GeometryError(path + ": mesh file not found or unreadable");
   std::vector<Vec3> vertices;

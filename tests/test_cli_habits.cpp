@@ -180,3 +180,24 @@ TEST_CASE("output guard: a signal removes the registered temporary files and end
     CHECK(fs::exists(kept));
   }
 }
+
+TEST_CASE("cli: only regular files are read, and --threads is bounded") {
+  TempDir dir;
+  // FIFOs made here stand for any non-regular input (never a real device file): reading one
+  // would block forever, so each run is bounded by `timeout` and must be refused at once.
+  REQUIRE(std::system(("mkfifo '" + (dir.path / "case.yaml").string() + "' '" + (dir.path / "part.stl").string() +
+                       "'").c_str()) == 0);
+  const Run c = runRadnet("validate case.yaml", dir);
+  CHECK(c.exit_code == 2);
+  CHECK(c.err.find("not a regular file") != std::string::npos);
+  std::ofstream(dir.path / "mesh.yaml") << R"(name: fifo-mesh
+materials: {black: {emissivity: 0.9, absorptivity: 0.9}}
+geometry:
+  - mesh: {name: part, file: part.stl, front: black}
+)";
+  const Run m = runRadnet("validate mesh.yaml", dir);
+  CHECK(m.exit_code == 2);
+  CHECK(m.err.find("not a regular file") != std::string::npos);
+  const Run t = runRadnet("run '" + source("cases/analytic/lumped-nodes.yaml") + "' --threads 65535 -q", dir);
+  CHECK(t.exit_code == 2);
+}

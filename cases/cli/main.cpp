@@ -258,7 +258,8 @@ CLI::App* addRunCommand(CLI::App& app, RunOptions& run_options) {
                   "output HDF5 file, or an existing directory for <case stem>.h5 (default: <case stem>.h5 here)");
   run->add_flag("--all", run_options.all_nodes, "every node in the summary (default: extremes and groups above 40)");
   run->add_flag("-q,--quiet", run_options.quiet, "no progress on stderr");
-  run->add_option("--threads", run_options.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+  run->add_option("--threads", run_options.threads, "worker threads (0: all cores; at most 1024)")
+      ->check(CLI::Range(0, 1024));  // 65535 crashed libgomp; no machine radnet runs on has more
   run->add_option("--seed", run_options.seed, "random seed for ray casting (overrides the case)")
       ->check(CLI::Validator(
           [](const std::string& text) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <limits>
@@ -52,6 +53,10 @@ std::optional<std::string> nearestWord(const std::string& word, std::initializer
 }
 
 YamlDocument YamlDocument::load(const std::string& path) {
+  // Only regular files: a FIFO would block forever and /dev/zero would be read without end.
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw InputError(path, 0, 0, "not a regular file (a FIFO, device or directory cannot be a case or an include)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, 0, "cannot open the file for reading");
   std::ostringstream buf;
