@@ -2,6 +2,7 @@
 // Exit codes: 0 success, 1 a check failed, 2 bad input, 3 numerical failure.
 #include "cases/config/case_file.hpp"
 #include "cases/config/errors.hpp"
+#include "cases/config/work_estimate.hpp"
 #include "cases/output/expectations.hpp"
 #include "cases/output/export.hpp"
 #include "cases/output/output_guard.hpp"
@@ -17,6 +18,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <cstdlib>
+#include <iomanip>
 #include <iostream>
 #include <chrono>
 #include <map>
@@ -165,7 +167,11 @@ int validateCommand(const std::vector<std::string>& paths) {
                        if (c.geometry)
                          for (const auto& w : c.geometry->scene.warnings())
                            std::cerr << path << ": warning: " << w << "\n";
-                       std::cout << path << ": valid (" << c.nodeCount() << " nodes)\n";
+                       std::cout << path << ": valid (" << c.nodeCount() << " nodes";
+                       if (c.geometry)  // cases/config/work_estimate.hpp
+                         std::cout << "; about " << std::setprecision(3) << estimateWork(*c.geometry).total() / 1e9
+                                   << " GB of memory";
+                       std::cout << ")\n";
                        return 0;
                      }));
   return worst;

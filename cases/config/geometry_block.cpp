@@ -2,6 +2,7 @@
 #include "cases/config/expect_block.hpp"
 #include "cases/config/geometry_case.hpp"
 #include "cases/config/primitive_specs.hpp"
+#include "cases/config/work_estimate.hpp"
 
 #include <filesystem>
 
@@ -220,6 +221,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
   parseLimits(doc, c);
   applyShells(c);
   applyErrorBudget(c);
+  checkWorkEstimate(doc, c);
   if (root["expect"])
     c.expectations =
         parseExpectations(doc, root["expect"], c.node_names, c.thermal ? c.thermal->node_names : c.node_names);

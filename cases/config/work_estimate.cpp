@@ -1,0 +1,76 @@
+#include "cases/config/work_estimate.hpp"
+
+#include <unistd.h>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace radnet::cases {
+namespace {
+
+std::string gigabytes(double bytes) {
+  std::ostringstream s;
+  s.precision(3);
+  s << bytes / 1e9 << " GB";
+  return s.str();
+}
+
+double physicalMemory() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page) : 0.0;
+}
+
+}  // namespace
+
+WorkEstimate estimateWork(const GeometryCase& c) {
+  WorkEstimate w;
+  const double n = static_cast<double>(c.scene.nodes().size());
+  const double triangles = static_cast<double>(c.scene.faces().size());
+  const double thermal_nodes = c.thermal ? static_cast<double>(c.thermal->nodeCount()) : n;
+  // F, F raw, σ(F), G and GR of the base set (8 bytes each), one more GR per further set.
+  w.dense_bytes = 8.0 * n * n * (5.0 + static_cast<double>(c.optical_sets.size() - 1));
+  for (const DesignCase& d : c.design_cases) {
+    if (!d.orbit) continue;
+    const orbits::SweepOptions& s = d.orbit->sweep;
+    // Positions per orbit and up to four inserted eclipse entries and exits per orbit.
+    const double per_case = s.positions_per_orbit * s.orbits + 4.0 * std::ceil(s.orbits);
+    w.positions += static_cast<long long>(std::min(per_case * static_cast<double>(d.orbit->cases.size()), 9e18));
+    // Rays given: at most every one a hit point, 24 B. By the error budget: 64 kB per node at
+    // a load error of 0.005 (the satellite benchmarks' peaks, docs/benchmarks.md), rays going
+    // as the inverse square of the error, at most kMaxPlanetRays.
+    const orbits::EnvironmentOptions& env = d.orbit->environment;
+    const double budget = env.relative_error > 0 ? 64e3 * std::pow(0.005 / env.relative_error, 2) : 0.0;
+    const double per_node = env.planet_rays > 0 ? 24.0 * static_cast<double>(env.planet_rays)
+                                                : std::min(budget, 24.0 * static_cast<double>(orbits::kMaxPlanetRays));
+    w.planet_bytes = std::max(w.planet_bytes, per_node * n);  // cast once per case, then freed
+  }
+  // About 25 per-node series (loads, irradiances, heat flows, temperature; several kept twice
+  // while cases are joined) and 4 per-triangle ParaView copies on two sides.
+  w.position_bytes = 8.0 * static_cast<double>(w.positions) * (25.0 * thermal_nodes + 8.0 * triangles);
+  return w;
+}
+
+void checkWorkEstimate(const YamlDocument& doc, const GeometryCase& c, double memory_bytes) {
+  if (memory_bytes <= 0) memory_bytes = physicalMemory();
+  if (memory_bytes <= 0) return;  // unknown: nothing to compare with
+  const WorkEstimate w = estimateWork(c);
+  if (w.total() <= memory_bytes) return;
+  const YAML::Node& root = doc.root();
+  std::string where = "geometry";
+  YAML::Node at = root["geometry"];
+  if (w.planet_bytes >= std::max(w.dense_bytes, w.position_bytes) && root["environment"] &&
+      root["environment"]["planet_rays"]) {
+    where = "environment.planet_rays", at = root["environment"]["planet_rays"];
+  } else if (w.position_bytes >= w.dense_bytes && root["orbit"]) {
+    where = "orbit", at = root["orbit"]["positions"] ? root["orbit"]["positions"] : root["orbit"];
+  }
+  std::ostringstream m;
+  m << where << ": this case would need about " << gigabytes(w.total()) << " of memory (" << gigabytes(w.dense_bytes)
+    << " for the " << c.scene.nodes().size() << "-node matrices, " << gigabytes(w.planet_bytes)
+    << " for planet-ray hit points, " << gigabytes(w.position_bytes) << " for " << w.positions
+    << " positions), more than this machine's " << gigabytes(memory_bytes)
+    << ": fewer nodes, planet rays, positions or design cases";
+  throw doc.error(at, m.str());
+}
+
+}  // namespace radnet::cases

@@ -1,0 +1,25 @@
+#pragma once
+// The memory a geometry case will need, estimated from its counts before anything is computed
+// (docs/limits.md): a case that cannot fit this machine is refused at once, at the key that
+// makes it large, instead of failing late (bad_alloc in a worker, hours in).
+#include "cases/config/geometry_case.hpp"
+#include "cases/config/yaml_document.hpp"
+
+namespace radnet::cases {
+
+struct WorkEstimate {
+  double dense_bytes = 0;     ///< n×n matrices: F, its raw estimate and σ, G, GR per optical set
+  double planet_bytes = 0;    ///< planet-ray hit points kept for the reuse over positions (24 B each)
+  double position_bytes = 0;  ///< per-position results: loads, heat flows, temperatures, ParaView copies
+  long long positions = 0;    ///< over every design and orbit case
+  double total() const { return dense_bytes + planet_bytes + position_bytes; }
+};
+
+WorkEstimate estimateWork(const GeometryCase& c);
+
+/// @throws InputError, located at `geometry`, `environment.planet_rays` or `orbit.positions`
+///         (whichever dominates), when the estimate exceeds `memory_bytes` (default: this
+///         machine's physical memory)
+void checkWorkEstimate(const YamlDocument& doc, const GeometryCase& c, double memory_bytes = 0);
+
+}  // namespace radnet::cases
