@@ -4,6 +4,9 @@
 #include "cases/config/primitive_specs.hpp"
 #include "cases/config/work_estimate.hpp"
 
+#include <cmath>
+#include <iomanip>
+#include <sstream>
 #include <filesystem>
 
 namespace radnet::cases {
@@ -160,6 +163,35 @@ void parseGeometryList(const YamlDocument& doc, const YAML::Node& geom, const st
   }
 }
 
+// Coordinates within 1000 km of the body origin (a spacecraft in metres; 35786 written for
+// km, or 1e80, would make ray offsets, which scale with the largest coordinate, swamp the
+// parts), and every triangle at least 1e-9 of that largest coordinate across (a 1e-9 m part
+// 1e6 m from the origin is below what a double resolves there: its view factors came out 0).
+std::string metres(double v) {
+  std::ostringstream s;
+  s << std::setprecision(6) << v << " m";
+  return s.str();
+}
+
+void checkSceneScale(const YamlDocument& doc, const YAML::Node& geom, const geometry::Scene& scene) {
+  constexpr double kMaxCoordinate = 1e6, kMinRelativeSize = 1e-9;
+  double largest = 0.0;
+  for (const auto& f : scene.faces())
+    for (const auto& v : f.v) largest = std::max(largest, v.cwiseAbs().maxCoeff());
+  if (!(largest <= kMaxCoordinate))
+    throw doc.error(geom, "geometry: a coordinate of " + metres(largest) +
+                              " lies beyond 1000 km of the origin: the model is in metres, in the body frame "
+                              "(millimetres or kilometres meant? use a mesh's scale)");
+  for (const auto& f : scene.faces()) {
+    const double size = std::sqrt(2.0 * f.area_m2);
+    if (size < kMinRelativeSize * largest)
+      throw doc.error(geom, "geometry: a triangle of surface '" + scene.surfaceNames()[static_cast<size_t>(f.surface)] +
+                                "' is " + metres(size) + " across, below 1e-9 of the largest coordinate (" +
+                                metres(largest) + "): too small to resolve there; move the model "
+                                "near the origin or scale it");
+  }
+}
+
 // The scene's nodes get their names and their material's optical properties.
 void assignNodeMaterials(GeometryCase& c, const std::map<std::string, std::string>& node_material) {
   const int n = static_cast<int>(c.scene.nodes().size());
@@ -202,6 +234,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
   } catch (const geometry::GeometryError& e) {
     throw doc.error(geom, std::string("geometry: ") + e.what());
   }
+  checkSceneScale(doc, geom, c.scene);
   assignNodeMaterials(c, ctx.node_material);
   parseOpticalSets(doc, c);
 
