@@ -1,4 +1,5 @@
 // Primitives, scene validation and mesh files.
+#include "geometry/coincidence.hpp"
 #include "geometry/mesh_io.hpp"
 #include "geometry/primitives.hpp"
 #include "geometry/ray_caster.hpp"
@@ -264,4 +265,37 @@ TEST_CASE("a closed shell whose fronts face inward is reported; outward or named
   CHECK(warned(inward));
   CHECK_FALSE(warned(cavity));
   CHECK_FALSE(warned(open));
+}
+
+TEST_CASE("coincident surfaces: a radiator laid on a face is found, lifted or back to back it is not") {
+  const auto withRadiator = [](double lift, bool flipped, const std::string& back) {
+    Scene s;
+    s.addSurface("face", "rectangle 'face'", rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 4, 4), "face", back);
+    // 0.6 × 0.6 m on the face; `flipped`: its front faces the other way (−z).
+    const TriangleSoup rad = flipped ? rectangle(Vec3(0.2, 0.2, lift), Vec3(0, 0.6, 0), Vec3(0.6, 0, 0), 3, 3)
+                                     : rectangle(Vec3(0.2, 0.2, lift), Vec3(0.6, 0, 0), Vec3(0, 0.6, 0), 3, 3);
+    s.addSurface("radiator", "rectangle 'radiator'", rad, "radiator", "");
+    return coincidentFaces(s, 1000);
+  };
+  const std::vector<Coincidence> on = withRadiator(0.0, false, "");
+  REQUIRE_FALSE(on.empty());
+  double overlap = 0.0;
+  for (const Coincidence& c : on) overlap += c.overlap_m2;
+  CHECK(overlap == Approx(0.36).epsilon(1e-9));  // the radiator's whole area, counted once per pair
+  CHECK(withRadiator(1e-3, false, "").empty());   // lifted by 1 mm: two surfaces, rays tell them apart
+  CHECK(withRadiator(0.0, true, "").empty());     // back to back: each side sees its own half-space
+  CHECK_FALSE(withRadiator(0.0, true, "face.back").empty());  // unless the face's back faces that way too
+
+  // The same triangle in two meshes (a part exported twice): found, its whole area.
+  Scene dup;
+  const TriangleSoup soup = rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 1, 1);
+  dup.addSurface("m1", "mesh 'm1'", soup, "m1", "");
+  dup.addSurface("m2", "mesh 'm2'", soup, "m2", "");
+  const std::vector<Coincidence> twice = coincidentFaces(dup, 1000);
+  REQUIRE(twice.size() == 2);  // each of the two triangles, with its copy
+  CHECK(twice[0].overlap_m2 + twice[1].overlap_m2 == Approx(1.0).epsilon(1e-12));
+  // Adjacent triangles of one rectangle share an edge, not an area.
+  Scene plain;
+  plain.addSurface("p", "rectangle 'p'", rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 20, 20), "p", "p.back");
+  CHECK(coincidentFaces(plain).empty());
 }

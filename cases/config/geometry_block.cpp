@@ -3,6 +3,7 @@
 #include "cases/config/geometry_case.hpp"
 #include "cases/config/primitive_specs.hpp"
 #include "cases/config/work_estimate.hpp"
+#include "geometry/coincidence.hpp"
 
 #include <cmath>
 #include <iomanip>
@@ -173,6 +174,12 @@ std::string metres(double v) {
   return s.str();
 }
 
+std::string squareMetres(double v) {
+  std::ostringstream s;
+  s << std::setprecision(4) << v << " m²";
+  return s.str();
+}
+
 void checkSceneScale(const YamlDocument& doc, const YAML::Node& geom, const geometry::Scene& scene) {
   constexpr double kMaxCoordinate = 1e6, kMinRelativeSize = 1e-9;
   double largest = 0.0;
@@ -190,6 +197,22 @@ void checkSceneScale(const YamlDocument& doc, const YAML::Node& geom, const geom
                                 metres(largest) + "): too small to resolve there; move the model "
                                 "near the origin or scale it");
   }
+}
+
+// Coincident surfaces with a side facing the same way double every load and exchange of
+// their overlap (geometry/coincidence.hpp): refused, naming both.
+void checkCoincidentSurfaces(const YamlDocument& doc, const YAML::Node& geom, const geometry::Scene& scene) {
+  const std::vector<geometry::Coincidence> found = geometry::coincidentFaces(scene, 1);
+  if (found.empty()) return;
+  const auto surface = [&](int face) {
+    return scene.surfaceNames()[static_cast<size_t>(scene.faces()[static_cast<size_t>(face)].surface)];
+  };
+  const std::string a = surface(found[0].face_a), b = surface(found[0].face_b);
+  throw doc.error(geom, "geometry: " + (a == b ? "surface '" + a + "' holds two coincident triangles"
+                                               : "surfaces '" + a + "' and '" + b + "' coincide") +
+                            " (at least " + squareMetres(found[0].overlap_m2) + " of overlap in one plane, a side of each facing the same way): rays cannot tell them "
+                            "apart, so both would take the full sun there; offset one (a radiator on a box face: "
+                            "make it the face's material, or lift it by its thickness)");
 }
 
 // The scene's nodes get their names and their material's optical properties.
@@ -235,6 +258,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
     throw doc.error(geom, std::string("geometry: ") + e.what());
   }
   checkSceneScale(doc, geom, c.scene);
+  checkCoincidentSurfaces(doc, geom, c.scene);
   assignNodeMaterials(c, ctx.node_material);
   parseOpticalSets(doc, c);
 
