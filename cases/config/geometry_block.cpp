@@ -80,6 +80,16 @@ const PrimitiveSpec& primitiveSpec(const YamlDocument& doc, const YAML::Node& ke
   throw doc.error(key, msg + "; expected " + expected);
 }
 
+// '.' joins the names radnet derives from a primitive (<name>.back, a box's <name>.+x, a
+// grid's <name>.<i>.<j>): a rectangle named bus.+x would silently merge into the box's face.
+void checkPrimitiveName(const YamlDocument& doc, const YAML::Node& p, const std::string& what, const std::string& name) {
+  if (name.find('.') != std::string::npos)
+    throw doc.error(p["name"], what + ".name: '" + name + "' contains '.', which is reserved for the node names "
+                                      "radnet derives from a primitive (<name>.back, a box's <name>.+x, a grid's "
+                                      "<name>.<i>.<j>); to add triangles to an existing node, name the surface "
+                                      "exactly as that node's primitive");
+}
+
 // One `- <primitive>: {...}` entry: keys checked against its spec, sides' materials, then
 // its builder adds the surfaces to the scene.
 void parsePrimitive(const YamlDocument& doc, const YAML::Node& entry, const std::string& where, GeometryContext& ctx) {
@@ -92,13 +102,7 @@ void parsePrimitive(const YamlDocument& doc, const YAML::Node& entry, const std:
   allowed.insert(allowed.end(), spec.keys.begin(), spec.keys.end());
   doc.expectMap(p, what, allowed);
   const std::string name = doc.string(doc.required(p, "name", what), what + ".name");
-  // '.' joins the names radnet derives from a primitive (<name>.back, a box's <name>.+x, a
-  // grid's <name>.<i>.<j>): a rectangle named bus.+x would silently merge into the box's face.
-  if (name.find('.') != std::string::npos)
-    throw doc.error(p["name"], what + ".name: '" + name + "' contains '.', which is reserved for the node names "
-                                      "radnet derives from a primitive (<name>.back, a box's <name>.+x, a grid's "
-                                      "<name>.<i>.<j>); to add triangles to an existing node, name the surface "
-                                      "exactly as that node's primitive");
+  checkPrimitiveName(doc, p, what, name);
   const std::string front = materialOf(doc, p["front"], what + ".front", ctx);
   const std::string back = materialOf(doc, p["back"], what + ".back", ctx);
   // Neither side naming a material: a pure occluder (it blocks rays and belongs to no node).
