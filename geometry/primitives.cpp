@@ -103,6 +103,7 @@ void grid(TriangleSoup& soup, int rows, int cols, bool wrap_cols, F&& point) {
 // disc or sphere, from `center` itself) so that the facetted area matches `exact`.
 void preserveArea(TriangleSoup& soup, const Vec3& center, const Vec3& axis, bool radial_only, double exact) {
   const std::vector<Vec3> original = soup.vertices;
+  soup.nominal = original;
   auto apply = [&](double s) {
     for (size_t k = 0; k < original.size(); ++k) {
       const Vec3 d = original[k] - center;

@@ -134,6 +134,11 @@ void Scene::addSurface(const std::string& surface, const std::string& label, con
   // without forming a manifold, and each surface stays one connected piece.
   std::vector<Mesh::Vertex_index> vids;
   for (const auto& v : soup.vertices) vids.push_back(mesh_.add_vertex(Point3(v.x(), v.y(), v.z())));
+  const bool has_nominal = soup.nominal.size() == soup.vertices.size();
+  for (size_t k = 0; k < soup.vertices.size(); ++k) {
+    nominal_.push_back(has_nominal ? soup.nominal[k] : soup.vertices[k]);
+    vertex_surface_.push_back(surface_id);
+  }
   // Looked up by name each time: a stored handle would dangle when the scene is copied.
   auto face_id = mesh_.add_property_map<Mesh::Face_index, int>("f:radnet_face", -1).first;
   for (size_t t = 0; t < added.size(); ++t) {
@@ -200,6 +205,32 @@ Eigen::VectorXi Scene::backNodes() const {
   Eigen::VectorXi out(static_cast<Eigen::Index>(faces_.size()));
   for (size_t i = 0; i < faces_.size(); ++i) out[static_cast<Eigen::Index>(i)] = faces_[i].back_node;
   return out;
+}
+
+void Scene::moveVertices(const std::vector<std::pair<int, Vec3>>& moves) {
+  if (moves.empty()) return;
+  for (const auto& [v, p] : moves) mesh_.point(Mesh::Vertex_index(static_cast<Mesh::size_type>(v))) = Point3(p.x(), p.y(), p.z());
+  const Eigen::MatrixXi tri = triangleMatrix();
+  for (auto& n : nodes_) n.area_m2 = 0.0;
+  for (size_t i = 0; i < faces_.size(); ++i) {
+    Face& f = faces_[i];
+    for (int k = 0; k < 3; ++k) {
+      const Point3& p = mesh_.point(Mesh::Vertex_index(static_cast<Mesh::size_type>(tri(static_cast<Eigen::Index>(i), k))));
+      f.v[static_cast<size_t>(k)] = Vec3(p.x(), p.y(), p.z());
+    }
+    const Vec3 cross = (f.v[1] - f.v[0]).cross(f.v[2] - f.v[0]);
+    const double twice_area = cross.norm();
+    if (!(twice_area > 0) || cross.dot(f.normal) <= 0) {
+      std::ostringstream s;
+      s << "surface '" << surfaces_[static_cast<size_t>(f.surface)] << "': triangle " << i
+        << " degenerates or flips where its seam with another surface is closed";
+      throw GeometryError(s.str());
+    }
+    f.normal = cross / twice_area;
+    f.area_m2 = 0.5 * twice_area;
+    if (f.front_node >= 0) nodes_[static_cast<size_t>(f.front_node)].area_m2 += f.area_m2;
+    if (f.back_node >= 0) nodes_[static_cast<size_t>(f.back_node)].area_m2 += f.area_m2;
+  }
 }
 
 double Scene::extent() const {

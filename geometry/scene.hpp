@@ -29,6 +29,10 @@ class GeometryError : public std::invalid_argument {
 struct TriangleSoup {
   std::vector<Vec3> vertices;
   std::vector<std::array<int, 3>> triangles;
+  /// Where each vertex lies on the exact surface, before an area-preserving primitive moved
+  /// it off (geometry/primitives.hpp); empty: the vertices themselves. Two surfaces whose
+  /// nominal vertices coincide meet there by design (geometry/seams.hpp).
+  std::vector<Vec3> nominal;
 };
 
 /// A thermal node: a set of triangle sides.
@@ -80,6 +84,15 @@ class Scene {
   /// Longest extent of the bounding box, m (scale for ray offsets and tolerances).
   double extent() const;
 
+  /// Mesh vertex v's nominal position (TriangleSoup::nominal) and the surface it belongs to.
+  const Vec3& nominalPoint(int v) const { return nominal_[static_cast<size_t>(v)]; }
+  int vertexSurface(int v) const { return vertex_surface_[static_cast<size_t>(v)]; }
+
+  /// Moves mesh vertices (index, new position in m) and updates every face on them, its
+  /// normal and area, and the nodes' areas.
+  /// @throws GeometryError when a moved triangle degenerates or flips
+  void moveVertices(const std::vector<std::pair<int, Vec3>>& moves);
+
  private:
   int nodeFor(const std::string& name, int side, const std::string& label);
 
@@ -88,6 +101,8 @@ class Scene {
   std::vector<Node> nodes_;
   std::vector<std::string> surfaces_;
   std::vector<std::string> warnings_;
+  std::vector<Vec3> nominal_;        ///< per mesh vertex
+  std::vector<int> vertex_surface_;  ///< per mesh vertex
 };
 
 }  // namespace radnet::geometry

@@ -3,6 +3,8 @@
 #include "geometry/mesh_io.hpp"
 #include "geometry/primitives.hpp"
 #include "geometry/ray_caster.hpp"
+#include "geometry/seams.hpp"
+#include "geometry/view_factors.hpp"
 #include "geometry/shell.hpp"
 
 #include "temp_dir.hpp"
@@ -298,4 +300,101 @@ TEST_CASE("coincident surfaces: a radiator laid on a face is found, lifted or ba
   Scene plain;
   plain.addSurface("p", "rectangle 'p'", rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 20, 20), "p", "p.back");
   CHECK(coincidentFaces(plain).empty());
+}
+
+namespace {
+
+// Rays leaving each node that reach space, by 20,000 rays per node.
+Eigen::VectorXd spaceFraction(const Scene& scene) {
+  const RayCaster caster(scene);
+  ViewFactorOptions o;
+  o.rays_per_node = 20000;
+  o.seed = 3;
+  return computeViewFactors(caster, o).space;
+}
+
+// A can of radius 1 m, height 1 m, `segments` facets round, closed by two discs: the inside
+// (cylinder back, disc fronts) is an enclosure.
+Scene closedCan(int segments) {
+  Scene s;
+  s.addSurface("wall", "cylinder 'wall'", cylinder(Vec3(0, 0, 0), Vec3(0, 0, 1), 1.0, {}, 1, segments), "", "wall.back");
+  s.addSurface("bottom", "disc 'bottom'", disc(Vec3(0, 0, 0), Vec3(0, 0, 1), 1.0, 0.0, {}, 1, segments), "bottom", "");
+  s.addSurface("top", "disc 'top'", disc(Vec3(0, 0, 1), Vec3(0, 0, -1), 1.0, 0.0, {}, 1, segments), "top", "");
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("seams: a can closed by two discs and a dome on its base disc are enclosures once their rims meet") {
+  for (const int segments : {8, 24}) {
+    INFO("segments " << segments);
+    Scene can = closedCan(segments);
+    // Before: each primitive kept its own area by its own radial factor, so the rims are
+    // apart by (sqrt(2π/(N sin(2π/N))) − π/(N sin(π/N))) R and the inside sees space there.
+    const double n = segments;
+    const double gap = std::sqrt(2 * M_PI / (n * std::sin(2 * M_PI / n))) - M_PI / (n * std::sin(M_PI / n));
+    const Eigen::VectorXd leak_before = spaceFraction(can);
+    CHECK(leak_before.maxCoeff() > 0.2 * gap);  // the slit's share of what the wall sees, order gap/h
+    const SeamReport r = closeSeams(can);
+    CHECK(r.vertices_moved == 4 * segments);  // both rims of the wall and the rim of each disc
+    CHECK(r.largest_move_m == Approx(gap / 2).epsilon(1e-9));
+    // Areas move by at most the slit's share: 2πR·gap/2 over a disc's πR² (a bound, not an estimate).
+    CHECK(r.largest_area_change > 0);
+    CHECK(r.largest_area_change < gap);
+    // After: every ray leaving the inside hits the inside (one escaping ray of 20,000 would fail).
+    CHECK(spaceFraction(can).maxCoeff() == 0.0);
+    // Closing again changes nothing.
+    CHECK(closeSeams(can).vertices_moved == 0);
+  }
+  Scene dome;
+  dome.addSurface("dome", "sphere 'dome'", sphere(Vec3(0, 0, 0), 1.0, Vec3(0, 0, 1), 0, 90, {}, 6, 16), "", "dome.in");
+  dome.addSurface("base", "disc 'base'", disc(Vec3(0, 0, 0), Vec3(0, 0, 1), 1.0, 0.0, {}, 2, 16), "base", "");
+  CHECK(spaceFraction(dome).maxCoeff() > 1e-4);  // 0.06–0.11 % leaked before
+  const SeamReport dome_seams = closeSeams(dome);
+  CHECK(dome_seams.vertices_moved == 32);
+  CHECK(dome_seams.partial.empty());
+  CHECK(spaceFraction(dome).maxCoeff() == 0.0);
+}
+
+TEST_CASE("seams: rims of different facet counts meet at their common corners only, and that is said") {
+  // A 32-facet lid on an 8-facet can: the lid reaches past the can's flat facets.
+  Scene can;
+  can.addSurface("wall", "wall", cylinder(Vec3(0, 0, 0), Vec3(0, 0, 1), 1.0, {}, 1, 8), "", "wall.back");
+  can.addSurface("lid", "lid", disc(Vec3(0, 0, 1), Vec3(0, 0, -1), 1.0, 0.0, {}, 1, 32), "lid", "");
+  const SeamReport r = closeSeams(can);
+  CHECK(r.vertices_moved == 16);  // the can's 8 corners and the lid's 8 vertices at the same angles
+  REQUIRE(r.partial.size() == 1);
+  CHECK(r.partial[0] == std::pair<int, int>(0, 1));
+  const std::vector<std::string> w = partialSeamWarnings(can, r);
+  REQUIRE(w.size() == 1);
+  CHECK_THAT(w[0], Contains("'wall' and 'lid'") && Contains("same angular subdivisions"));
+  // A quarter disc's straight edges end at its centre, which is on no other rim: no warning.
+  Scene quarter;
+  quarter.addSurface("wall", "wall", cylinder(Vec3(0, 0, 0), Vec3(0, 0, 1), 1.0, {0, 90, {}}, 1, 4), "", "wall.back");
+  quarter.addSurface("lid", "lid", disc(Vec3(0, 0, 1), Vec3(0, 0, -1), 1.0, 0.0, {0, 90, Vec3(1, 0, 0)}, 1, 4), "lid", "");
+  CHECK(closeSeams(quarter).partial.empty());
+  // Flat panels of different cell counts along a box edge: their vertices lie on each other's
+  // straight edges, so nothing parts.
+  Scene flat;
+  flat.addSurface("face", "face", rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 2, 2), "face", "");
+  flat.addSurface("wing", "wing", rectangle(Vec3(0, 1, 0), Vec3(1, 0, 0), Vec3(0, 0, 1), 6, 3), "wing", "");
+  CHECK(closeSeams(flat).partial.empty());
+}
+
+TEST_CASE("seams: surfaces that only touch where they were put, or whose exact surfaces only come near, are left alone") {
+  // Box faces share their edges exactly: nothing to close.
+  Scene box;
+  const auto faces = boxFaces(Vec3(0, 0, 0), Vec3(1, 1, 1), 2);
+  for (int f = 0; f < 6; ++f) box.addSurface(kBoxFaceNames[f], kBoxFaceNames[f], faces[static_cast<size_t>(f)], kBoxFaceNames[f], "");
+  CHECK(closeSeams(box).vertices_moved == 0);
+  // A disc 1 mm above a can's rim: its exact rim is not the can's, so the slit is the user's.
+  Scene lifted;
+  lifted.addSurface("wall", "wall", cylinder(Vec3(0, 0, 0), Vec3(0, 0, 1), 1.0, {}, 1, 8), "", "wall.back");
+  lifted.addSurface("lid", "lid", disc(Vec3(0, 0, 1.001), Vec3(0, 0, -1), 1.0, 0.0, {}, 1, 8), "lid", "");
+  CHECK(closeSeams(lifted).vertices_moved == 0);
+  // Two concentric spheres: their nominal vertices never meet.
+  Scene spheres;
+  spheres.addSurface("in", "in", sphere(Vec3(0, 0, 0), 1.0, Vec3(0, 0, 1), 0, 180, {}, 6, 12), "in", "");
+  spheres.addSurface("out", "out", sphere(Vec3(0, 0, 0), 2.0, Vec3(0, 0, 1), 0, 180, {}, 6, 12), "", "out.in");
+  CHECK(closeSeams(spheres).vertices_moved == 0);
 }

@@ -164,9 +164,11 @@ int validateCommand(const std::vector<std::string>& paths) {
   for (const std::string& path : paths)
     worst = std::max(worst, guarded([&] {
                        const LoadedCase c = loadCase(path);
-                       if (c.geometry)
+                       if (c.geometry) {
                          for (const auto& w : c.geometry->scene.warnings())
                            std::cerr << path << ": warning: " << w << "\n";
+                         for (const auto& w : c.geometry->warnings) std::cerr << path << ": warning: " << w << "\n";
+                       }
                        std::cout << path << ": valid (" << c.nodeCount() << " nodes";
                        if (c.geometry)  // cases/config/work_estimate.hpp
                          std::cout << "; about " << std::setprecision(3) << estimateWork(*c.geometry).total() / 1e9

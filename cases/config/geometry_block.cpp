@@ -126,6 +126,7 @@ void parsePrimitive(const YamlDocument& doc, const YAML::Node& entry, const std:
         throw geometry::GeometryError("node '" + nn + "' would have two materials ('" + it->second + "' and '" + mat +
                                       "')");
     }
+    checkSceneMemory(doc, entry, what, static_cast<double>(c.scene.faces().size() + soup.triangles.size()));
     c.scene.addSurface(surface, label, soup, fn, bn);
   };
   try {
@@ -255,6 +256,12 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
 
   const YAML::Node geom = doc.required(root, "geometry", "case");
   parseGeometryList(doc, geom, "geometry", ctx, 0);
+  try {
+    c.seams = geometry::closeSeams(c.scene);
+    for (const std::string& w : geometry::partialSeamWarnings(c.scene, c.seams)) c.warnings.push_back("geometry: " + w);
+  } catch (const geometry::GeometryError& e) {
+    throw doc.error(geom, std::string("geometry: ") + e.what());
+  }
   checkNodeMemory(doc, geom, "geometry", static_cast<double>(c.scene.nodes().size()));
   try {
     c.scene.validate();

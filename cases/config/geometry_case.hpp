@@ -9,6 +9,7 @@
 #include "cases/config/thermal_settings.hpp"
 #include "cases/config/yaml_document.hpp"
 #include "geometry/scene.hpp"
+#include "geometry/seams.hpp"
 #include "solver/settings.hpp"
 
 #include <map>
@@ -51,6 +52,7 @@ struct GeometryCase {
   IncludedFiles included;
   std::map<std::string, Material> materials;
   geometry::Scene scene;                     ///< built while loading (meshes read, validated)
+  geometry::SeamReport seams;                ///< seams closed between curved primitives
   std::vector<std::string> node_names;       ///< per scene node, in scene order
   std::vector<std::string> node_material;    ///< per scene node
   Eigen::VectorXd emissivity, absorptivity;  ///< per scene node, –

@@ -15,17 +15,28 @@ std::string gigabytes(double bytes) {
   return s.str();
 }
 
+}  // namespace
+
 double physicalMemory() {
   const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
   return pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page) : 0.0;
 }
 
-}  // namespace
+void checkSceneMemory(const YamlDocument& doc, const YAML::Node& where, const std::string& what, double triangles) {
+  const double memory = physicalMemory(), need = kSceneBytesPerTriangle * triangles;
+  if (memory <= 0 || need <= memory) return;
+  std::ostringstream m;
+  m << what << ": the scene reaches " << triangles << " triangles, about " << gigabytes(need)
+    << " of memory for the triangles alone, more than this machine's " << gigabytes(memory)
+    << ": coarser subdivisions or meshes (a repeated alias builds its surface again each time)";
+  throw doc.error(where, m.str());
+}
 
 WorkEstimate estimateWork(const GeometryCase& c) {
   WorkEstimate w;
   const double n = static_cast<double>(c.scene.nodes().size());
   const double triangles = static_cast<double>(c.scene.faces().size());
+  w.scene_bytes = kSceneBytesPerTriangle * triangles;
   const double thermal_nodes = c.thermal ? static_cast<double>(c.thermal->nodeCount()) : n;
   // F, F raw, σ(F), G and GR of the base set (8 bytes each), one more GR per further set.
   w.dense_bytes = 8.0 * n * n * (5.0 + static_cast<double>(c.optical_sets.size() - 1));
@@ -61,11 +72,12 @@ void checkWorkEstimate(const YamlDocument& doc, const GeometryCase& c, double me
   if (w.planet_bytes >= std::max(w.dense_bytes, w.position_bytes) && root["environment"] &&
       root["environment"]["planet_rays"]) {
     where = "environment.planet_rays", at = root["environment"]["planet_rays"];
-  } else if (w.position_bytes >= w.dense_bytes && root["orbit"]) {
+  } else if (w.position_bytes >= std::max(w.dense_bytes, w.scene_bytes) && root["orbit"]) {
     where = "orbit", at = root["orbit"]["positions"] ? root["orbit"]["positions"] : root["orbit"];
   }
   std::ostringstream m;
-  m << where << ": this case would need about " << gigabytes(w.total()) << " of memory (" << gigabytes(w.dense_bytes)
+  m << where << ": this case would need about " << gigabytes(w.total()) << " of memory (" << gigabytes(w.scene_bytes)
+    << " for " << c.scene.faces().size() << " triangles, " << gigabytes(w.dense_bytes)
     << " for the " << c.scene.nodes().size() << "-node matrices, " << gigabytes(w.planet_bytes)
     << " for planet-ray hit points, " << gigabytes(w.position_bytes) << " for " << w.positions
     << " positions), more than this machine's " << gigabytes(memory_bytes)

@@ -7,12 +7,26 @@
 
 namespace radnet::cases {
 
+/// Memory one triangle of the scene takes while the case runs: its CGAL mesh entry, the
+/// scene's face record, the AABB tree and the exact method's patches (measured on a 4M-triangle
+/// sphere, docs/limits.md).
+inline constexpr double kSceneBytesPerTriangle = 600.0;
+
+/// This machine's physical memory, bytes (0 when unknown).
+double physicalMemory();
+
+/// @throws InputError at `where` when `triangles` (the scene so far) alone would need more
+///         than this machine's memory: checked as surfaces are added, before a YAML alias
+///         repeated 300 times builds them all
+void checkSceneMemory(const YamlDocument& doc, const YAML::Node& where, const std::string& what, double triangles);
+
 struct WorkEstimate {
+  double scene_bytes = 0;     ///< triangles: mesh, faces, AABB tree
   double dense_bytes = 0;     ///< n×n matrices: F, its raw estimate and σ, G, GR per optical set
   double planet_bytes = 0;    ///< planet-ray hit points kept for the reuse over positions (24 B each)
   double position_bytes = 0;  ///< per-position results: loads, heat flows, temperatures, ParaView copies
   long long positions = 0;    ///< over every design and orbit case
-  double total() const { return dense_bytes + planet_bytes + position_bytes; }
+  double total() const { return scene_bytes + dense_bytes + planet_bytes + position_bytes; }
 };
 
 WorkEstimate estimateWork(const GeometryCase& c);

@@ -66,7 +66,8 @@ void writeRadiativeNetwork(Hdf5Writer& h5, const RadiativeNetwork& radiative) {
   h5.attribute("/eigen", "largest_dropped_eigenvalue_bound", pairs.dropped_bound);
 }
 
-void writeGeometry(Hdf5Writer& h5, const geometry::Scene& scene, const Eigen::VectorXi& triangle_node) {
+void writeGeometry(Hdf5Writer& h5, const geometry::Scene& scene, const geometry::SeamReport& seams,
+                   const Eigen::VectorXi& triangle_node) {
   h5.writeMatrix("/geometry/vertices", scene.vertexMatrix(), "m");
   h5.writeIntegers("/geometry/triangles", scene.triangleMatrix(), "1");
   // triangle_node: the node a triangle belongs to (its front side's, or its back side's
@@ -74,6 +75,10 @@ void writeGeometry(Hdf5Writer& h5, const geometry::Scene& scene, const Eigen::Ve
   h5.writeIntegers("/geometry/triangle_node", triangle_node, "1");
   h5.writeIntegers("/geometry/triangle_front_node", scene.frontNodes(), "1");
   h5.writeIntegers("/geometry/triangle_back_node", scene.backNodes(), "1");
+  // Seams closed between curved primitives (geometry/seams.hpp): what it cost the areas.
+  h5.attribute("/geometry", "seam_vertices_moved", static_cast<long long>(seams.vertices_moved));
+  h5.attribute("/geometry", "seam_largest_move_m", seams.largest_move_m);
+  h5.attribute("/geometry", "seam_largest_area_change", seams.largest_area_change);
 }
 
 void writeViewFactorEstimate(Hdf5Writer& h5, const GeometryRunResult& r, ViewFactorMethod method) {

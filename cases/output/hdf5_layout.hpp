@@ -24,7 +24,8 @@ Eigen::Index nodeCount(const RadiativeNetwork& radiative, const std::optional<Th
 /// `values` (rows: the radiative nodes) with zero rows for the lumped nodes up to `rows`.
 Eigen::MatrixXd padNodes(const Eigen::MatrixXd& values, Eigen::Index rows);
 /// /geometry/{vertices, triangles, triangle_node, triangle_front_node, triangle_back_node}.
-void writeGeometry(Hdf5Writer& h5, const geometry::Scene& scene, const Eigen::VectorXi& triangle_node);
+void writeGeometry(Hdf5Writer& h5, const geometry::Scene& scene, const geometry::SeamReport& seams,
+                   const Eigen::VectorXi& triangle_node);
 /// /network/{view_factor_stderr, view_factors_raw, blocked_view_factor} and how F was made.
 void writeViewFactorEstimate(Hdf5Writer& h5, const GeometryRunResult& r, ViewFactorMethod method);
 /// /orbit, /loads and /solution/exitance_solar of a sweep (zero for lumped nodes, up to

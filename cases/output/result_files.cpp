@@ -40,7 +40,7 @@ void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, cons
   std::vector<std::string> material = c.node_material;
   material.resize(static_cast<size_t>(n));  // lumped nodes: no surface, no material
   h5.writeStrings("/nodes/material", material);
-  writeGeometry(h5, c.scene, r.triangle_node);
+  writeGeometry(h5, c.scene, c.seams, r.triangle_node);
   writeViewFactorEstimate(h5, r, c.view_factors.method);
   if (r.sweep) writeSweep(h5, *r.sweep, n);
   if (r.thermal) writeTemperatures(h5, *r.thermal, *c.thermal, r.sweep ? &*r.sweep : nullptr);
