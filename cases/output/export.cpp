@@ -116,8 +116,14 @@ void readThermal(const Hdf5Reader& h5, ExportedNetwork& net) {
   net.q_albedo_w = rowOf(h5, "/solution/heat/albedo", p, n);
   net.q_earth_ir_w = rowOf(h5, "/solution/heat/earth_ir", p, n);
   net.q_internal_w = rowOf(h5, "/solution/heat/dissipation", p, n) + rowOf(h5, "/solution/heat/heater", p, n);
-  net.fixed_temperature_k = h5.has("/thermal/fixed_temperature") ? h5.vector("/thermal/fixed_temperature")
-                                                                 : Eigen::VectorXd::Constant(n, NAN);
+  net.fixed_temperature_k = Eigen::VectorXd::Constant(n, NAN);
+  if (h5.has("/thermal/fixed_temperature")) {
+    const Eigen::VectorXd t = h5.vector("/thermal/fixed_temperature");
+    // /thermal/fixed marks the held nodes; results before it had NaN for free nodes.
+    const Eigen::VectorXd held = h5.has("/thermal/fixed") ? h5.vector("/thermal/fixed") : t.array().isFinite().cast<double>();
+    for (Eigen::Index i = 0; i < n && i < t.size(); ++i)
+      if (held[i] != 0) net.fixed_temperature_k[i] = t[i];
+  }
   net.space_temperature_k = h5.attribute("/thermal", "space_temperature", 3.0);
   if (h5.has("/thermal/conductor_nodes") && h5.matrix("/thermal/conductance").size()) {
     const Eigen::MatrixXd pairs = h5.matrix("/thermal/conductor_nodes");

@@ -2,6 +2,7 @@
 
 #include "solver/units.hpp"
 
+#include <cmath>
 #include <map>
 #include <ctime>
 
@@ -240,7 +241,13 @@ void writeThermalModel(Hdf5Writer& h5, const ThermalSolution& thermal, const The
   }
   h5.writeIntegers("/thermal/coupling_nodes", coupling_nodes, "1");
   h5.writeVector("/thermal/coupling_gr", coupling_gr, "m^2");
-  h5.writeVector("/thermal/fixed_temperature", settings.fixed_temperature, "K");
+  // No NaN in a result: free nodes are 0 K here (below every allowed temperature) and 0 in
+  // the mask that says which nodes are held.
+  const Eigen::Index n = settings.fixed_temperature.size();
+  Eigen::VectorXi held(n);
+  for (Eigen::Index i = 0; i < n; ++i) held[i] = std::isnan(settings.fixed_temperature[i]) ? 0 : 1;
+  h5.writeVector("/thermal/fixed_temperature", (held.array() == 1).select(settings.fixed_temperature, 0.0), "K");
+  h5.writeIntegers("/thermal/fixed", held, "1");
   h5.attribute("/thermal", "space_temperature", settings.space_temperature);
 }
 
