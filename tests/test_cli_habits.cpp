@@ -2,6 +2,7 @@
 // progress a log can hold, the summary of a large model, exit 4.
 #include "cli_support.hpp"
 
+#include "cases/config/work_estimate.hpp"
 #include "cases/output/output_guard.hpp"
 
 #include <catch2/catch.hpp>
@@ -200,4 +201,25 @@ geometry:
   CHECK(m.err.find("not a regular file") != std::string::npos);
   const Run t = runRadnet("run '" + source("cases/analytic/lumped-nodes.yaml") + "' --threads 65535 -q", dir);
   CHECK(t.exit_code == 2);
+}
+
+// Issue 13: 301 aliases of an 80k-triangle sphere built 24 M triangles (7.4 GB) before any
+// estimate was made. The scene's triangles are now checked as each surface joins it.
+TEST_CASE("the scene's triangles are checked against the machine's memory as surfaces are read") {
+  const radnet::cases::YamlDocument doc =
+      radnet::cases::YamlDocument::parse("geometry:\n  - sphere: {name: ball}\n", "aliases.yaml");
+  const YAML::Node entry = doc.root()["geometry"][0];
+  const double memory = radnet::cases::physicalMemory();
+  REQUIRE(memory > 0);
+  const double fits = 0.5 * memory / radnet::cases::kSceneBytesPerTriangle;
+  CHECK_NOTHROW(radnet::cases::checkSceneMemory(doc, entry, "geometry[0].sphere", fits));
+  try {
+    radnet::cases::checkSceneMemory(doc, entry, "geometry[300].sphere", 2.0 * memory / radnet::cases::kSceneBytesPerTriangle);
+    FAIL("a scene twice the machine's memory was accepted");
+  } catch (const radnet::cases::InputError& e) {
+    const std::string m = e.what();
+    CHECK(m.rfind("aliases.yaml:2:5:", 0) == 0);  // located at the entry that crossed the line
+    CHECK(m.find("geometry[300].sphere") != std::string::npos);
+    CHECK(m.find("repeated alias") != std::string::npos);
+  }
 }
