@@ -1,5 +1,7 @@
 #include "geometry/mesh_io.hpp"
 
+#include "geometry/mesh_checks.hpp"
+
 #include <CGAL/IO/polygon_soup_io.h>
 
 #include <algorithm>
@@ -26,133 +28,6 @@ void addPolygon(TriangleSoup& soup, const std::vector<int>& poly, const std::str
   for (size_t k = 1; k + 1 < poly.size(); ++k) soup.triangles.push_back({poly[0], poly[k], poly[k + 1]});
 }
 
-// CGAL's PLY reader dereferences a null element when a header is malformed (a property
-// before any element, say): check the header's structure first, so a broken file is an
-// error message and never a crash.
-void checkPlyHeader(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string line;
-  int line_no = 0;
-  auto fail = [&](const std::string& what) {
-    throw GeometryError(path + ":" + std::to_string(line_no) + ": malformed PLY header: " + what);
-  };
-  if (!std::getline(in, line) || (++line_no, line.rfind("ply", 0) != 0)) fail("the first line must be 'ply'");
-  bool format = false, element = false;
-  const double file_bytes = static_cast<double>(std::filesystem::file_size(path));
-  double min_bytes = 0.0;  // every property of every element takes at least one byte
-  long long count = 0;
-  static const std::vector<std::string> types = {"char",  "uchar",  "short",   "ushort", "int",   "uint",
-                                                 "float", "double", "int8",    "uint8",  "int16", "uint16",
-                                                 "int32", "uint32", "float32", "float64"};
-  auto isType = [&](const std::string& t) { return std::find(types.begin(), types.end(), t) != types.end(); };
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream ls(line);
-    std::string word;
-    if (!(ls >> word)) continue;
-    if (word == "end_header") {
-      if (!format) fail("no 'format' line");
-      if (!element) fail("no 'element' line");
-      if (min_bytes > file_bytes)
-        fail("its elements need at least " + std::to_string(static_cast<long long>(min_bytes)) +
-             " bytes but the file has " + std::to_string(static_cast<long long>(file_bytes)) +
-             " (truncated, or a wrong count)");
-      return;
-    }
-    if (word == "comment" || word == "obj_info") continue;
-    if (word == "format") {
-      std::string kind, version;
-      if (!(ls >> kind >> version) ||
-          (kind != "ascii" && kind != "binary_little_endian" && kind != "binary_big_endian"))
-        fail("'format' must be ascii, binary_little_endian or binary_big_endian");
-      format = true;
-    } else if (word == "element") {
-      std::string name;
-      count = -1;
-      if (!(ls >> name >> count) || count < 0) fail("'element' needs a name and a count >= 0");
-      element = true;
-    } else if (word == "property") {
-      if (!element) fail("'property' before any 'element'");
-      min_bytes += static_cast<double>(count);
-      std::string type, a, b;
-      if (!(ls >> type)) fail("'property' without a type");
-      if (type == "list") {
-        if (!(ls >> a >> b) || !isType(a) || !isType(b)) fail("'property list' needs two valid types");
-      } else if (!isType(type)) {
-        fail("unknown property type '" + type + "'");
-      }
-    } else {
-      fail("unexpected keyword '" + word + "'");
-    }
-  }
-  fail("no 'end_header' line");
-}
-
-// An OFF header's counts are trusted by CGAL's reader, which reserves memory for them: a
-// corrupt count of 1e9 vertices would take 20+ GB. Compare them with the file size first
-// (an ASCII vertex takes at least 6 bytes, "0 0 0\n"; a face at least 8).
-void checkOffCounts(const std::string& path) {
-  std::ifstream in(path);
-  std::string token;
-  std::vector<double> numbers;
-  bool binary = false;
-  while (numbers.size() < 2 && in >> token) {
-    if (token[0] == '#') {
-      std::getline(in, token);
-      continue;
-    }
-    if (token.find("OFF") != std::string::npos) continue;
-    if (token == "BINARY") {
-      binary = true;
-      break;
-    }
-    try {
-      numbers.push_back(std::stod(token));
-    } catch (const std::exception&) {
-      throw GeometryError(path + ": malformed OFF header: expected vertex and face counts, found '" + token + "'");
-    }
-  }
-  if (binary || numbers.size() < 2) return;  // CGAL reports what is missing
-  if (numbers[0] < 0 || numbers[1] < 0) throw GeometryError(path + ": malformed OFF header: negative counts");
-  const double need = 6.0 * numbers[0] + 8.0 * numbers[1];
-  const double have = static_cast<double>(std::filesystem::file_size(path));
-  if (need > have)
-    throw GeometryError(path + ": the OFF header promises " + std::to_string(static_cast<long long>(numbers[0])) +
-                        " vertices and " + std::to_string(static_cast<long long>(numbers[1])) +
-                        " faces, which need at least " + std::to_string(static_cast<long long>(need)) +
-                        " bytes; the file has " + std::to_string(static_cast<long long>(have)) +
-                        " (truncated, or a wrong count)");
-}
-
-// A binary STL is an 80-byte header, a triangle count and 50 bytes per triangle: a count
-// that disagrees with the size would make the reader drop (or invent) triangles silently.
-// An ASCII STL starts with "solid" and has "facet" soon after.
-void checkStlCount(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string head(1024, '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<size_t>(in.gcount()));
-  if (head.rfind("solid", 0) == 0 && head.find("facet") != std::string::npos) return;
-  const auto size = static_cast<unsigned long long>(std::filesystem::file_size(path));
-  if (size < 84) throw GeometryError(path + ": binary STL shorter than its 84-byte header");
-  const unsigned char* c = reinterpret_cast<const unsigned char*>(head.data()) + 80;
-  const unsigned long long count = c[0] | (c[1] << 8) | (c[2] << 16) | (static_cast<unsigned long long>(c[3]) << 24);
-  if (84 + 50 * count != size)
-    throw GeometryError(path + ": the binary STL header counts " + std::to_string(count) + " triangles, which take " +
-                        std::to_string(84 + 50 * count) + " bytes; the file has " + std::to_string(size) +
-                        " (truncated, or a wrong count)");
-}
-
-// Only regular files: a FIFO would block the run forever and a device such as /dev/zero
-// would be read without end.
-void checkRegularFile(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw GeometryError(path + ": mesh file not found");
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw GeometryError(path + ": not a regular file (a FIFO, device or directory cannot be a mesh)");
-}
-
 void checkScale(double scale, const std::string& path) {
   if (!(std::isfinite(scale) && scale > 0)) throw GeometryError(path + ": scale must be a finite value > 0");
 }
@@ -164,10 +39,7 @@ TriangleSoup readMesh(const std::string& path, double scale) {
   const std::string ext = lowerExtension(path);
   if (ext != ".off" && ext != ".obj" && ext != ".stl" && ext != ".ply")
     throw GeometryError(path + ": unknown mesh format '" + ext + "'; expected .off, .obj, .stl or .ply");
-  checkRegularFile(path);
-  if (ext == ".ply") checkPlyHeader(path);
-  if (ext == ".off") checkOffCounts(path);
-  if (ext == ".stl") checkStlCount(path);
+  checkMeshFile(path);
   std::vector<Point3> points;
   std::vector<std::vector<std::size_t>> polygons;
   bool ok = false;
@@ -244,7 +116,7 @@ MeshGroup objGroup(const std::string& name, const std::vector<std::vector<int>>&
 
 std::vector<MeshGroup> readObjGroups(const std::string& path, double scale) {
   checkScale(scale, path);
-  checkRegularFile(path);
+  checkMeshFile(path);
   std::ifstream in(path);
   if (!in) throw GeometryError(path + ": mesh file not found or unreadable");
   std::vector<Vec3> vertices;

@@ -33,7 +33,8 @@ import numpy as np
 # Cheap enough to run in full (well under a second each); the others are validated only.
 RUN_SEEDS = {"parallel-plates", "lumped-nodes", "infinite-parallel-plates", "two-sided-panel",
              "sunlit-plate-temperature", "parallel-plates-temperature", "perpendicular-squares",
-             "mesh-plate-stl", "mesh-plate-off", "mesh-plate-ply", "mesh-plate-obj", "mesh-plate-binary-stl"}
+             "mesh-plate-stl", "mesh-plate-off", "mesh-plate-ply", "mesh-plate-obj", "mesh-plate-binary-stl",
+             "mesh-plate-binary-off", "mesh-plate-binary-ply"}
 INTERESTING_NUMBERS = ["0", "-0", "-1", "1", "0.5", "1e308", "-1e308", "1e-308", "4.9e-324", "2147483648",
                        "-2147483649", "9223372036854775808", "1e9", "1e15", "3", "100000000", "0x10", "1_000",
                        ".nan", ".inf", "-.inf", "nan", "1e", "--1", "1.5.2", "360", "-360", "90", "180", "1e-9"]
@@ -68,8 +69,13 @@ def plate_meshes():
         for i in t:
             binary += struct.pack("<3f", *v[i])
         binary += struct.pack("<H", 0)
+    binary_off = b"OFF BINARY\n" + struct.pack(">3i", 4, 2, 0) + b"".join(struct.pack(">3f", *p) for p in v) + \
+        b"".join(struct.pack(">4i", 3, *t) for t in tris)
+    binary_ply = (b"ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                  b"property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n" +
+                  b"".join(struct.pack("<3f", *p) for p in v) + b"".join(struct.pack("<B3i", 3, *t) for t in tris))
     return {"stl": stl.encode(), "off": off.encode(), "ply": ply.encode(), "obj": obj.encode(),
-            "binary-stl": bytes(binary)}
+            "binary-stl": bytes(binary), "binary-off": binary_off, "binary-ply": binary_ply}
 
 
 def mesh_case(ext):
@@ -101,7 +107,7 @@ def seeds(source):
                         side[f"{sub}/{f.name}"] = f.read_bytes()
             out.append((("bad-" if folder == "tests/data/bad" else "") + path.stem, path.read_bytes(), side))
     for fmt, data in plate_meshes().items():
-        ext = "stl" if fmt == "binary-stl" else fmt
+        ext = fmt.replace("binary-", "")
         out.append((f"mesh-plate-{fmt}", mesh_case(ext), {f"part.{ext}": data}))
     return out
 
@@ -173,6 +179,8 @@ def mutate_bytes(rng, data):
 
 
 def mutate_mesh(rng, name, data):
+    if name.endswith((".off", ".ply")) and b"binary" in data[:64].lower():
+        return mutate_bytes(rng, data)
     if name.endswith(".stl") and not data.startswith(b"solid"):  # binary STL: counts and floats
         data = bytearray(data)
         op = rng.randrange(3)

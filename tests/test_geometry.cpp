@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -208,6 +209,46 @@ TEST_CASE("mesh files: OFF, OBJ (with groups), STL, PLY read and scaled, bad fil
   CHECK_THROWS_AS(readObjGroups(bad_index, 1.0), GeometryError);
   const std::string garbage = dir.write("garbage.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\ng x\nf 1 two 3\n");
   CHECK_THROWS_WITH(readObjGroups(garbage, 1.0), Contains("garbage.obj:5") && Contains("'two'"));
+}
+
+namespace {
+
+// Big-endian bytes of 32-bit values (binary OFF and big-endian PLY).
+template <class T>
+std::string bigEndian(std::initializer_list<T> values) {
+  std::string out;
+  for (T v : values) {
+    std::uint32_t u;
+    std::memcpy(&u, &v, 4);
+    for (int k = 3; k >= 0; --k) out.push_back(static_cast<char>((u >> (8 * k)) & 0xff));
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("mesh files: binary OFF and PLY are read; corner and list counts beyond the file are refused before reading") {
+  TempDir dir;
+  const std::string quad = bigEndian<float>({0, 0, 0, 2, 0, 0, 2, 2, 0, 0, 2, 0});
+  const std::string off = dir.write("b.off", "OFF BINARY\n" + bigEndian<std::int32_t>({4, 2, 0}) + quad +
+                                                 bigEndian<std::int32_t>({3, 0, 1, 2, 3, 0, 2, 3}));
+  CHECK(soupArea(readMesh(off, 1.0)) == Approx(4.0));
+  // Each face's own corner count bounds its allocation (2e9 corners took 15 GB in CGAL).
+  CHECK_THROWS_WITH(readMesh(dir.write("c.off", "OFF BINARY\n" + bigEndian<std::int32_t>({4, 1, 0}) + quad +
+                                                    bigEndian<std::int32_t>({2000000000, 0, 1, 2})),
+                             1.0),
+                    Contains("c.off") && Contains("face 0 claims 2000000000 corners"));
+  CHECK_THROWS_WITH(readMesh(dir.write("d.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2000000000 0 1 2\n"), 1.0),
+                    Contains("d.off") && Contains("face 0 claims 2000000000 corners"));
+  const std::string header =
+      "ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 2\nproperty list uint int vertex_indices\nproperty float quality\nend_header\n";
+  const std::string faces = bigEndian<std::int32_t>({3, 0, 1, 2}) + bigEndian<float>({0.5f}) +
+                            bigEndian<std::int32_t>({3, 0, 2, 3}) + bigEndian<float>({0.5f});
+  CHECK(soupArea(readMesh(dir.write("b.ply", header + quad + faces), 1.0)) == Approx(4.0));
+  const std::string huge = bigEndian<std::uint32_t>({4294967295u, 0, 1, 2}) + bigEndian<float>({0.5f});
+  CHECK_THROWS_WITH(readMesh(dir.write("c.ply", header + quad + huge + huge), 1.0),
+                    Contains("c.ply") && Contains("face 0 lists 4294967295 entries"));
 }
 
 TEST_CASE("shell adjacency: grid neighbours share their edge at the centroid distance; box faces fold at an edge") {
