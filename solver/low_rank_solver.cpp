@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 namespace radnet::solver {
 
@@ -197,8 +198,9 @@ void LowRankBandSolver::refine(const Eigen::Ref<const Eigen::MatrixXd>& mo, Band
   sol.refine_iterations = total;
   if (sol.status == Status::Converged && !(sol.max_residual <= tol)) {
     sol.status = Status::NotConverged;
-    sol.message = "refinement reached " + std::to_string(total) + " iterations with residual " +
-                  std::to_string(sol.max_residual) + " > " + std::to_string(tol);
+    std::ostringstream m;  // %g: residuals live near 1e-10, where std::to_string prints 0.000000
+    m << "refinement reached " << total << " iterations with residual " << sol.max_residual << " > " << tol;
+    sol.message = m.str();
   }
   if (!low_rank_pc && sol.message.empty())
     sol.message = "low-rank preconditioner was indefinite; refined with the diagonal preconditioner";

@@ -64,10 +64,13 @@ TEST_CASE("nearly closed cavity (spectral radius of S G > 0.999): converge or sa
   CHECK(solver::solveJacobi(sys, mo, opt).status == solver::Status::NotConverged);
   // The low-rank path with refinement does converge.
   solver::LowRankBandSolver band(net, solver::truncate(solver::denseEigenPairs(g), 10), rho);
-  const solver::BandSolution sol = band.solve(mo, 1e-13);
+  // 1e-11, not tighter: the residual of an answer amplified ~2000× carries round-off of
+  // about n · 2000 · 1e-16 ≈ 1e-11 relative; 1e-13 converged with -O3 -march=native (FMA) and
+  // stalled at 21 iterations in the Debug/sanitizer build. Error ≤ 2000 · 1e-11 = 2e-8.
+  const solver::BandSolution sol = band.solve(mo, 1e-11);
   INFO(sol.message << " (" << sol.refine_iterations << " CG iterations)");
   REQUIRE(sol.status == solver::Status::Converged);
-  CHECK(test::relativeError(sol.exitance.col(0), lu) < 1e-8);
+  CHECK(test::relativeError(sol.exitance.col(0), lu) < 3e-8);
 }
 
 TEST_CASE("a lossless closed cavity (ρ = 1, F_space = 0) is reported singular, never NaN") {
