@@ -3,7 +3,7 @@
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 PACKAGES = cmake g++ make libeigen3-dev libspectra-dev libcgal-dev libgeographiclib-dev \
-           libyaml-cpp-dev libhdf5-dev catch2 libcli11-dev \
+           libyaml-cpp-dev libhdf5-dev zlib1g-dev catch2 libcli11-dev \
            python3-h5py python3-matplotlib python3-numpy
 # ParaView, only to test that what users open in it loads (pvbatch under Xvfb, Mesa's
 # software OpenGL); without recommends it is about 150 MB.
@@ -54,6 +54,9 @@ bench: build
 	  docs/exact-view-factor-benchmark.csv $$( [ -x $(BUILD_DIR)/view3d/view3d ] && echo $(BUILD_DIR)/view3d/view3d )
 	/usr/bin/python3 bench/plot_exact_benchmark.py docs/exact-view-factor-benchmark.csv \
 	  docs/exact-view-factor-benchmark.png
+	# Writing the n × n matrices: HDF5's filter against radnet's parallel chunks (issue 12).
+	./$(BUILD_DIR)/radnet run bench/cases/satellite-6402.yaml -o $(BUILD_DIR)/satellite-6402.h5 -q
+	./$(BUILD_DIR)/bench/bench_hdf5_write $(BUILD_DIR)/satellite-6402.h5 docs/hdf5-write-benchmark.md
 	# End to end against n, before and with the error budget (about 15 minutes).
 	/usr/bin/python3 bench/bench_end_to_end.py $(BUILD_DIR)/radnet docs/benchmarks.md \
 	  bench/cases/satellite-1602.yaml bench/cases/satellite-6402.yaml bench/cases/satellite-19202.yaml

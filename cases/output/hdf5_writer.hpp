@@ -11,6 +11,8 @@ namespace radnet::cases {
 
 class Hdf5Writer {
  public:
+  /// Chunk edge of large matrices (docs/hdf5-layout.md).
+  static constexpr long kMatrixChunk = 256;
   /// @throws std::runtime_error when the temporary file cannot be created
   explicit Hdf5Writer(std::string final_path);
   ~Hdf5Writer();
@@ -18,7 +20,8 @@ class Hdf5Writer {
   Hdf5Writer& operator=(const Hdf5Writer&) = delete;
 
   /// (rows×cols) dataset in row-major order as HDF5 expects; intermediate groups are created.
-  /// Matrices of more than 4096 entries are chunked and deflate-compressed.
+  /// Matrices of more than 4096 entries are chunked and deflate-compressed; from 512 × 512
+  /// on, chunks are compressed on all cores (solver/parallel.hpp threads).
   void writeMatrix(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m, const std::string& units);
   void writeVector(const std::string& path, const Eigen::Ref<const Eigen::VectorXd>& v, const std::string& units);
   /// (slices, rows, cols) dataset of equally sized matrices.
@@ -41,6 +44,7 @@ class Hdf5Writer {
   void commit();
 
  private:
+  void writeChunkedMatrix(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m, const std::string& units);
   long long ensureGroup(const std::string& path);
   // HDF5 ids and sizes passed as plain integers so this header needs no <hdf5.h>.
   void writeArray(const std::string& path, long long file_type, long long memory_type, int rank,
