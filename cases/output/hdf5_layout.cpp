@@ -48,9 +48,15 @@ void writeNodes(Hdf5Writer& h5, const RadiativeNetwork& radiative, const std::op
 
 void writeRadiativeNetwork(Hdf5Writer& h5, const RadiativeNetwork& radiative) {
   const solver::Network& net = *radiative.network;
-  h5.writeMatrix("/network/view_factors", net.viewFactors(), "1");
+  if (net.isSparse()) {  // F = A⁻¹ G and G written from the sparse G, never formed densely
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> g = net.sparseConductance();
+    h5.writeMatrix("/network/view_factors", g, "1", net.area().cwiseInverse());
+    h5.writeMatrix("/network/conductance", g, "m^2");
+  } else {
+    h5.writeMatrix("/network/view_factors", net.viewFactors(), "1");
+    h5.writeMatrix("/network/conductance", net.denseConductance(), "m^2");
+  }
   h5.writeVector("/network/space_view_factor", net.spaceViewFactor(), "1");
-  h5.writeMatrix("/network/conductance", net.denseConductance(), "m^2");
   h5.attribute("/network", "reciprocity_max_view_factor_change", net.reciprocity().max_view_factor_change);
   h5.attribute("/network", "closure_max_row_overshoot", net.reciprocity().max_row_overshoot);
   if (const auto& ex = radiative.exchange) {

@@ -93,18 +93,12 @@ void Hdf5Writer::addUnits(long long dataset, const std::string& units) {
 
 namespace {
 
-// One chunk (kMatrixChunk², zero-padded past the matrix's edge, as HDF5 stores edge
-// chunks) in row-major order, deflated at level 1 (a zlib stream, what H5Z deflate reads);
-// empty on failure. Shuffling the bytes first was tried: the 1,602-node result's matrices
-// grew from 7.6 to 9.1 MB (view factors are mostly zeros, which deflate already packs).
-std::vector<unsigned char> compressChunk(const Eigen::Ref<const Eigen::MatrixXd>& m, Eigen::Index row0,
-                                         Eigen::Index col0) {
-  constexpr Eigen::Index c = Hdf5Writer::kMatrixChunk;
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> block =
-      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>::Zero(c, c);
-  const Eigen::Index rows = std::min(c, m.rows() - row0), cols = std::min(c, m.cols() - col0);
-  block.topLeftCorner(rows, cols) = m.block(row0, col0, rows, cols);
-  constexpr uLong bytes = 8 * static_cast<uLong>(c * c);
+// One chunk (kMatrixChunk² in row-major order, zero-padded past the matrix's edge, as HDF5
+// stores edge chunks) deflated at level 1 (a zlib stream, what H5Z deflate reads); empty on
+// failure. Shuffling the bytes first was tried: the 1,602-node result's matrices grew from
+// 7.6 to 9.1 MB (view factors are mostly zeros, which deflate already packs).
+std::vector<unsigned char> compressChunk(const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& block) {
+  const uLong bytes = 8 * static_cast<uLong>(block.size());
   uLongf out_size = compressBound(bytes);
   std::vector<unsigned char> out(out_size);
   if (compress2(out.data(), &out_size, reinterpret_cast<const Bytef*>(block.data()), bytes, 1) != Z_OK) return {};
@@ -147,7 +141,14 @@ void Hdf5Writer::writeArray(const std::string& path, long long file_type, long l
 void Hdf5Writer::writeMatrix(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m,
                              const std::string& units) {
   if (m.rows() >= 2 * kMatrixChunk && m.cols() >= 2 * kMatrixChunk && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
-    writeChunkedMatrix(path, m, units);
+    writeChunkedMatrix(
+        path, m.rows(), m.cols(),
+        [&](Eigen::Index row0, Eigen::Index col0, auto& block) {
+          const Eigen::Index rows = std::min<Eigen::Index>(kMatrixChunk, m.rows() - row0);
+          const Eigen::Index cols = std::min<Eigen::Index>(kMatrixChunk, m.cols() - col0);
+          block.topLeftCorner(rows, cols) = m.block(row0, col0, rows, cols);
+        },
+        units);
     return;
   }
   // HDF5 is row-major: (rows, cols) as a reader indexes it. The transposition goes by
@@ -164,15 +165,35 @@ void Hdf5Writer::writeMatrix(const std::string& path, const Eigen::Ref<const Eig
   writeArray(path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, dims, data.data(), units);
 }
 
-// The layout writeArray gives a large matrix (256 × 256 chunks, deflate level 1),
-// but each chunk gathered from the column-major matrix and compressed here, on all cores, and
-// handed to HDF5 ready (H5Dwrite_chunk): HDF5 1.10 runs its filters on one core, which made
-// writing the five n × n matrices the largest stage of a 6,402-node run (14 s), and the
-// row-major copy of the whole matrix is not needed. Readers see an ordinary deflated
-// dataset; chunks are written in order, so the file does not depend on the thread count.
-void Hdf5Writer::writeChunkedMatrix(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m,
-                                    const std::string& units) {
-  const hsize_t dims[2] = {static_cast<hsize_t>(m.rows()), static_cast<hsize_t>(m.cols())};
+void Hdf5Writer::writeMatrix(const std::string& path, const Eigen::SparseMatrix<double, Eigen::RowMajor>& m,
+                             const std::string& units, const Eigen::VectorXd& row_scale) {
+  const auto scale = [&](Eigen::Index r) { return row_scale.size() ? row_scale[r] : 1.0; };
+  if (!(m.rows() >= 2 * kMatrixChunk && m.cols() >= 2 * kMatrixChunk && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0)) {
+    Eigen::MatrixXd dense(m);  // small: the ordinary path
+    for (Eigen::Index r = 0; r < dense.rows(); ++r) dense.row(r) *= scale(r);
+    writeMatrix(path, dense, units);
+    return;
+  }
+  writeChunkedMatrix(
+      path, m.rows(), m.cols(),
+      [&](Eigen::Index row0, Eigen::Index col0, auto& block) {
+        const Eigen::Index rows = std::min<Eigen::Index>(kMatrixChunk, m.rows() - row0);
+        for (Eigen::Index r = 0; r < rows; ++r)
+          for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(m, row0 + r); it; ++it)
+            if (it.col() >= col0 && it.col() < col0 + kMatrixChunk) block(r, it.col() - col0) = it.value() * scale(row0 + r);
+      },
+      units);
+}
+
+// The layout writeArray gives a large matrix (256 × 256 chunks, deflate level 1), but each
+// chunk filled (from a dense or a sparse matrix), compressed here on all cores, and handed
+// to HDF5 ready (H5Dwrite_chunk): HDF5 1.10 runs its filters on one core, which made writing
+// the five n × n matrices the largest stage of a 6,402-node run (14 s), and no row-major
+// copy of the whole matrix is needed. Readers see an ordinary deflated dataset; chunks are
+// written in order, so the file does not depend on the thread count.
+void Hdf5Writer::writeChunkedMatrix(const std::string& path, Eigen::Index rows, Eigen::Index cols,
+                                    const ChunkFill& fill, const std::string& units) {
+  const hsize_t dims[2] = {static_cast<hsize_t>(rows), static_cast<hsize_t>(cols)};
   const hsize_t chunk[2] = {kMatrixChunk, kMatrixChunk};
   Handle space{checkId(H5Screate_simple(2, dims, nullptr), "dataspace"), H5Sclose};
   Handle dcpl{checkId(H5Pcreate(H5P_DATASET_CREATE), "dataset properties"), H5Pclose};
@@ -183,13 +204,16 @@ void Hdf5Writer::writeChunkedMatrix(const std::string& path, const Eigen::Ref<co
                                H5P_DEFAULT),
                     "create dataset " + path),
             H5Dclose};
-  const Eigen::Index row_chunks = (m.rows() + kMatrixChunk - 1) / kMatrixChunk;
-  const Eigen::Index col_chunks = (m.cols() + kMatrixChunk - 1) / kMatrixChunk;
+  const Eigen::Index row_chunks = (rows + kMatrixChunk - 1) / kMatrixChunk;
+  const Eigen::Index col_chunks = (cols + kMatrixChunk - 1) / kMatrixChunk;
   std::vector<std::vector<unsigned char>> compressed(static_cast<size_t>(col_chunks));
   for (Eigen::Index ci = 0; ci < row_chunks; ++ci) {  // one row of chunks at a time: bounded memory
     std::atomic<bool> failed{false};
     solver::parallelFor(col_chunks, [&](long long cj) {
-      compressed[static_cast<size_t>(cj)] = compressChunk(m, ci * kMatrixChunk, cj * kMatrixChunk);
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> block =
+          Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>::Zero(kMatrixChunk, kMatrixChunk);
+      fill(ci * kMatrixChunk, cj * kMatrixChunk, block);
+      compressed[static_cast<size_t>(cj)] = compressChunk(block);
       if (compressed[static_cast<size_t>(cj)].empty()) failed = true;
     });
     if (failed) throw OutputError(path + ": compressing a chunk failed (out of memory?)");

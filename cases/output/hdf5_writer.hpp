@@ -3,7 +3,9 @@
 // requested one and renamed at commit(); a run that fails never leaves a half-written
 // file under the requested name. Every dataset carries a `units` attribute.
 #include <Eigen/Dense>
+#include <Eigen/Sparse>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -23,6 +25,10 @@ class Hdf5Writer {
   /// Matrices of more than 4096 entries are chunked and deflate-compressed; from 512 × 512
   /// on, chunks are compressed on all cores (solver/parallel.hpp threads).
   void writeMatrix(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m, const std::string& units);
+  /// The same dataset from a sparse matrix, each row scaled by `row_scale` (empty: 1), never
+  /// formed densely (F = A⁻¹ G of a 6,402-node network is 3.7 % non-zero: 330 MB dense).
+  void writeMatrix(const std::string& path, const Eigen::SparseMatrix<double, Eigen::RowMajor>& m,
+                   const std::string& units, const Eigen::VectorXd& row_scale = {});
   void writeVector(const std::string& path, const Eigen::Ref<const Eigen::VectorXd>& v, const std::string& units);
   /// (slices, rows, cols) dataset of equally sized matrices.
   void writeStack(const std::string& path, const std::vector<Eigen::MatrixXd>& slices, const std::string& units);
@@ -44,7 +50,11 @@ class Hdf5Writer {
   void commit();
 
  private:
-  void writeChunkedMatrix(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m, const std::string& units);
+  /// Fills one kMatrixChunk² row-major block (zeroed, cut at the edge) from (row0, col0).
+  using ChunkFill = std::function<void(Eigen::Index row0, Eigen::Index col0,
+                                       Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& block)>;
+  void writeChunkedMatrix(const std::string& path, Eigen::Index rows, Eigen::Index cols, const ChunkFill& fill,
+                          const std::string& units);
   long long ensureGroup(const std::string& path);
   // HDF5 ids and sizes passed as plain integers so this header needs no <hdf5.h>.
   void writeArray(const std::string& path, long long file_type, long long memory_type, int rank,

@@ -73,7 +73,7 @@ void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, c
   } else {
     estimate = exactStage(c, caster, r, rays, show_progress, progress);
   }
-  r.raw_view_factors = Eigen::MatrixXd(estimate.view_factors);
+  r.raw_view_factors = estimate.view_factors;
   r.view_factor_stderr = Eigen::MatrixXd(estimate.standard_error);
   // What leaves to space or to inactive sides is uncertain too (it sets the GR to space).
   r.lost_view_factor_stderr = (estimate.space_error.array().square() + estimate.blocked_error.array().square()).sqrt();

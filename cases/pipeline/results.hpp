@@ -144,7 +144,7 @@ struct OpticalUncertaintyResult {
 
 /// A geometry-form run.
 struct GeometryRunResult {
-  Eigen::MatrixXd raw_view_factors;    ///< before the correction, –
+  Eigen::SparseMatrix<double, Eigen::RowMajor> raw_view_factors;  ///< before the correction, –
   Eigen::MatrixXd view_factor_stderr;  ///< σ (rays) or the error estimate (exact), –
   Eigen::VectorXd lost_view_factor_stderr;  ///< σ of F_space + F_blocked per node, –
   geometry::ReciprocityCorrection correction;
