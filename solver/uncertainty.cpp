@@ -22,12 +22,13 @@ void forRowBlocks(Eigen::Index n, const Body& body) {
 }
 
 // var y = A² ∘ ((σ_F ∘ σ_F) (M ∘ M)), by row blocks of σ_F.
-Eigen::MatrixXd receivedVariance(const Eigen::VectorXd& area, const Eigen::MatrixXd& sigma_f,
+Eigen::MatrixXd receivedVariance(const Eigen::VectorXd& area, const SparseRowMatrix& sigma_f,
                                  const Eigen::MatrixXd& m2) {
   const Eigen::Index n = area.size();
   Eigen::MatrixXd vy(n, m2.cols());
   forRowBlocks(n, [&](Eigen::Index r, Eigen::Index rows) {
-    vy.middleRows(r, rows).noalias() = sigma_f.middleRows(r, rows).array().square().matrix() * m2;
+    const SparseRowMatrix block = sigma_f.middleRows(r, rows);
+    vy.middleRows(r, rows).noalias() = block.cwiseProduct(block) * m2;
   });
   return area.array().square().matrix().asDiagonal() * vy;
 }
@@ -48,7 +49,7 @@ Eigen::MatrixXd squaredCoreTimes(const LowRankBandSolver& band, const Eigen::Mat
 }  // namespace
 
 AbsorbedVariance absorbedVariance(const Network& net, const LowRankBandSolver& band,
-                                  const Eigen::MatrixXd& sigma_f, const Eigen::MatrixXd& m,
+                                  const SparseRowMatrix& sigma_f, const Eigen::MatrixXd& m,
                                   const Eigen::MatrixXd& sigma_e) {
   const Eigen::Index n = net.size(), P = m.cols();
   const Eigen::VectorXd& area = net.area();
@@ -87,7 +88,7 @@ Eigen::MatrixXd truncationError(const Network& net, const LowRankBandSolver& ban
   return alpha.asDiagonal() * (full - net.area().asDiagonal() * h).cwiseAbs();
 }
 
-Eigen::MatrixXd exchangeHeatVariance(const Eigen::MatrixXd& sigma_f, const Eigen::VectorXd& lost,
+Eigen::MatrixXd exchangeHeatVariance(const SparseRowMatrix& sigma_f, const Eigen::VectorXd& lost,
                                      const Eigen::VectorXd& emissivity, const Eigen::VectorXd& area,
                                      const Eigen::MatrixXd& t, double t_space) {
   const Eigen::Index n = t.rows(), P = t.cols();
@@ -100,13 +101,11 @@ Eigen::MatrixXd exchangeHeatVariance(const Eigen::MatrixXd& sigma_f, const Eigen
   // Σ_j w_ij (T_j⁴ − T_i⁴)² = Σ_j w_ij T_j⁸ − 2 T_i⁴ Σ_j w_ij T_j⁴ + T_i⁸ Σ_j w_ij, w = (ε_i ε_j A_i σ_F,ij)².
   const Eigen::ArrayXXd t4 = t.array().square().square();
   forRowBlocks(n, [&](Eigen::Index r, Eigen::Index rows) {
-    const Eigen::MatrixXd w = (emissivity.segment(r, rows).cwiseProduct(area.segment(r, rows)).asDiagonal() *
-                               sigma_f.middleRows(r, rows) * emissivity.asDiagonal())
-                                  .array()
-                                  .square()
-                                  .matrix();
+    const SparseRowMatrix e_sigma_e = emissivity.segment(r, rows).cwiseProduct(area.segment(r, rows)).asDiagonal() *
+                                      SparseRowMatrix(sigma_f.middleRows(r, rows)) * emissivity.asDiagonal();
+    const SparseRowMatrix w = e_sigma_e.cwiseProduct(e_sigma_e);
     const Eigen::MatrixXd w8 = w * t4.square().matrix(), w4 = w * t4.matrix();
-    const Eigen::VectorXd w1 = w.rowwise().sum();
+    const Eigen::VectorXd w1 = w * Eigen::VectorXd::Ones(n);
     const Eigen::ArrayXXd ti4 = t4.middleRows(r, rows);
     out.middleRows(r, rows) += (w8.array() - 2.0 * ti4 * w4.array() + ti4.square() * w1.replicate(1, P).array())
                                   .max(0.0)

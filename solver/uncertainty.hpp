@@ -18,9 +18,31 @@
 
 #include <vector>
 
+#include <algorithm>
+
 #include <Eigen/Dense>
+#include <Eigen/Sparse>
 
 namespace radnet::solver {
+
+/// σ_F and other mostly-zero node × node matrices, by rows (F of a satellite is a few % non-zero).
+using SparseRowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+
+/// The largest stored entry of a matrix of errors (≥ 0), 0 when it stores none.
+inline double largestEntry(const SparseRowMatrix& m) {
+  double largest = 0.0;
+  for (Eigen::Index k = 0; k < m.outerSize(); ++k)
+    for (SparseRowMatrix::InnerIterator it(m, k); it; ++it) largest = std::max(largest, it.value());
+  return largest;
+}
+
+/// The largest entry of each of n rows (zeros for an empty matrix).
+inline Eigen::VectorXd rowLargestEntries(const SparseRowMatrix& m, Eigen::Index n) {
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index k = 0; k < m.outerSize() && k < n; ++k)
+    for (SparseRowMatrix::InnerIterator it(m, k); it; ++it) out[k] = std::max(out[k], it.value());
+  return out;
+}
 
 /// The variance of one band's absorbed power per node and column, by source, W².
 struct AbsorbedVariance {
@@ -33,7 +55,7 @@ struct AbsorbedVariance {
 /// @param exitance        M (n×P) of the solution, W/m²
 /// @param irradiance_stderr σ_E (n×P), W/m²
 AbsorbedVariance absorbedVariance(const Network& net, const LowRankBandSolver& band,
-                                  const Eigen::MatrixXd& view_factor_stderr, const Eigen::MatrixXd& exitance,
+                                  const SparseRowMatrix& view_factor_stderr, const Eigen::MatrixXd& exitance,
                                   const Eigen::MatrixXd& irradiance_stderr);
 
 /// The truncation error of a rank-k answer, α ∘ |G M − A H| (n×P), W, with A H = G'_k M the
@@ -50,7 +72,7 @@ Eigen::MatrixXd truncationError(const Network& net, const LowRankBandSolver& ban
 /// reflections), and of GR to space through F_space + F_blocked.
 /// @param lost_stderr σ of F_space + F_blocked per node, –
 /// @param temperature (n×P) K of the radiative nodes
-Eigen::MatrixXd exchangeHeatVariance(const Eigen::MatrixXd& view_factor_stderr, const Eigen::VectorXd& lost_stderr,
+Eigen::MatrixXd exchangeHeatVariance(const SparseRowMatrix& view_factor_stderr, const Eigen::VectorXd& lost_stderr,
                                      const Eigen::VectorXd& emissivity, const Eigen::VectorXd& area,
                                      const Eigen::MatrixXd& temperature, double space_temperature_k);
 

@@ -103,7 +103,7 @@ void writeViewFactorEstimate(Hdf5Writer& h5, const GeometryRunResult& r, ViewFac
     h5.attribute("/network", "exact_pairs_hidden", static_cast<long long>(r.exact->pairs_hidden));
     h5.attribute("/network", "rows_sampled", static_cast<long long>(r.exact->sampled_rows));
   }
-  h5.attribute("/report", "view_factor_error", r.view_factor_stderr.size() ? r.view_factor_stderr.maxCoeff() : 0.0);
+  h5.attribute("/report", "view_factor_error", solver::largestEntry(r.view_factor_stderr));
   h5.attribute("/report", "rays_per_second", r.rays_per_second);
 }
 

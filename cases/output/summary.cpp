@@ -222,9 +222,7 @@ void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std
                {{"area m²", net.area(), Aggregate::Sum}, eps, alpha,
                 {"F_space", net.spaceViewFactor(), Aggregate::Mean},
                 {"GR_space", ex.gr_space, Aggregate::Sum},
-                {"max σ(F)", r.view_factor_stderr.cols() ? Eigen::VectorXd(r.view_factor_stderr.rowwise().maxCoeff())
-                                                        : Eigen::VectorXd::Zero(net.size()),
-                 Aggregate::Max}},
+                {"max σ(F)", solver::rowLargestEntries(r.view_factor_stderr, net.size()), Aggregate::Max}},
                out, 0);
   const int cases = r.cases.caseCount();
   if (cases > 1)

@@ -20,7 +20,7 @@ struct DesignContext {
   const geometry::RayCaster& caster;
   const RadiativeNetwork& radiative;
   const solver::SolverSettings& solver;            ///< with the error budget's tolerance
-  const Eigen::MatrixXd& view_factor_stderr;       ///< σ_F (n×n), –
+  const solver::SparseRowMatrix& view_factor_stderr;       ///< σ_F (n×n), –
   const Eigen::VectorXd& lost_view_factor_stderr;  ///< σ of F_space + F_blocked (n), –
   const Eigen::VectorXd& area;                     ///< of the radiative nodes, m²
 };

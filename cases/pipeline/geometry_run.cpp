@@ -74,7 +74,7 @@ void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, c
     estimate = exactStage(c, caster, r, rays, show_progress, progress);
   }
   r.raw_view_factors = estimate.view_factors;
-  r.view_factor_stderr = Eigen::MatrixXd(estimate.standard_error);
+  r.view_factor_stderr = estimate.standard_error;
   // What leaves to space or to inactive sides is uncertain too (it sets the GR to space).
   r.lost_view_factor_stderr = (estimate.space_error.array().square() + estimate.blocked_error.array().square()).sqrt();
   r.correction = geometry::enforceReciprocity(area, estimate, rays);
@@ -141,7 +141,7 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
 
   // One decomposition serves every optical set and sample: its rank rule takes the largest
   // reflectance any of them may give each node.
-  r.solver = budgetedSolverSettings(c.solver, r.view_factor_stderr.size() ? r.view_factor_stderr.maxCoeff() : 0.0);
+  r.solver = budgetedSolverSettings(c.solver, solver::largestEntry(r.view_factor_stderr));
   r.radiative.pairs = decomposeNetwork(*r.radiative.network, largestReflectance(c), r.solver, r.timings);
   r.radiative.exchange = exchangeFactors(r.radiative, c.emissivity, r.solver, r.timings);
   const DesignContext ctx{c, caster, r.radiative, r.solver, r.view_factor_stderr, r.lost_view_factor_stderr, area};

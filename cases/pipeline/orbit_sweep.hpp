@@ -18,7 +18,7 @@ struct SweepInputs {
   const solver::LowRankBandSolver& solar;  ///< the solar band's core (ρ = 1 − α of the case's optics)
   const solver::LowRankBandSolver& ir;     ///< the IR band's core (ρ = 1 − ε)
   const solver::SolverSettings& solver;
-  const Eigen::MatrixXd& view_factor_stderr;  ///< σ_F (n×n), –; empty: exact view factors
+  const solver::SparseRowMatrix& view_factor_stderr;  ///< σ_F (n×n), –; empty: exact view factors
   /// An earlier design case with the same orbits, attitude and environment but for the
   /// solar constant, a constant albedo and the Earth IR: its irradiances are reused,
   /// multiplied by these ratios, instead of casting the rays again.

@@ -12,6 +12,7 @@
 #include "solver/network.hpp"
 #include "solver/settings.hpp"
 #include "solver/thermal.hpp"
+#include "solver/uncertainty.hpp"
 
 #include <Eigen/Dense>
 
@@ -145,7 +146,7 @@ struct OpticalUncertaintyResult {
 /// A geometry-form run.
 struct GeometryRunResult {
   Eigen::SparseMatrix<double, Eigen::RowMajor> raw_view_factors;  ///< before the correction, –
-  Eigen::MatrixXd view_factor_stderr;  ///< σ (rays) or the error estimate (exact), –
+  solver::SparseRowMatrix view_factor_stderr;  ///< σ (rays) or the error estimate (exact), –
   Eigen::VectorXd lost_view_factor_stderr;  ///< σ of F_space + F_blocked per node, –
   geometry::ReciprocityCorrection correction;
   std::optional<ExactViewFactorStats> exact;

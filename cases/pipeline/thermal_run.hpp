@@ -14,7 +14,7 @@ solver::ThermalNetwork thermalNetwork(const ThermalSettings& settings, const sol
 
 /// What the temperatures' uncertainty needs of a geometry case beyond the sweep.
 struct ThermalErrorInputs {
-  const Eigen::MatrixXd& view_factor_stderr;  ///< σ_F (n_r×n_r), –
+  const solver::SparseRowMatrix& view_factor_stderr;  ///< σ_F (n_r×n_r), –
   const Eigen::VectorXd& lost_view_factor_stderr;  ///< σ of F_space + F_blocked (n_r), –
   const Eigen::VectorXd& emissivity;          ///< of the radiative nodes, –
   const Eigen::VectorXd& area;                ///< of the radiative nodes, m²
