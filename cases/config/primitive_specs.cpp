@@ -175,7 +175,8 @@ std::pair<int, int> parseCounts(const YamlDocument& doc, const YAML::Node& node,
 
 void checkNodeMemory(const YamlDocument& doc, const YAML::Node& where, const std::string& what, double nodes) {
   const double physical = double(::sysconf(_SC_PHYS_PAGES)) * double(::sysconf(_SC_PAGE_SIZE));
-  const double need = 48.0 * nodes * nodes;
+  // 32 n² bytes: above every measured peak per node² (24 n² at most, docs/limits.md).
+  const double need = 32.0 * nodes * nodes;
   if (need > 0.75 * physical) {
     std::ostringstream s;
     s << what << ": " << nodes << " thermal nodes need about " << need / 1073741824.0
