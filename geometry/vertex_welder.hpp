@@ -1,6 +1,7 @@
 #pragma once
 #include "geometry/scene.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
@@ -34,9 +35,13 @@ class VertexWelder {
   const Vec3& point(int v) const { return points_[static_cast<size_t>(v)]; }
 
  private:
+  // Cell indices clamped to ±2⁵⁰: a tolerance far below a coordinate's size (1e-18 m against
+  // 5e5 m) would overflow the integer (undefined behaviour, found by UBSan); clamped cells
+  // only group more points, which the distance test still tells apart.
   std::array<long, 3> cell(const Vec3& p) const {
-    return {std::lround(std::floor(p.x() / tol_)), std::lround(std::floor(p.y() / tol_)),
-            std::lround(std::floor(p.z() / tol_))};
+    constexpr double kMaxCell = 1125899906842624.0;  // 2⁵⁰
+    auto index = [&](double x) { return std::lround(std::clamp(std::floor(x / tol_), -kMaxCell, kMaxCell)); };
+    return {index(p.x()), index(p.y()), index(p.z())};
   }
   double tol_;
   std::vector<Vec3> points_;
