@@ -3,7 +3,7 @@
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 PACKAGES = cmake g++ make libeigen3-dev libspectra-dev libcgal-dev libgeographiclib-dev \
-           libyaml-cpp-dev libhdf5-dev zlib1g-dev catch2 libcli11-dev \
+           libyaml-cpp-dev libhdf5-dev zlib1g-dev catch2 libcli11-dev libopenmpi-dev openmpi-bin \
            python3-h5py python3-matplotlib python3-numpy
 # ParaView, only to test that what users open in it loads (pvbatch under Xvfb, Mesa's
 # software OpenGL); without recommends it is about 150 MB.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace radnet::geometry {
 
@@ -160,10 +161,13 @@ std::vector<PlanetRays> planetRays(const RayCaster& caster, const Vec3& center, 
   const int n = static_cast<int>(scene.nodes().size());
   const std::int64_t cap = std::max<std::int64_t>(1, opt.rays_per_node / kPlanetReplicas);
   std::vector<PlanetRays> out(static_cast<size_t>(n));
+  if (!opt.nodes.empty() && opt.nodes.size() != static_cast<size_t>(n))
+    throw std::invalid_argument("planet rays: the node mask must have one entry per node");
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 1)
 #endif
   for (int i = 0; i < n; ++i) {
+    if (!opt.nodes.empty() && !opt.nodes[static_cast<size_t>(i)]) continue;
     const NodeSampler sampler(scene, i);
     std::int64_t per_replica = opt.relative_error > 0 ? std::min<std::int64_t>(cap, 32) : cap;
     for (;;) {

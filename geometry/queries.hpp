@@ -50,6 +50,9 @@ struct PlanetRayOptions {
   /// 0: cast exactly rays_per_node. Rays double from 1,024 until met or capped.
   double relative_error = 0.0;
   std::uint64_t seed = 1;
+  /// Nodes that cast (empty: all); the others come out empty (0 rays, F = 0), for another
+  /// process to cast. A node's rays depend only on (seed, node), not on this mask.
+  std::vector<char> nodes;
 };
 
 /// Rays from every node into the cone the sphere subtends (uniform in solid angle, so a

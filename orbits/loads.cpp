@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 namespace radnet::orbits {
 
@@ -108,11 +109,15 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
   planet.rays_per_node = opt.planet_rays > 0 ? opt.planet_rays : kMaxPlanetRays;
   planet.relative_error = opt.planet_rays > 0 ? 0.0 : opt.relative_error;
   planet.seed = opt.seed;
+  planet.nodes = opt.planet_nodes;
+  const auto mine = [](const std::vector<char>& mask, int k) { return mask.empty() || mask[static_cast<size_t>(k)]; };
+  if (!opt.sun_positions.empty() && opt.sun_positions.size() != static_cast<size_t>(P))
+    throw std::invalid_argument("environment loads: the position mask must have one entry per position");
   std::vector<geometry::PlanetRays> rays;
   Eigen::Vector3d cached_center(0, 0, 0);
   for (int p = 0; p < P; ++p) {
     const SweepPosition& pos = positions[static_cast<size_t>(p)];
-    if (pos.sunlit_fraction > 0) directLoads(caster, area, pos, opt, cell_m, out, p);  // no rays in the umbra
+    if (pos.sunlit_fraction > 0 && mine(opt.sun_positions, p)) directLoads(caster, area, pos, opt, cell_m, out, p);  // no rays in the umbra
     // Planet rays: cast again unless the Earth sits where it did (reuse).
     const Eigen::Vector3d center = pos.earth_body * pos.earth_distance_m;
     const bool reuse = earth_fixed && !rays.empty() && (center - cached_center).norm() <= 1e-9 * center.norm();
@@ -123,6 +128,7 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
       for (const auto& r : rays) out.planet_rays += r.rays;
     }
     for (int i = 0; i < n; ++i) {
+      if (!mine(opt.planet_nodes, i)) continue;
       const geometry::PlanetRays& r = rays[static_cast<size_t>(i)];
       out.earth_view_factor(i, p) = r.view_factor;
       out.earth_ir(i, p) = opt.earth_ir_w_m2 * r.view_factor;

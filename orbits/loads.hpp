@@ -34,6 +34,10 @@ struct EnvironmentOptions {
   double shadow_cell_m = 0.0;  ///< shadow grid spacing, m; 0: from the node areas and relative_error
   std::int64_t planet_rays = 0;  ///< > 0: this many rays per node; 0: by relative_error up to kMaxPlanetRays
   std::uint64_t seed = 1;
+  /// Positions whose direct load, and nodes whose planet loads (albedo, Earth IR, Earth view
+  /// factor), this process computes (empty: all). The rest stay 0 for other processes to
+  /// fill (docs/mpi.md); each value depends only on the seed and its position and node.
+  std::vector<char> sun_positions, planet_nodes;
   std::function<void(int, int)> progress;  ///< (positions done, positions total), optional
 };
 

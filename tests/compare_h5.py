@@ -7,7 +7,7 @@ Every dataset of either file must exist in the other with the same shape, dtype 
 bytes (NaN compares equal to NaN at the same place). Attributes are compared too,
 except those that describe the run rather than its result: /meta created_utc and
 version, and every attribute of /report and its groups that is a timing or a speed
-(time_*_s, case_*_time_*_s, *_seconds, rays_per_second). Exit 0 when identical, 1 when anything differs (each difference
+(time_*_s, case_*_time_*_s, *_seconds, rays_per_second, mpi_ranks). Exit 0 when identical, 1 when anything differs (each difference
 is printed), 2 on bad usage.
 
 Used by bench/compare_outputs.sh (before/after a refactor: every example and analytic
@@ -25,7 +25,7 @@ def volatile(obj_name, attr_name):
     if (obj_name, attr_name) in VOLATILE_ATTRIBUTES:
         return True
     timing = ("time_" in attr_name and attr_name.endswith("_s")) or attr_name.endswith("_seconds")
-    if obj_name.startswith("/report") and (timing or attr_name == "rays_per_second"):
+    if obj_name.startswith("/report") and (timing or attr_name in ("rays_per_second", "mpi_ranks")):
         return True
     return False
 

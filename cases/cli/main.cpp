@@ -1,5 +1,6 @@
 // radnet command line (docs/design.md, "Contracts"): run, check, validate.
 // Exit codes: 0 success, 1 a check failed, 2 bad input, 3 numerical failure.
+#include "cases/cluster/cluster.hpp"
 #include "cases/config/case_file.hpp"
 #include "cases/config/errors.hpp"
 #include "cases/config/work_estimate.hpp"
@@ -50,29 +51,43 @@ std::string defaultOutput(const std::string& case_path) {
   return std::filesystem::path(case_path).stem().string() + ".h5";
 }
 
+// Under MPI every rank ends each guarded step in one agreement on the exit code (the
+// largest of any rank's): a rank that failed tells the others, who stop at their next
+// collective or here, and all leave with the same code (cases/cluster/cluster.hpp).
+int agreed(int code) {
+  const int worst = radnet::cluster::agree(code);
+  if (worst != code && code == 0 && radnet::cluster::rank() == 0)
+    std::cerr << "radnet: stopped: another MPI rank failed (exit " << worst << "); its message is above\n";
+  return worst;
+}
+
 // Runs `body`, mapping each error channel to its exit code with a message on stderr.
 template <class Body>
 int guarded(Body&& body) {
   try {
-    return body();
+    return agreed(body());
+  } catch (const radnet::cluster::PeerFailure& e) {  // already agreed: no second agreement
+    if (radnet::cluster::rank() == 0)
+      std::cerr << "radnet: stopped: another MPI rank failed (exit " << e.code() << "); its message is above\n";
+    return e.code();
   } catch (const InputError& e) {
     std::cerr << e.what() << "\n";
-    return kExitBadInput;
+    return agreed(kExitBadInput);
   } catch (const OutputError& e) {
     std::cerr << "radnet: output not written: " << e.what() << "\n";
-    return kExitOutput;
+    return agreed(kExitOutput);
   } catch (const NumericalError& e) {
     std::cerr << "radnet: numerical failure: " << e.what() << "\n";
-    return kExitNumerical;
+    return agreed(kExitNumerical);
   } catch (const std::invalid_argument& e) {
     std::cerr << "radnet: invalid input: " << e.what() << "\n";
-    return kExitBadInput;
+    return agreed(kExitBadInput);
   } catch (const std::bad_alloc&) {
     std::cerr << "radnet: out of memory: the case is too large for this machine\n";
-    return kExitBadInput;
+    return agreed(kExitBadInput);
   } catch (const std::exception& e) {
     std::cerr << "radnet: error: " << e.what() << "\n";
-    return kExitNumerical;
+    return agreed(kExitNumerical);
   }
 }
 
@@ -106,30 +121,34 @@ std::string outputFor(const RunOptions& o) {
   return o.output;
 }
 
+// Under MPI every rank runs the case (sharing out its work) and rank 0 alone writes the
+// files, prints progress and the summary.
 int runCommand(const RunOptions& o) {
   LoadedCase c = loadCase(o.case_path);
+  const bool writer = radnet::cluster::rank() == 0;
   std::ostringstream sink;
-  std::ostream& progress = o.quiet ? static_cast<std::ostream&>(sink) : std::cerr;
+  std::ostream& progress = o.quiet || !writer ? static_cast<std::ostream&>(sink) : std::cerr;
   const std::string out = outputFor(o);
   std::vector<std::string> inputs = {o.case_path};
   if (c.geometry)
     for (const auto& [file, text] : c.geometry->included) inputs.push_back(file);
-  checkOutputTarget(out, inputs, c.geometry.has_value());
+  if (writer) checkOutputTarget(out, inputs, c.geometry.has_value());
   double write_s = 0.0;
   if (c.network) {
     const NetworkRunResult r = runNetworkCase(*c.network, progress);
-    writeNetworkResult(*c.network, r, out);
+    if (writer) writeNetworkResult(*c.network, r, out);
     printNetworkSummary(*c.network, r, std::cout, o.all_nodes);
   } else {
     applyRunOptions(o, *c.geometry);
-    const GeometryRunResult r = runGeometryCase(*c.geometry, !o.quiet, progress);
+    const GeometryRunResult r = runGeometryCase(*c.geometry, !o.quiet && writer, progress);
     const auto t0 = std::chrono::steady_clock::now();
-    writeGeometryResult(*c.geometry, r, out);
+    if (writer) writeGeometryResult(*c.geometry, r, out);
     write_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     printGeometrySummary(*c.geometry, r, std::cout, o.all_nodes);
   }
   // The file's own /report cannot hold the time spent writing it: it is said here.
-  if (!o.quiet) std::cerr << "radnet: wrote " << out << (write_s > 0 ? " in " + std::to_string(write_s) + " s" : "") << "\n";
+  if (!o.quiet && writer)
+    std::cerr << "radnet: wrote " << out << (write_s > 0 ? " in " + std::to_string(write_s) + " s" : "") << "\n";
   return 0;
 }
 
@@ -295,10 +314,12 @@ CLI::App* addExportCommand(CLI::App& app, std::string& export_result, ExportOpti
   return exporter;
 }
 
-}  // namespace
+// A stream buffer that drops what it is given: stdout of the ranks other than 0.
+struct Discard : std::streambuf {
+  int overflow(int c) override { return c; }
+};
 
-int main(int argc, char** argv) {
-  removeTemporariesOnSignal();  // Ctrl-C, kill or a closed terminal leave no OUT.h5.tmp-PID
+int radnetMain(int argc, char** argv) {  // Ctrl-C, kill or a closed terminal leave no OUT.h5.tmp-PID
   CLI::App app{"radnet: thermal radiation network solver for spacecraft"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("radnet ") + RADNET_VERSION);
@@ -339,12 +360,29 @@ int main(int argc, char** argv) {
   }
   if (*run) return runCommands(run_options);
   if (*validate) return validateCommand(validate_cases);
-  if (*report) return reportCommand(argv[0], report_result, report_dir, report_limits);
-  if (*exporter)
+  if (*report)  // one writer: rank 0 draws, the others take its exit code
+    return agreed(radnet::cluster::rank() == 0 ? reportCommand(argv[0], report_result, report_dir, report_limits) : 0);
+  if (*exporter)  // one writer: rank 0 exports, the others wait for its exit code
     return guarded([&] {
-      for (const std::string& file : exportResult(export_result, export_options))
-        std::cout << "radnet: wrote " << file << "\n";
+      if (radnet::cluster::rank() == 0)
+        for (const std::string& file : exportResult(export_result, export_options))
+          std::cout << "radnet: wrote " << file << "\n";
       return 0;
     });
   return checkCommand(check_cases);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  removeTemporariesOnSignal();  // Ctrl-C, kill or a closed terminal leave no OUT.h5.tmp-PID
+  // Under mpirun: MPI up, and stdout (summaries, check results) from rank 0 only; every
+  // rank's errors still reach stderr, so a failure seen by one rank is located (docs/mpi.md).
+  radnet::cluster::start(argc, argv);
+  Discard discard;
+  if (radnet::cluster::rank() != 0) std::cout.rdbuf(&discard);
+  const int code = radnetMain(argc, argv);
+  std::cout.flush();
+  radnet::cluster::finish();
+  return code;
 }

@@ -1,5 +1,7 @@
 #include "cases/output/hdf5_layout.hpp"
 
+#include "cases/cluster/cluster.hpp"
+
 #include "solver/units.hpp"
 
 #include <cmath>
@@ -304,8 +306,10 @@ void writeTemperatures(Hdf5Writer& h5, const ThermalSolution& thermal, const The
 }
 
 void writeTimings(Hdf5Writer& h5, const StageTimings& timings) {
+  // Under MPI the times are the slowest rank's per stage (cases/pipeline/distributed.hpp).
   for (const auto& [stage, seconds] : timings.entries())
     h5.attribute("/report", "time_" + std::string(stageName(stage)) + "_s", seconds);
+  h5.attribute("/report", "mpi_ranks", static_cast<long long>(cluster::size()));
 }
 
 }  // namespace radnet::cases

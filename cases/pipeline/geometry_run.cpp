@@ -1,7 +1,9 @@
 #include "cases/pipeline/geometry_run.hpp"
 
+#include "cases/cluster/cluster.hpp"
 #include "cases/config/error_budget.hpp"
 #include "cases/pipeline/design_run.hpp"
+#include "cases/pipeline/distributed.hpp"
 #include "cases/pipeline/optical_uncertainty.hpp"
 #include "cases/pipeline/progress.hpp"
 #include "cases/pipeline/radiative_network.hpp"
@@ -14,13 +16,41 @@
 namespace radnet::cases {
 namespace {
 
+// The rows to cast (empty: all) dealt round robin over the MPI ranks: this rank's share.
+std::vector<char> myRows(std::vector<char> rows, std::size_t n) {
+  if (!cluster::distributed()) return rows;
+  if (rows.empty()) rows.assign(n, 1);
+  long long dealt = 0;
+  for (char& row : rows)
+    if (row) row = cluster::owns(dealt++);
+  return rows;
+}
+
+// Casts the rows (empty: all); under MPI each rank its share, joined on every rank (a
+// row's rays depend only on the seed and the node: the same F as one process).
 geometry::ViewFactorResult castRays(const GeometryCase& c, const geometry::RayCaster& caster,
                                    std::vector<char> rows, bool show_progress, std::ostream& progress) {
   geometry::ViewFactorOptions opt = c.view_factors.monte_carlo;
   const bool some = !rows.empty();
-  opt.cast_rows = std::move(rows);
+  opt.cast_rows = myRows(std::move(rows), caster.scene().nodes().size());
   if (show_progress) opt.progress = progressBar(progress, some ? "view factors (rays)" : "view factors", "nodes");
-  return geometry::computeViewFactors(caster, opt);
+  geometry::ViewFactorResult vf = geometry::computeViewFactors(caster, opt);
+  joinViewFactorRows(vf);
+  return vf;
+}
+
+// The one decomposition: on rank 0, broadcast to the others (who time their wait).
+solver::EigenPairs decomposeOnce(const solver::Network& net, const Eigen::VectorXd& max_reflectance,
+                                 const solver::SolverSettings& settings, StageTimings& timings) {
+  solver::EigenPairs pairs;
+  if (cluster::rank() == 0) {
+    pairs = decomposeNetwork(net, max_reflectance, settings, timings);
+    shareEigenPairs(pairs);
+  } else {
+    StageTimer waiting(timings, Stage::Eigendecomposition);
+    shareEigenPairs(pairs);
+  }
+  return pairs;
 }
 
 // F by the exact method, with the rows it leaves to sampling (auto) cast as rays.
@@ -142,7 +172,7 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
   // One decomposition serves every optical set and sample: its rank rule takes the largest
   // reflectance any of them may give each node.
   r.solver = budgetedSolverSettings(c.solver, solver::largestEntry(r.view_factor_stderr));
-  r.radiative.pairs = decomposeNetwork(*r.radiative.network, largestReflectance(c), r.solver, r.timings);
+  r.radiative.pairs = decomposeOnce(*r.radiative.network, largestReflectance(c), r.solver, r.timings);
   r.radiative.exchange = exchangeFactors(r.radiative, c.emissivity, r.solver, r.timings);
   const DesignContext ctx{c, caster, r.radiative, r.solver, r.view_factor_stderr, r.lost_view_factor_stderr, area};
   std::vector<CaseRun> runs;
@@ -153,6 +183,7 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
   }
   // Counted, not asserted: a stage that decomposed G again would show here.
   r.cases.eigendecompositions = r.timings.count(Stage::Eigendecomposition);
+  slowestRankTimings(r.timings);
   return r;
 }
 

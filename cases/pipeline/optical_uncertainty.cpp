@@ -1,6 +1,8 @@
 #include "cases/pipeline/optical_uncertainty.hpp"
 
+#include "cases/cluster/cluster.hpp"
 #include "cases/config/errors.hpp"
+#include "cases/pipeline/distributed.hpp"
 #include "cases/pipeline/orbit_sweep.hpp"
 #include "cases/pipeline/progress.hpp"
 #include "cases/pipeline/radiative_network.hpp"
@@ -77,6 +79,26 @@ std::pair<double, double> steps(const GeometryCase& c, const std::string& materi
   return {up, down};
 }
 
+// Under MPI each rank solved the items (samples, variants) it owns: every item's matrices,
+// scalars and band-core counts on every rank. An item's matrix is empty where it was not
+// solved, and zero-filled to the common shape before the join.
+void joinItems(const std::vector<Eigen::MatrixXd*>& items, std::vector<double>& scalars, std::vector<int>& cores) {
+  if (!cluster::distributed()) return;
+  double shape[2] = {0, 0};
+  for (const Eigen::MatrixXd* m : items) {
+    shape[0] = std::max(shape[0], static_cast<double>(m->rows()));
+    shape[1] = std::max(shape[1], static_cast<double>(m->cols()));
+  }
+  cluster::max(shape, 2);
+  for (Eigen::MatrixXd* m : items)
+    if (m->size() == 0) m->setZero(static_cast<Eigen::Index>(shape[0]), static_cast<Eigen::Index>(shape[1]));
+  joinOverRanks(items);
+  cluster::join(scalars.data(), scalars.size());
+  std::vector<std::int64_t> counts(cores.begin(), cores.end());
+  cluster::sum(counts.data(), counts.size());
+  std::copy(counts.begin(), counts.end(), cores.begin());
+}
+
 // d(orbit-mean T)/d(property) of each material by central differences (one-sided at 0 or
 // 1): 2 variants per material and property, evaluated in parallel.
 void sensitivities(const DesignContext& ctx, const std::vector<CaseRun>& runs, OpticalUncertaintyResult& out,
@@ -97,7 +119,7 @@ void sensitivities(const DesignContext& ctx, const std::vector<CaseRun>& runs, O
   solver::parallelFor(variants, [&](long long v) {
     const bool absorptivity = v < 2 * M, up = v % 2 == 0;
     const Eigen::Index m = (v / 2) % M;
-    if (!used[static_cast<size_t>(m)]) return;
+    if (!used[static_cast<size_t>(m)] || !cluster::owns(v)) return;
     const auto [max_up, max_down] = steps(c, out.materials[static_cast<size_t>(m)], absorptivity);
     Eigen::VectorXd shift = Eigen::VectorXd::Zero(M);
     const Eigen::VectorXd none = Eigen::VectorXd::Zero(M);
@@ -107,6 +129,9 @@ void sensitivities(const DesignContext& ctx, const std::vector<CaseRun>& runs, O
         ctx, runs, absorptivity ? shiftedSets(c, out.materials, shift, none) : shiftedSets(c, out.materials, none, shift),
         cores[static_cast<size_t>(v)]);
   });
+  std::vector<Eigen::MatrixXd*> means;
+  for (CaseTemperatures& t : result) means.push_back(&t.mean);
+  joinItems(means, step, cores);
   for (int n : cores) band_cores += n;
   for (int property = 0; property < 2; ++property) {
     std::vector<Eigen::MatrixXd>& per_case =
@@ -243,9 +268,12 @@ OpticalUncertaintyResult sampleOpticalUncertainty(const DesignContext& ctx, cons
   std::mutex bar_mutex;
   int done = 0;
   std::vector<int> cores(static_cast<size_t>(u.samples), 0);
+  const std::vector<char> owned = cluster::ownedMask(u.samples);
+  const long long mine = std::count(owned.begin(), owned.end(), 1);
   for (auto* v : {&out.sample_min, &out.sample_mean, &out.sample_max}) v->resize(static_cast<size_t>(u.samples));
   solver::parallelFor(u.samples, [&](long long s) {
     const auto k = static_cast<size_t>(s);
+    if (!cluster::owns(s)) return;  // another MPI rank's
     try {
       CaseTemperatures t = caseTemperaturesUnder(ctx, runs, shiftedSets(c, out.materials, da[k], de[k]), cores[k]);
       out.sample_min[k] = std::move(t.min);
@@ -256,8 +284,13 @@ OpticalUncertaintyResult sampleOpticalUncertainty(const DesignContext& ctx, cons
     }
     const std::lock_guard<std::mutex> lock(bar_mutex);
     ++done;
-    if (bar) bar(done, u.samples);
+    if (bar) bar(done, static_cast<int>(mine));
   });
+  std::vector<Eigen::MatrixXd*> samples;
+  for (auto* v : {&out.sample_min, &out.sample_mean, &out.sample_max})
+    for (Eigen::MatrixXd& m : *v) samples.push_back(&m);
+  std::vector<double> no_scalars;
+  joinItems(samples, no_scalars, cores);
   for (int n : cores) band_cores += n;
   out.sample_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out.percentiles = {percentileOf(out.sample_min, 5), percentileOf(out.sample_mean, 50),

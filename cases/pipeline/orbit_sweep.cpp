@@ -1,7 +1,9 @@
 #include "cases/pipeline/orbit_sweep.hpp"
 
+#include "cases/cluster/cluster.hpp"
 #include "cases/config/errors.hpp"
 #include "cases/pipeline/case_merge.hpp"
+#include "cases/pipeline/distributed.hpp"
 #include "cases/pipeline/progress.hpp"
 #include "solver/uncertainty.hpp"
 
@@ -71,8 +73,13 @@ void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings,
     } else {
       orbits::EnvironmentOptions env = o.environment;
       if (show_progress) env.progress = progressBar(progress, "orbit loads", "positions");
+      if (cluster::distributed()) {  // each rank its sun positions and planet nodes, then joined
+        env.sun_positions = cluster::ownedMask(static_cast<long long>(positions.size()));
+        env.planet_nodes = cluster::ownedMask(area.size());
+      }
       parts.push_back(orbits::environmentLoads(in.caster, area, positions, orbits::earthFixedInBody(o.attitude),
                                                orbit.earth().equatorial_radius_m, env));
+      joinLoads(parts.back());
     }
     sw.case_start.push_back(static_cast<int>(sw.positions.size()));
     sw.case_labels.push_back(o.cases[k].label);

@@ -1,6 +1,7 @@
 #pragma once
 // The stages of a run, named once: the pipeline times them, /report records them as
 // `time_<name>_s` attributes and the summary prints them (docs/hdf5-layout.md).
+#include <cstddef>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -33,6 +34,8 @@ class StageTimings {
   const std::vector<std::pair<Stage, double>>& entries() const { return entries_; }
   /// Adds every stage of `other` (a design case's) to these, times and counts.
   void addAll(const StageTimings& other);
+  /// Replaces the time of entry `index` (of entries()), s: e.g. by the slowest MPI rank's.
+  void setSeconds(std::size_t index, double seconds) { entries_.at(index).second = seconds; }
   /// How many times `stage` was timed (e.g. eigendecompositions of G), 0 if never.
   int count(Stage stage) const;
 

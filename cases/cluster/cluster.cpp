@@ -1,0 +1,176 @@
+#include "cases/cluster/cluster.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+#include <limits>
+
+#ifdef RADNET_HAVE_MPI
+// The C API only: without these, mpi.h in C++ pulls in the deprecated C++ bindings,
+// which need a library this build does not link.
+#define OMPI_SKIP_MPICXX 1
+#define MPICH_SKIP_MPICXX 1
+#include <mpi.h>
+#endif
+
+namespace radnet::cluster {
+namespace {
+
+int g_rank = 0;
+int g_size = 1;
+bool g_started = false;
+
+#ifdef RADNET_HAVE_MPI
+// MPI counts are int: large arrays go in blocks of 2^30 elements.
+constexpr std::size_t kBlock = std::size_t{1} << 30;
+
+// Started by a launcher: Open MPI's mpirun, a PMI (MPICH, Slurm's srun) or PMIx one.
+bool launchedByMpirun() {
+  for (const char* var : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"})
+    if (std::getenv(var)) return true;
+  return false;
+}
+
+template <class T>
+void allreduceBlocks(T* data, std::size_t count, MPI_Datatype type, MPI_Op op) {
+  checkPeers();
+  for (std::size_t at = 0; at < count; at += kBlock)
+    MPI_Allreduce(MPI_IN_PLACE, data + at, static_cast<int>(std::min(kBlock, count - at)), type, op, MPI_COMM_WORLD);
+}
+
+void broadcastBlocks(double* data, std::size_t count, int root) {
+  for (std::size_t at = 0; at < count; at += kBlock)
+    MPI_Bcast(data + at, static_cast<int>(std::min(kBlock, count - at)), MPI_DOUBLE, root, MPI_COMM_WORLD);
+}
+#endif
+
+}  // namespace
+
+void start(int& argc, char**& argv) {
+#ifdef RADNET_HAVE_MPI
+  if (g_started || !launchedByMpirun()) return;
+  int provided = 0;
+  // Only the main thread calls MPI; OpenMP and std::threads work inside a rank.
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &g_size);
+  g_started = true;
+#else
+  (void)argc;
+  (void)argv;
+#endif
+}
+
+void finish() {
+#ifdef RADNET_HAVE_MPI
+  if (g_started) MPI_Finalize();
+#endif
+  g_started = false;
+}
+
+int rank() { return g_rank; }
+int size() { return g_size; }
+bool distributed() { return g_size > 1; }
+
+std::vector<char> ownedMask(long long count) {
+  std::vector<char> mask(static_cast<std::size_t>(std::max(0LL, count)));
+  for (long long k = 0; k < count; ++k) mask[static_cast<std::size_t>(k)] = owns(k);
+  return mask;
+}
+
+int agree(int code) {
+#ifdef RADNET_HAVE_MPI
+  if (g_started && g_size > 1) {
+    int worst = code;
+    MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    return worst;
+  }
+#endif
+  return code;
+}
+
+void checkPeers() {
+  const int code = agree(0);
+  if (code != 0) throw PeerFailure(code);
+}
+
+void join(double* data, std::size_t count) {
+#ifdef RADNET_HAVE_MPI
+  static_assert(sizeof(double) == sizeof(std::uint64_t), "a double is 64 bits");
+  // MPI_BOR is defined on integers: the doubles' bytes as unsigned 64-bit integers.
+  if (g_size > 1) allreduceBlocks(reinterpret_cast<std::uint64_t*>(data), count, MPI_UINT64_T, MPI_BOR);
+#else
+  (void)data, (void)count;
+#endif
+}
+
+void sum(double* data, std::size_t count) {
+#ifdef RADNET_HAVE_MPI
+  if (g_size > 1) allreduceBlocks(data, count, MPI_DOUBLE, MPI_SUM);
+#else
+  (void)data, (void)count;
+#endif
+}
+
+void sum(std::int64_t* data, std::size_t count) {
+#ifdef RADNET_HAVE_MPI
+  if (g_size > 1) allreduceBlocks(data, count, MPI_INT64_T, MPI_SUM);
+#else
+  (void)data, (void)count;
+#endif
+}
+
+void max(double* data, std::size_t count) {
+#ifdef RADNET_HAVE_MPI
+  if (g_size > 1) allreduceBlocks(data, count, MPI_DOUBLE, MPI_MAX);
+#else
+  (void)data, (void)count;
+#endif
+}
+
+std::vector<double> gatherAll(const std::vector<double>& mine) {
+  if (g_size == 1) return mine;
+  std::vector<std::int64_t> counts(static_cast<std::size_t>(g_size), 0);
+  counts[static_cast<std::size_t>(g_rank)] = static_cast<std::int64_t>(mine.size());
+  sum(counts.data(), counts.size());  // agrees first
+  std::int64_t total = 0;
+  for (std::int64_t c : counts) total += c;
+  std::vector<double> all(static_cast<std::size_t>(total));
+#ifdef RADNET_HAVE_MPI
+  // One broadcast per rank: no int displacement limits however large the gather.
+  std::size_t at = 0;
+  for (int r = 0; r < g_size; ++r) {
+    const auto c = static_cast<std::size_t>(counts[static_cast<std::size_t>(r)]);
+    if (r == g_rank) std::copy(mine.begin(), mine.end(), all.begin() + static_cast<std::ptrdiff_t>(at));
+    broadcastBlocks(all.data() + at, c, r);
+    at += c;
+  }
+#endif
+  return all;
+}
+
+void broadcast(double* data, std::size_t count) {
+#ifdef RADNET_HAVE_MPI
+  if (g_size == 1) return;
+  checkPeers();
+  broadcastBlocks(data, count, 0);
+#else
+  (void)data, (void)count;
+#endif
+}
+
+void broadcast(std::string& text) {
+#ifdef RADNET_HAVE_MPI
+  if (g_size == 1) return;
+  checkPeers();
+  long long length = static_cast<long long>(text.size());
+  MPI_Bcast(&length, 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
+  text.resize(static_cast<std::size_t>(length));
+  if (length > 0)
+    MPI_Bcast(text.data(), static_cast<int>(std::min<long long>(length, std::numeric_limits<int>::max())), MPI_CHAR,
+              0, MPI_COMM_WORLD);
+#else
+  (void)text;
+#endif
+}
+
+}  // namespace radnet::cluster

@@ -1,0 +1,145 @@
+#!/usr/bin/env python3
+"""radnet under mpirun (issue 15, docs/mpi.md).
+
+    check_mpi.py RADNET SOURCE_DIR WORK_DIR
+
+1. Cases run with `mpirun -np 2` give the single-process file bit for bit
+   (tests/compare_h5.py; timings and /report mpi_ranks excepted): every random stream is
+   keyed by node, replica or sample, and the ranks' parts are joined bit for bit. The
+   CubeSat (view-factor rows and orbit loads shared out), the hot/cold CubeSat (design
+   cases and optical samples) and an analytic enclosure.
+2. `radnet check` under mpirun passes and prints its verdict once.
+3. Failures: a bad mesh seen only by rank 1 (before any collective, while rank 0 is in
+   the run) and an output rank 0 cannot write (after every collective): every rank exits
+   with the same code (2, 4), the bad mesh located at file:line:column, nothing left
+   behind, no hang.
+"""
+import os
+import pathlib
+import shutil
+import subprocess
+import sys
+
+RADNET, SOURCE, WORK = (pathlib.Path(a).resolve() for a in sys.argv[1:4])
+MPIRUN = shutil.which("mpirun")
+# Root in CI, 2 cores: both allowed. Shared memory without the single-copy mechanism,
+# which containers' ptrace rules refuse.
+MPI_ENV = dict(os.environ, OMPI_MCA_btl_vader_single_copy_mechanism="none", OMPI_MCA_rmaps_base_oversubscribe="1",
+               OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+TIMEOUT_S = 600  # a hang fails the test instead of stalling ctest
+failures = []
+
+
+def mpirun(args, ranks=2):
+    return subprocess.run([MPIRUN, "-np", str(ranks), *map(str, args)], env=MPI_ENV, capture_output=True, text=True,
+                          timeout=TIMEOUT_S)
+
+
+def same_result(case, extra=()):
+    """One process and two ranks: the same file, bit for bit."""
+    name = pathlib.Path(case).stem
+    files = {}
+    for label, prefix in (("single", []), ("mpi", None)):
+        d = WORK / name / label
+        d.mkdir(parents=True)
+        out = d / "out.h5"  # the same name: it is part of the result (/xdmf/series_file)
+        args = ["run", case, "-o", out, "-q", *extra]
+        if prefix is None:
+            p = mpirun([RADNET, *args])
+        else:
+            p = subprocess.run([RADNET, *args], capture_output=True, text=True, timeout=TIMEOUT_S)
+        if p.returncode != 0:
+            failures.append(f"{name} ({label}) exited {p.returncode}:\n{p.stderr[-2000:]}")
+            return
+        files[label] = out
+    import h5py
+    with h5py.File(files["mpi"], "r") as h5:
+        ranks = int(h5["/report"].attrs["mpi_ranks"])
+    if ranks != 2:
+        failures.append(f"{name}: /report mpi_ranks is {ranks}, not 2")
+    cmp = subprocess.run(["/usr/bin/python3", SOURCE / "tests/compare_h5.py", files["single"], files["mpi"]],
+                         capture_output=True, text=True)
+    if cmp.returncode != 0:
+        failures.append(f"{name}: the 2-rank result differs from one process:\n{cmp.stdout[-3000:]}{cmp.stderr}")
+    else:
+        print(f"{name}: 2 ranks bit-identical to one process")
+
+
+def check_command():
+    case = SOURCE / "cases/analytic/perpendicular-squares.yaml"
+    p = mpirun([RADNET, "check", case])
+    if p.returncode != 0 or p.stdout.count("all checks passed") != 1:
+        failures.append(f"radnet check under mpirun: exit {p.returncode}, stdout:\n{p.stdout}\nstderr:\n{p.stderr}")
+    else:
+        print("radnet check under mpirun: passed, verdict printed once")
+
+
+def per_rank_run(name, cases, out):
+    """Rank r runs cases[r] (the wrapper records each rank's exit code)."""
+    d = WORK / name
+    d.mkdir(parents=True, exist_ok=True)
+    wrapper = d / "rank.sh"
+    wrapper.write_text(
+        "#!/bin/sh\n"
+        f'if [ "$OMPI_COMM_WORLD_RANK" = 1 ]; then c="{cases[1]}"; else c="{cases[0]}"; fi\n'
+        f'"{RADNET}" run "$c" -o "{out}" -q\n'
+        f'rc=$?; echo $rc > "{d}/rank-$OMPI_COMM_WORLD_RANK.rc"; exit $rc\n')
+    wrapper.chmod(0o755)
+    p = mpirun([wrapper])
+    codes = sorted((f.name, f.read_text().strip()) for f in d.glob("rank-*.rc"))
+    return p, codes
+
+
+def failing_ranks():
+    good = SOURCE / "cases/examples/cubesat-3u.yaml"
+    d = WORK / "bad-mesh"
+    d.mkdir(parents=True)
+    # The same case, but its mesh, on rank 1 only, has a face with a corner index out of range.
+    mesh = d / "panel.off"
+    mesh.write_text("OFF\n4 2 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n3 0 1 2\n3 0 2 9\n")
+    bad = d / "bad.yaml"
+    bad.write_text((SOURCE / "cases/examples/cubesat-3u.yaml").read_text().replace(
+        "geometry:", f"geometry:\n  - mesh: {{name: bad_panel, file: {mesh}, scale: 1.0, front: solar_cell}}", 1))
+    out = d / "out.h5"
+    p, codes = per_rank_run("bad-mesh", [good, bad], out)
+    located = f"{mesh}:8:" in p.stderr or f"{bad}:" in p.stderr
+    if codes != [("rank-0.rc", "2"), ("rank-1.rc", "2")] or p.returncode != 2 or not located:
+        failures.append(f"bad mesh on rank 1: mpirun exit {p.returncode}, ranks {codes}, stderr:\n{p.stderr[-2000:]}")
+    elif out.exists() or list(d.glob("out.h5*")):
+        failures.append(f"bad mesh on rank 1 left {list(d.glob('out.h5*'))}")
+    else:
+        print("bad mesh on rank 1: exit 2 on both ranks, located, nothing written")
+    # Rank 0 fails after every collective: the hot case's ParaView sidecar's name is taken
+    # by a directory, found only when the files are written; rank 1 waits in the last agreement.
+    d = WORK / "unwritable"
+    (d / "out.hot.xmf").mkdir(parents=True)
+    hot_cold = SOURCE / "cases/examples/cubesat-hot-cold.yaml"
+    p, codes = per_rank_run("unwritable", [hot_cold, hot_cold], d / "out.h5")
+    left = [f.name for f in d.iterdir() if f.name.startswith("out.h5")]
+    if codes != [("rank-0.rc", "4"), ("rank-1.rc", "4")] or p.returncode != 4 or left:
+        failures.append(f"unwritable output: mpirun exit {p.returncode}, ranks {codes}, left {left}, stderr:\n"
+                        f"{p.stderr[-2000:]}")
+    else:
+        print("output rank 0 cannot write: exit 4 on both ranks, nothing left")
+
+
+def main():
+    if MPIRUN is None:
+        print("mpirun not found (make deps installs openmpi-bin)")
+        return 1
+    shutil.rmtree(WORK, ignore_errors=True)
+    WORK.mkdir(parents=True)
+    same_result(SOURCE / "cases/examples/cubesat-3u.yaml")
+    same_result(SOURCE / "cases/examples/cubesat-hot-cold.yaml")
+    same_result(SOURCE / "cases/analytic/perpendicular-squares.yaml")
+    check_command()
+    failing_ranks()
+    for f in failures:
+        print("FAIL:", f)
+    if not failures:
+        shutil.rmtree(WORK, ignore_errors=True)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
