@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <limits>
 
 #ifdef RADNET_HAVE_MPI
 // The C API only: without these, mpi.h in C++ pulls in the deprecated C++ bindings,
@@ -158,18 +157,17 @@ void broadcast(double* data, std::size_t count) {
 #endif
 }
 
-void broadcast(std::string& text) {
+void broadcast(std::string& text, int root) {
 #ifdef RADNET_HAVE_MPI
   if (g_size == 1) return;
   checkPeers();
   long long length = static_cast<long long>(text.size());
-  MPI_Bcast(&length, 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
+  MPI_Bcast(&length, 1, MPI_LONG_LONG, root, MPI_COMM_WORLD);
   text.resize(static_cast<std::size_t>(length));
-  if (length > 0)
-    MPI_Bcast(text.data(), static_cast<int>(std::min<long long>(length, std::numeric_limits<int>::max())), MPI_CHAR,
-              0, MPI_COMM_WORLD);
+  for (std::size_t at = 0; at < text.size(); at += kBlock)
+    MPI_Bcast(text.data() + at, static_cast<int>(std::min(kBlock, text.size() - at)), MPI_CHAR, root, MPI_COMM_WORLD);
 #else
-  (void)text;
+  (void)text, (void)root;
 #endif
 }
 

@@ -64,7 +64,7 @@ void max(double* data, std::size_t count);
 std::vector<double> gatherAll(const std::vector<double>& mine);
 /// Rank 0's `data` (count given on every rank) on every rank. @throws PeerFailure
 void broadcast(double* data, std::size_t count);
-/// Rank 0's string on every rank. @throws PeerFailure
-void broadcast(std::string& text);
+/// Rank `root`'s string (text or bytes) on every rank. @throws PeerFailure
+void broadcast(std::string& text, int root = 0);
 
 }  // namespace radnet::cluster

@@ -1,12 +1,16 @@
 #include "cases/pipeline/design_run.hpp"
 
+#include "cases/cluster/cluster.hpp"
+#include "cases/pipeline/distributed.hpp"
 #include "cases/pipeline/orbit_sweep.hpp"
+#include "cases/pipeline/packing.hpp"
 #include "cases/pipeline/radiative_network.hpp"
 #include "cases/pipeline/thermal_run.hpp"
 
 #include <algorithm>
 #include <array>
 #include <ostream>
+#include <sstream>
 
 namespace radnet::cases {
 namespace {
@@ -39,36 +43,68 @@ LoadReuse findReuse(const GeometryCase& c, int k, const std::vector<CaseRun>& ru
   return {};
 }
 
-// One design case: its sweep on its optical set's cores, then its temperatures.
-void runCase(const DesignContext& ctx, int k, GeometryRunResult& r, std::vector<BandCores>& cores,
-             std::vector<CaseRun>& runs, bool show_progress, std::ostream& progress) {
+// One design case's sweep on its optical set's cores (every rank: the loads are shared out
+// within it).
+void sweepCase(const DesignContext& ctx, int k, GeometryRunResult& r, std::vector<BandCores>& cores,
+               std::vector<CaseRun>& runs, bool show_progress, std::ostream& progress) {
   CaseRun& run = runs[static_cast<size_t>(k)];
   const GeometryCase& c = ctx.c;
   const DesignCase& d = c.design_cases[static_cast<size_t>(k)];
   const OpticalSet& set = c.optical_sets[static_cast<size_t>(d.optics)];
-  StageTimings& t = r.cases.timings.emplace_back();
+  StageTimings& t = r.cases.timings[static_cast<size_t>(k)];
   if (c.design_cases.size() > 1)
     progress << "radnet: case " << k + 1 << "/" << c.design_cases.size() << " '" << d.name << "' (optics " << set.name
              << ")\n";
-  if (d.orbit) {
-    BandCores& bc = cores[static_cast<size_t>(d.optics)];
-    if (!bc.solar) {
-      StageTimer timer(t, Stage::BandSolves);
-      bc = bandCores(ctx.radiative, set);
-      r.cases.band_cores += 2;
-    }
-    const LoadReuse reuse = findReuse(c, k, runs);
-    run.sweep = runSweep({*d.orbit, ctx.caster, ctx.radiative, *bc.solar, *bc.ir, ctx.solver, ctx.view_factor_stderr,
-                          reuse.from, reuse.direct, reuse.albedo, reuse.earth_ir},
-                         t, show_progress, progress);
+  if (!d.orbit) return;
+  BandCores& bc = cores[static_cast<size_t>(d.optics)];
+  if (!bc.solar) {
+    StageTimer timer(t, Stage::BandSolves);
+    bc = bandCores(ctx.radiative, set);
+    r.cases.band_cores += 2;
   }
-  if (c.thermal) {
-    run.settings = caseThermalSettings(*c.thermal, d);
-    const ThermalErrorInputs errors{ctx.view_factor_stderr, ctx.lost_view_factor_stderr, set.emissivity, ctx.area};
-    run.thermal = runThermal(*run.settings, exchangeOf(r, d.optics), run.sweep ? &*run.sweep : nullptr, t, progress,
-                             &errors);
+  const LoadReuse reuse = findReuse(c, k, runs);
+  run.sweep = runSweep({*d.orbit, ctx.caster, ctx.radiative, *bc.solar, *bc.ir, ctx.solver, ctx.view_factor_stderr,
+                        reuse.from, reuse.direct, reuse.albedo, reuse.earth_ir},
+                       t, show_progress, progress);
+}
+
+// Design case k's temperatures, on the rank that owns the case.
+ThermalOutcome solveCase(const DesignContext& ctx, int k, const GeometryRunResult& r, std::vector<CaseRun>& runs) {
+  CaseRun& run = runs[static_cast<size_t>(k)];
+  const DesignCase& d = ctx.c.design_cases[static_cast<size_t>(k)];
+  const OpticalSet& set = ctx.c.optical_sets[static_cast<size_t>(d.optics)];
+  const ThermalErrorInputs errors{ctx.view_factor_stderr, ctx.lost_view_factor_stderr, set.emissivity, ctx.area};
+  ThermalOutcome out;
+  std::ostringstream log;
+  out.thermal = runThermal(*run.settings, exchangeOf(r, d.optics), run.sweep ? &*run.sweep : nullptr, out.timings,
+                           log, &errors);
+  out.log = log.str();
+  return out;
+}
+
+// Every case's temperatures: each MPI rank solves the cases it owns and hands them to the
+// others; what each printed is printed in case order. The run's stage times get this
+// rank's own thermal work (a case solved elsewhere adds 0 s here), each case its solver's.
+void solveCases(const DesignContext& ctx, GeometryRunResult& r, std::vector<CaseRun>& runs, std::ostream& progress) {
+  const GeometryCase& c = ctx.c;
+  const int cases = static_cast<int>(c.design_cases.size());
+  std::vector<ThermalOutcome> outcomes(static_cast<size_t>(cases));
+  for (int k = 0; k < cases; ++k) {
+    runs[static_cast<size_t>(k)].settings = caseThermalSettings(*c.thermal, c.design_cases[static_cast<size_t>(k)]);
+    if (cluster::owns(k)) outcomes[static_cast<size_t>(k)] = solveCase(ctx, k, r, runs);
   }
-  r.timings.addAll(t);
+  for (int k = 0; k < cases; ++k) {
+    ThermalOutcome& o = outcomes[static_cast<size_t>(k)];
+    const bool mine = cluster::owns(k);
+    shareThermal(o, k % cluster::size());
+    if (cases > 1 && cluster::distributed())
+      progress << "radnet: case " << k + 1 << "/" << cases << " '" << c.design_cases[static_cast<size_t>(k)].name
+               << "': temperatures\n";
+    progress << o.log;
+    runs[static_cast<size_t>(k)].thermal = std::move(o.thermal);
+    r.cases.timings[static_cast<size_t>(k)].addAll(o.timings);
+    for (const auto& [stage, seconds] : o.timings.entries()) r.timings.add(stage, mine ? seconds : 0.0);
+  }
 }
 
 // Every case's orbit statistics and, over the cases, each node's envelope and the case setting it.
@@ -162,16 +198,19 @@ void runDesignCases(const DesignContext& ctx, GeometryRunResult& r, std::vector<
                                                              r.timings));
   }
   std::vector<BandCores> cores(c.optical_sets.size());
-  runs.clear();
-  runs.reserve(c.design_cases.size());
+  runs.assign(c.design_cases.size(), CaseRun{});  // sized once: earlier cases' references stay valid
+  out.timings.assign(c.design_cases.size(), StageTimings{});
+  for (size_t k = 0; k < c.design_cases.size(); ++k) {
+    out.names.push_back(c.design_cases[k].name);
+    out.optics.push_back(c.optical_sets[static_cast<size_t>(c.design_cases[k].optics)].name);
+    sweepCase(ctx, static_cast<int>(k), r, cores, runs, show_progress, progress);
+  }
+  for (const StageTimings& t : out.timings) r.timings.addAll(t);
+  if (c.thermal) solveCases(ctx, r, runs, progress);
   out.orbit_case_start = {0};
   out.position_start = {0};
-  for (size_t k = 0; k < c.design_cases.size(); ++k) {
-    const DesignCase& d = c.design_cases[k];
-    out.names.push_back(d.name);
-    out.optics.push_back(c.optical_sets[static_cast<size_t>(d.optics)].name);
-    CaseRun& run = runs.emplace_back();  // reserved: earlier cases' references stay valid
-    runCase(ctx, static_cast<int>(k), r, cores, runs, show_progress, progress);
+  for (size_t k = 0; k < runs.size(); ++k) {
+    const CaseRun& run = runs[k];
     if (run.sweep) {
       if (!r.sweep) r.sweep = *run.sweep; else appendSweep(*r.sweep, *run.sweep);
     }

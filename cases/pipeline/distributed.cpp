@@ -94,6 +94,13 @@ void shareEigenPairs(solver::EigenPairs& pairs) {
   cluster::broadcast(pairs.message);
 }
 
+void shareThermal(ThermalOutcome& outcome, int owner) {
+  if (!cluster::distributed()) return;
+  std::string bytes = cluster::rank() == owner ? packThermal(outcome) : std::string();
+  cluster::broadcast(bytes, owner);
+  if (cluster::rank() != owner) outcome = unpackThermal(bytes);
+}
+
 void joinOverRanks(const std::vector<Eigen::MatrixXd*>& matrices) {
   if (!cluster::distributed()) return;
   std::vector<double> packed;

@@ -4,6 +4,7 @@
 // items a rank does not own are +0.0 in its part, and joining takes each owner's bits
 // (cluster::join): every rank ends with the single-process numbers bit for bit. With one
 // rank, no-ops.
+#include "cases/pipeline/packing.hpp"
 #include "cases/pipeline/stages.hpp"
 #include "geometry/view_factors.hpp"
 #include "orbits/loads.hpp"
@@ -25,6 +26,9 @@ void joinLoads(orbits::EnvironmentLoads& loads);
 
 /// Rank 0 decomposed G: its eigenpairs (and status) on every rank.
 void shareEigenPairs(solver::EigenPairs& pairs);
+
+/// Design case k's thermal outcome, solved by rank `owner`, on every rank (bit for bit).
+void shareThermal(ThermalOutcome& outcome, int owner);
 
 /// Joins these matrices (each its own shape on every rank; an element given by one rank).
 void joinOverRanks(const std::vector<Eigen::MatrixXd*>& matrices);
