@@ -252,11 +252,54 @@ struct PairCounts {
   long long evaluations = 0;
 };
 
-// Integrates every pair of which at least one row is exact.
+// This process's part of the pair values and counts, packed: the counts, then per emitting
+// patch it integrated [patch, count, (q, exchange area, error)…].
+std::vector<double> packPart(const std::vector<std::vector<PairValue>>& values, const PairCounts& c,
+                             const std::vector<int>& mine) {
+  std::vector<double> out = {double(c.culled), double(c.hidden), double(c.unoccluded), double(c.occluded),
+                             double(c.evaluations), double(mine.size())};
+  for (int a : mine) {
+    const std::vector<PairValue>& v = values[static_cast<size_t>(a)];
+    out.push_back(a);
+    out.push_back(static_cast<double>(v.size()));
+    for (const PairValue& p : v) out.insert(out.end(), {double(p.q), p.exchange_area, p.error});
+  }
+  return out;
+}
+
+// Every process's parts back into `values`, the counts summed.
+PairCounts unpackParts(const std::vector<double>& all, std::vector<std::vector<PairValue>>& values) {
+  PairCounts total;
+  for (size_t at = 0; at < all.size();) {
+    total.culled += static_cast<std::int64_t>(all[at]);
+    total.hidden += static_cast<std::int64_t>(all[at + 1]);
+    total.unoccluded += static_cast<std::int64_t>(all[at + 2]);
+    total.occluded += static_cast<std::int64_t>(all[at + 3]);
+    total.evaluations += static_cast<long long>(all[at + 4]);
+    const auto patches = static_cast<size_t>(all[at + 5]);
+    at += 6;
+    for (size_t k = 0; k < patches; ++k) {
+      std::vector<PairValue>& v = values[static_cast<size_t>(all[at])];
+      const auto count = static_cast<size_t>(all[at + 1]);
+      at += 2;
+      v.clear();
+      for (size_t j = 0; j < count; ++j, at += 3) v.push_back({static_cast<int>(all[at]), all[at + 1], all[at + 2]});
+    }
+  }
+  return total;
+}
+
+// Integrates every pair of which at least one row is exact (this process's emitting patches).
 PairCounts integratePairs(const ExactScene& scene, const ExactOptions& opt, int threads,
                           std::vector<std::vector<PairValue>>& values) {
   const int np = static_cast<int>(scene.patches.size());
-  const std::vector<int> exact = exactPatches(scene);
+  std::vector<int> exact = exactPatches(scene);
+  if (opt.parts > 1) {
+    std::vector<int> mine;
+    for (size_t k = static_cast<size_t>(opt.part); k < exact.size(); k += static_cast<size_t>(opt.parts))
+      mine.push_back(exact[k]);
+    exact = std::move(mine);
+  }
   std::int64_t culled = 0, hidden = 0, unoccluded = 0, occluded = 0;
   long long evaluations = 0;
   int finished = 0;
@@ -291,13 +334,17 @@ PairCounts integratePairs(const ExactScene& scene, const ExactOptions& opt, int 
       }
     }
   }
-  return {culled, hidden, unoccluded, occluded, evaluations};
+  const PairCounts counts{culled, hidden, unoccluded, occluded, evaluations};
+  if (opt.parts <= 1) return counts;
+  return unpackParts(opt.gather(packPart(values, counts, exact)), values);
 }
 
 }  // namespace
 
 ExactResult exactViewFactors(const Scene& scene, const ExactOptions& opt) {
   if (!(opt.tolerance > 0)) throw std::invalid_argument("exact view factors need a tolerance > 0");
+  if (opt.parts > 1 && (!opt.gather || opt.part < 0 || opt.part >= opt.parts))
+    throw std::invalid_argument("exact view factors shared out need a part in [0, parts) and a gather");
   const auto t0 = std::chrono::steady_clock::now();
 #ifdef _OPENMP
   const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();

@@ -41,6 +41,12 @@ struct ExactOptions {
   int threads = 0;    ///< 0: OpenMP's default
   /// Called as emitting patches finish (one thread at a time): (done, total).
   std::function<void(int, int)> progress;
+  /// The pair integrals shared out over `parts` processes (MPI ranks, docs/mpi.md): this
+  /// one integrates the emitting patches k (in plan order) with k % parts == part, and
+  /// `gather` returns every process's packed values concatenated in process order. Each
+  /// pair's value does not depend on who integrates it: the result is the same bit for bit.
+  int part = 0, parts = 1;
+  std::function<std::vector<double>(const std::vector<double>&)> gather;
 
   static ExactOptions withTolerance(double t) {
     ExactOptions o;

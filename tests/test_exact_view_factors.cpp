@@ -168,6 +168,47 @@ TEST_CASE("exact method: bit-identical for any thread count; auto leaves crowded
   CHECK(merged.view_factors.coeff(1, 0) == 2.0 * a.view_factors.coeff(1, 0));
 }
 
+TEST_CASE("exact method: shared out in two parts (as over MPI ranks) gives one process's result bit for bit") {
+  // Two parts in one process: part 0's gather runs part 1, whose gather joins both packs
+  // in part order, as cluster::gatherAll does across ranks.
+  Scene s;
+  s.addSurface("inner", "inner", sphere(Vec3(0, 0, 0), 1.0, Vec3(0, 0, 1), 0, 180, {}, 2, 4), "inner", "");
+  s.addSurface("outer", "outer", sphere(Vec3(0, 0, 0), 2.0, Vec3(0, 0, 1), 0, 180, {}, 2, 4), "", "outer");
+  const ExactOptions base = ExactOptions::withTolerance(1e-5);
+  ExactOptions alone = base;
+  int emitters = 0;
+  alone.progress = [&](int, int total) { emitters = total; };
+  const ExactResult whole = exactViewFactors(s, alone);
+  ExactOptions first = base;
+  first.parts = 2;
+  int patches_seen[2] = {0, 0};
+  first.progress = [&](int, int total) { patches_seen[0] = total; };
+  first.gather = [&](const std::vector<double>& pack0) {
+    std::vector<double> all;
+    ExactOptions second = base;
+    second.part = 1;
+    second.parts = 2;
+    second.progress = [&](int, int total) { patches_seen[1] = total; };
+    second.gather = [&](const std::vector<double>& pack1) {
+      all = pack0;
+      all.insert(all.end(), pack1.begin(), pack1.end());
+      return all;
+    };
+    exactViewFactors(s, second);
+    return all;
+  };
+  const ExactResult split = exactViewFactors(s, first);
+  CHECK(patches_seen[0] > 0);
+  CHECK(patches_seen[1] > 0);  // each part integrated some emitters, not all
+  CHECK(patches_seen[0] + patches_seen[1] == emitters);
+  CHECK(Eigen::MatrixXd(split.view_factors) == Eigen::MatrixXd(whole.view_factors));
+  CHECK(Eigen::MatrixXd(split.standard_error) == Eigen::MatrixXd(whole.standard_error));
+  CHECK(split.space == whole.space);
+  CHECK(split.pairs_occluded == whole.pairs_occluded);
+  CHECK(split.pairs_unoccluded == whole.pairs_unoccluded);
+  CHECK(split.evaluations == whole.evaluations);
+}
+
 TEST_CASE("patches: coplanar triangles of a node merge, a curved surface stays facets") {
   Scene s;
   s.addSurface("plate", "plate", rectangle(Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(0, 1, 0), 16, 8), "plate", "back");

@@ -100,3 +100,37 @@ TEST_CASE("Earth IR and albedo of a nadir plate against closed forms") {
   CHECK(half.albedo(0, 0) == Approx(l.albedo(0, 0) * 0.5 / 0.3).epsilon(1e-12));
   CHECK(orbits::albedoAt(opt, 45.0) == 0.5);
 }
+
+TEST_CASE("loads shared out by sun position and planet node (as over MPI ranks) add up to the whole, bit for bit") {
+  geometry::Scene s;
+  s.addSurface("plate", "plate", geometry::rectangle(Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(1, 0, 0), 2, 2), "plate",
+               "plate.back");
+  s.addSurface("roof", "roof", geometry::rectangle(Vec3(0.5, -0.5, -1), Vec3(0, 2, 0), Vec3(2, 0, 0), 1, 1), "roof",
+               "roof.back");
+  geometry::RayCaster caster(s);
+  const double r = kR + 500e3;
+  const std::vector<orbits::SweepPosition> ps = {position(Vec3(0.3, 0, -1), r), position(Vec3(1, 0.2, -1), r, 0.5),
+                                                 position(Vec3(-0.2, 1, -0.3), r), position(Vec3(0, 0, 1), r)};
+  orbits::EnvironmentOptions opt;
+  opt.planet_rays = 2048;
+  const orbits::EnvironmentLoads whole = orbits::environmentLoads(caster, areas(s), ps, true, kR, opt);
+  orbits::EnvironmentLoads parts[2];
+  for (int part = 0; part < 2; ++part) {
+    orbits::EnvironmentOptions o = opt;
+    for (size_t p = 0; p < ps.size(); ++p) o.sun_positions.push_back(static_cast<char>(p % 2 == size_t(part)));
+    for (size_t i = 0; i < s.nodes().size(); ++i) o.planet_nodes.push_back(static_cast<char>(i % 2 == size_t(part)));
+    parts[part] = orbits::environmentLoads(caster, areas(s), ps, true, kR, o);
+  }
+  // What a part does not own is exactly 0, so the sum is each owner's value.
+  CHECK(Eigen::MatrixXd(parts[0].direct + parts[1].direct) == whole.direct);
+  CHECK(Eigen::MatrixXd(parts[0].direct_stderr + parts[1].direct_stderr) == whole.direct_stderr);
+  CHECK(Eigen::MatrixXd(parts[0].albedo + parts[1].albedo) == whole.albedo);
+  CHECK(Eigen::MatrixXd(parts[0].earth_ir + parts[1].earth_ir) == whole.earth_ir);
+  CHECK(Eigen::MatrixXd(parts[0].earth_view_factor + parts[1].earth_view_factor) == whole.earth_view_factor);
+  CHECK(parts[0].planet_rays + parts[1].planet_rays == whole.planet_rays);
+  CHECK(parts[0].shadow_rays + parts[1].shadow_rays == whole.shadow_rays);
+  CHECK(whole.direct.cwiseAbs().sum() > 0);  // the comparison is not of zeros
+  CHECK(whole.albedo.cwiseAbs().sum() > 0);
+  CHECK(parts[0].direct.col(1).isZero(0));   // position 1 is part 1's
+  CHECK(parts[1].albedo.row(0).isZero(0));   // node 0 is part 0's
+}

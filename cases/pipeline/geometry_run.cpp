@@ -64,6 +64,11 @@ geometry::ViewFactorEstimate exactStage(const GeometryCase& c, const geometry::R
   opt.row_sampling_seconds =
       automatic ? double(c.view_factors.monte_carlo.rays_per_node) * geometry::kSecondsPerRay : 0.0;
   if (show_progress) opt.progress = progressBar(progress, "view factors", "patches");
+  if (cluster::distributed()) {  // the pair integrals shared out over the ranks by emitting patch
+    opt.part = cluster::rank();
+    opt.parts = cluster::size();
+    opt.gather = [](const std::vector<double>& mine) { return cluster::gatherAll(mine); };
+  }
   const geometry::ExactResult ex = geometry::exactViewFactors(c.scene, opt);
   r.exact = ExactViewFactorStats{ex.patches,        ex.pairs_culled, ex.pairs_hidden, ex.pairs_unoccluded,
                                  ex.pairs_occluded, 0,               ex.seconds};
