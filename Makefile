@@ -60,6 +60,9 @@ bench: build
 	# End to end against n, before and with the error budget (about 15 minutes).
 	/usr/bin/python3 bench/bench_end_to_end.py $(BUILD_DIR)/radnet docs/benchmarks.md \
 	  bench/cases/satellite-1602.yaml bench/cases/satellite-6402.yaml bench/cases/satellite-19202.yaml
+	# One process against two MPI ranks, bit for bit, and the cluster scaling model (issue 15; about 25 minutes).
+	/usr/bin/python3 bench/bench_mpi.py $(BUILD_DIR)/radnet docs/mpi-benchmark.md \
+	  bench/cases/satellite-1602.yaml bench/cases/satellite-1602-design.yaml bench/cases/satellite-6402.yaml
 
 clean:
 	rm -rf $(BUILD_DIR) build-sanitize

@@ -10,6 +10,8 @@
 // samples took 2.4× longer on 2 cores than one after the other).
 #include <Eigen/Core>
 
+#include <sched.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cstdlib>
@@ -25,6 +27,11 @@ inline unsigned threadCount() {
     const long t = std::strtol(env, nullptr, 10);
     if (t > 0) return static_cast<unsigned>(t);
   }
+  // The cores this process may run on, as OpenMP counts them: an MPI rank bound to one
+  // core (mpirun's default for few ranks) runs one thread, not one per core of the machine.
+  cpu_set_t allowed;
+  if (sched_getaffinity(0, sizeof allowed, &allowed) == 0 && CPU_COUNT(&allowed) > 0)
+    return static_cast<unsigned>(CPU_COUNT(&allowed));
   return std::max(1u, std::thread::hardware_concurrency());
 }
 

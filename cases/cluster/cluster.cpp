@@ -1,7 +1,9 @@
 #include "cases/cluster/cluster.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
+#include <new>
 
 #ifdef RADNET_HAVE_MPI
 // The C API only: without these, mpi.h in C++ pulls in the deprecated C++ bindings,
@@ -34,6 +36,20 @@ void allreduceBlocks(T* data, std::size_t count, MPI_Datatype type, MPI_Op op) {
   checkPeers();
   for (std::size_t at = 0; at < count; at += kBlock)
     MPI_Allreduce(MPI_IN_PLACE, data + at, static_cast<int>(std::min(kBlock, count - at)), type, op, MPI_COMM_WORLD);
+}
+
+// Between the steps of one exchange a rank cannot join an agreement (the others are in
+// the exchange's next collective): should it run out of memory there, every rank stops
+// (MPI_Abort; mpirun exits with the code, 2 as for any case too large for the machine).
+template <class Allocate>
+void allocateOrAbort(Allocate&& allocate) {
+  try {
+    allocate();
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "radnet: out of memory on MPI rank %d while exchanging results: stopping every rank\n",
+                 g_rank);
+    MPI_Abort(MPI_COMM_WORLD, 2);
+  }
 }
 
 void broadcastBlocks(double* data, std::size_t count, int root) {
@@ -133,8 +149,9 @@ std::vector<double> gatherAll(const std::vector<double>& mine) {
   sum(counts.data(), counts.size());  // agrees first
   std::int64_t total = 0;
   for (std::int64_t c : counts) total += c;
-  std::vector<double> all(static_cast<std::size_t>(total));
+  std::vector<double> all;
 #ifdef RADNET_HAVE_MPI
+  allocateOrAbort([&] { all.resize(static_cast<std::size_t>(total)); });
   // One broadcast per rank: no int displacement limits however large the gather.
   std::size_t at = 0;
   for (int r = 0; r < g_size; ++r) {
@@ -163,7 +180,7 @@ void broadcast(std::string& text, int root) {
   checkPeers();
   long long length = static_cast<long long>(text.size());
   MPI_Bcast(&length, 1, MPI_LONG_LONG, root, MPI_COMM_WORLD);
-  text.resize(static_cast<std::size_t>(length));
+  allocateOrAbort([&] { text.resize(static_cast<std::size_t>(length)); });
   for (std::size_t at = 0; at < text.size(); at += kBlock)
     MPI_Bcast(text.data() + at, static_cast<int>(std::min(kBlock, text.size() - at)), MPI_CHAR, root, MPI_COMM_WORLD);
 #else
