@@ -97,7 +97,7 @@ void solveCases(const DesignContext& ctx, GeometryRunResult& r, std::vector<Case
     ThermalOutcome& o = outcomes[static_cast<size_t>(k)];
     const bool mine = cluster::owns(k);
     shareThermal(o, k % cluster::size());
-    if (cases > 1 && cluster::distributed())
+    if (cases > 1)
       progress << "radnet: case " << k + 1 << "/" << cases << " '" << c.design_cases[static_cast<size_t>(k)].name
                << "': temperatures\n";
     progress << o.log;
