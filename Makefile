@@ -4,6 +4,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 PACKAGES = cmake g++ make libeigen3-dev libspectra-dev libcgal-dev libgeographiclib-dev \
            libyaml-cpp-dev libhdf5-dev zlib1g-dev catch2 libcli11-dev libopenmpi-dev openmpi-bin \
+           libopenblas-dev liblapacke-dev \
            python3-h5py python3-matplotlib python3-numpy
 # ParaView, only to test that what users open in it loads (pvbatch under Xvfb, Mesa's
 # software OpenGL); without recommends it is about 150 MB.
@@ -60,6 +61,9 @@ bench: build
 	# End to end against n, before and with the error budget (about 15 minutes).
 	/usr/bin/python3 bench/bench_end_to_end.py $(BUILD_DIR)/radnet docs/benchmarks.md \
 	  bench/cases/satellite-1602.yaml bench/cases/satellite-6402.yaml bench/cases/satellite-19202.yaml
+	# Eigen's dense kernels against Debian's threaded OpenBLAS (issue 12; needs libopenblas-dev, liblapacke-dev).
+	if [ -x $(BUILD_DIR)/bench/bench_dense_kernels_openblas ]; then \
+	  /usr/bin/python3 bench/bench_blas.py $(BUILD_DIR) docs/blas-benchmark.md; fi
 	# One process against two MPI ranks, bit for bit, and the cluster scaling model (issue 15; about 25 minutes).
 	/usr/bin/python3 bench/bench_mpi.py $(BUILD_DIR)/radnet docs/mpi-benchmark.md \
 	  bench/cases/satellite-1602.yaml bench/cases/satellite-1602-design.yaml bench/cases/satellite-6402.yaml
