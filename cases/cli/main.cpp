@@ -319,7 +319,8 @@ struct Discard : std::streambuf {
   int overflow(int c) override { return c; }
 };
 
-int radnetMain(int argc, char** argv) {  // Ctrl-C, kill or a closed terminal leave no OUT.h5.tmp-PID
+// The command line: parses, runs the subcommand, returns the exit code.
+int radnetMain(int argc, char** argv) {
   CLI::App app{"radnet: thermal radiation network solver for spacecraft"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("radnet ") + RADNET_VERSION);
