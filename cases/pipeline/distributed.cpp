@@ -1,8 +1,12 @@
 #include "cases/pipeline/distributed.hpp"
 
 #include "cases/cluster/cluster.hpp"
+#include "cases/config/errors.hpp"
 
 #include <algorithm>
+#include <cstdint>
+#include <fstream>
+#include <iterator>
 
 namespace radnet::cases {
 namespace {
@@ -32,6 +36,27 @@ std::size_t unpack(const std::vector<double>& in, std::size_t at, std::vector<Ei
 void joinVector(Eigen::VectorXd& v) { cluster::join(v.data(), static_cast<std::size_t>(v.size())); }
 
 }  // namespace
+
+void checkSameCase(const std::string& case_path, const std::vector<std::string>& texts,
+                   const std::vector<double>& node_areas) {
+  if (!cluster::distributed()) return;
+  // FNV-1a (64 bit) over every byte, split into two exact 32-bit halves for the gather.
+  std::uint64_t h = 1469598103934665603ULL;
+  const auto mix = [&h](const void* data, std::size_t bytes) {
+    for (std::size_t k = 0; k < bytes; ++k) h = (h ^ static_cast<const unsigned char*>(data)[k]) * 1099511628211ULL;
+  };
+  std::ifstream in(case_path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  mix(bytes.data(), bytes.size());
+  for (const std::string& t : texts) mix(t.data(), t.size());
+  mix(node_areas.data(), node_areas.size() * sizeof(double));
+  const std::vector<double> all = cluster::gatherAll({double(h >> 32), double(h & 0xffffffffULL)});
+  for (std::size_t r = 2; r < all.size(); r += 2)
+    if (all[r] != all[0] || all[r + 1] != all[1])
+      throw InputError(case_path, 0, 0,
+                       "MPI rank " + std::to_string(r / 2) + " read a different case than rank 0 (the case file, an "
+                       "included file or a mesh differs): start every rank in the same directory on the same files");
+}
 
 void joinViewFactorRows(geometry::ViewFactorResult& vf) {
   if (!cluster::distributed()) return;

@@ -12,9 +12,17 @@
 
 #include <Eigen/Dense>
 
+#include <string>
 #include <vector>
 
 namespace radnet::cases {
+
+/// Every rank must run the same case: a fingerprint of what this rank read (the case file's
+/// bytes, its included files, each node's area from the meshes) is compared across the
+/// ranks. @throws InputError (on every rank) when they differ, e.g. a file changed on one
+/// machine's disk or ranks started in different directories.
+void checkSameCase(const std::string& case_path, const std::vector<std::string>& texts,
+                   const std::vector<double>& node_areas);
 
 /// Each rank cast the rows it owns: F, σ, F_space, F_blocked and the ray counts of every
 /// row on every rank (seconds: the slowest rank's). @throws cluster::PeerFailure
