@@ -122,22 +122,11 @@ std::string outputFor(const RunOptions& o) {
   return o.output;
 }
 
-// Under MPI: the ranks must have read the same case (pipeline/distributed.hpp).
-void checkSameCaseOnEveryRank(const std::string& path, const LoadedCase& c) {
-  std::vector<std::string> texts;
-  std::vector<double> areas;
-  if (c.geometry) {
-    for (const auto& [file, text] : c.geometry->included) texts.push_back(text);
-    for (const auto& node : c.geometry->scene.nodes()) areas.push_back(node.area_m2);
-  }
-  checkSameCase(path, texts, areas);
-}
-
 // Under MPI every rank runs the case (sharing out its work) and rank 0 alone writes the
 // files, prints progress and the summary.
 int runCommand(const RunOptions& o) {
   LoadedCase c = loadCase(o.case_path);
-  checkSameCaseOnEveryRank(o.case_path, c);
+  checkSameCase(o.case_path, c);  // under MPI: every rank read the same files
   const bool writer = radnet::cluster::rank() == 0;
   std::ostringstream sink;
   std::ostream& progress = o.quiet || !writer ? static_cast<std::ostream&>(sink) : std::cerr;

@@ -37,9 +37,14 @@ void joinVector(Eigen::VectorXd& v) { cluster::join(v.data(), static_cast<std::s
 
 }  // namespace
 
-void checkSameCase(const std::string& case_path, const std::vector<std::string>& texts,
-                   const std::vector<double>& node_areas) {
+void checkSameCase(const std::string& case_path, const LoadedCase& c) {
   if (!cluster::distributed()) return;
+  std::vector<std::string> texts;
+  std::vector<double> node_areas;
+  if (c.geometry) {
+    for (const auto& [file, text] : c.geometry->included) texts.push_back(text);
+    for (const auto& node : c.geometry->scene.nodes()) node_areas.push_back(node.area_m2);
+  }
   // FNV-1a (64 bit) over every byte, split into two exact 32-bit halves for the gather.
   std::uint64_t h = 1469598103934665603ULL;
   const auto mix = [&h](const void* data, std::size_t bytes) {

@@ -4,6 +4,7 @@
 // items a rank does not own are +0.0 in its part, and joining takes each owner's bits
 // (cluster::join): every rank ends with the single-process numbers bit for bit. With one
 // rank, no-ops.
+#include "cases/config/case_file.hpp"
 #include "cases/pipeline/packing.hpp"
 #include "cases/pipeline/stages.hpp"
 #include "geometry/view_factors.hpp"
@@ -21,8 +22,7 @@ namespace radnet::cases {
 /// bytes, its included files, each node's area from the meshes) is compared across the
 /// ranks. @throws InputError (on every rank) when they differ, e.g. a file changed on one
 /// machine's disk or ranks started in different directories.
-void checkSameCase(const std::string& case_path, const std::vector<std::string>& texts,
-                   const std::vector<double>& node_areas);
+void checkSameCase(const std::string& case_path, const LoadedCase& c);
 
 /// Each rank cast the rows it owns: F, σ, F_space, F_blocked and the ray counts of every
 /// row on every rank (seconds: the slowest rank's). @throws cluster::PeerFailure
