@@ -42,7 +42,9 @@ sanitize: deps
 	cd build-sanitize && UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
 
 bench: build
-	./$(BUILD_DIR)/bench/bench_solver docs/solver-benchmark.md
+	./$(BUILD_DIR)/bench/bench_solver docs/solver-benchmark.md docs/solver-eigenvalues.csv
+	/usr/bin/python3 bench/plot_solver_benchmark.py docs/solver-benchmark.md docs/solver-eigenvalues.csv \
+	  docs/solver-benchmark.png
 	./$(BUILD_DIR)/bench/bench_view_factors docs/view-factor-benchmark.md
 	./$(BUILD_DIR)/bench/bench_loads docs/loads-benchmark.md
 	./$(BUILD_DIR)/bench/bench_thermal docs/thermal-benchmark.md

@@ -82,6 +82,10 @@ struct Row {
 
 int main(int argc, char** argv) {
   const std::string out_path = argc > 1 ? argv[1] : "docs/solver-benchmark.md";
+  // Each network's eigenvalue decay (|λ_i| / |λ_1|, the pairs computed), for the plot.
+  const std::string decay_path = argc > 2 ? argv[2] : "docs/solver-eigenvalues.csv";
+  std::ostringstream decay;
+  decay << "n,index,relative_magnitude\n";
   const int P = 360;
   std::ostringstream md;
   md << "# Band-solver benchmark\n\n"
@@ -139,6 +143,8 @@ int main(int argc, char** argv) {
       all = denseEigenPairs(g);
     }
     const double eig_all = since(t0);
+    for (int i = 0; i < all.rank(); ++i)
+      decay << n << "," << i + 1 << "," << std::abs(all.values[i]) / std::abs(all.values[0]) << "\n";
 
     for (int k : {8, 32, 128, n}) {
       if (k > all.rank()) continue;
@@ -233,6 +239,7 @@ int main(int argc, char** argv) {
     std::cerr << "m = " << m << " done\n";
   }
   std::ofstream(out_path) << md.str();
+  std::ofstream(decay_path) << decay.str();
   std::cout << md.str();
   return 0;
 }
