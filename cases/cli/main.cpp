@@ -203,6 +203,7 @@ int validateCommand(const std::vector<std::string>& paths) {
 // One case of `radnet check`: runs it when it has an `expect:` block; counts failures.
 int checkCase(const std::string& path, int& checked, int& failed_total) {
   const LoadedCase c = loadCase(path);
+  checkSameCase(path, c);  // under MPI: every rank read the same files
   std::cout << "== " << path << "\n";
   if (c.expectations().empty()) {
     std::cout << "SKIP (no 'expect:' block)\n";

@@ -118,14 +118,6 @@ void join(double* data, std::size_t count) {
 #endif
 }
 
-void sum(double* data, std::size_t count) {
-#ifdef RADNET_HAVE_MPI
-  if (g_size > 1) allreduceBlocks(data, count, MPI_DOUBLE, MPI_SUM);
-#else
-  (void)data, (void)count;
-#endif
-}
-
 void sum(std::int64_t* data, std::size_t count) {
 #ifdef RADNET_HAVE_MPI
   if (g_size > 1) allreduceBlocks(data, count, MPI_INT64_T, MPI_SUM);

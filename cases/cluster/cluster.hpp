@@ -55,8 +55,7 @@ void checkPeers();
 /// there; every rank ends with the giver's value bit for bit (−0.0 and NaN too: a bitwise
 /// OR of the 64-bit patterns). @throws PeerFailure
 void join(double* data, std::size_t count);
-/// Element-wise sums over the ranks, in place. @throws PeerFailure
-void sum(double* data, std::size_t count);
+/// Element-wise sums over the ranks, in place (counts). @throws PeerFailure
 void sum(std::int64_t* data, std::size_t count);
 /// Element-wise maxima over the ranks, in place. @throws PeerFailure
 void max(double* data, std::size_t count);
