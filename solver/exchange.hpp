@@ -16,7 +16,7 @@ struct ExchangeFactors {
   Eigen::MatrixXd gr;        ///< GR (n×n), symmetric, m²: Q_ij = σ GR_ij (T_i⁴ − T_j⁴)
   Eigen::VectorXd gr_space;  ///< GR_i,space = ε_i A_i − Σ_j GR_ij, m²
   double asymmetry = 0.0;    ///< max |GR_ij − GR_ji| / max|GR| before symmetrising (round-off), –
-  std::string method;        ///< "dense LU" or "low rank (k = <rank>)"
+  std::string method;        ///< "dense LU" or "direct + low-rank reflected (k = <rank>)"
   Status status = Status::Converged;
   std::string message;
 };
@@ -25,7 +25,8 @@ struct ExchangeFactors {
 /// @param emissivity ε_i in [0, 1], –
 ExchangeFactors exchangeFactorsDense(const Network& net, const Eigen::VectorXd& emissivity);
 
-/// GR of the rank-k network in low-rank form, E V C Vᵀ E (O(n² k) to form the n×n result).
+/// GR with the direct exchange exact and the reflected part in rank k: E G E + E V (C − Λ) Vᵀ E
+/// (O(n² k) to form the n×n result).
 /// @param ir_band solver built with reflectance 1 − ε
 ExchangeFactors exchangeFactorsLowRank(const Network& net, const LowRankBandSolver& ir_band,
                                        const Eigen::VectorXd& emissivity);

@@ -51,6 +51,8 @@ class LowRankBandSolver {
   const Eigen::MatrixXd& core() const { return core_; }
   /// V (n×k), the eigenvectors the core is built on, –.
   const Eigen::MatrixXd& vectors() const { return vectors_; }
+  /// Λ (k), the eigenvalues the core is built on, m².
+  const Eigen::VectorXd& values() const { return values_; }
 
   /// G'(I − S G')⁻¹ X = V C Vᵀ X for a block X (n×P): the interreflected flux A H.
   Eigen::MatrixXd applyCore(const Eigen::Ref<const Eigen::MatrixXd>& x) const;

@@ -18,7 +18,7 @@ inline constexpr int kDenseEigenMaxNodes = 400;
 /// pairs, where Lanczos would rebuild most of the spectrum anyway.
 inline constexpr int kDenseEigenRankDivisor = 4;
 /// Exact exchange factors by one dense LU (O(n³), 8 n² bytes for the factors) up to this
-/// many nodes when the case asks for full accuracy; E V C Vᵀ E from the eigenpairs beyond.
+/// many nodes when the case asks for full accuracy; E G E + E V (C − Λ) Vᵀ E (direct exact, reflections in rank k) beyond.
 inline constexpr int kDenseExchangeMaxNodes = 3000;
 /// A corrected view-factor matrix is stored sparse when fewer than this share of its
 /// entries is non-zero (sparse products then beat dense ones).
@@ -40,7 +40,7 @@ EigenPairs decomposeForBands(const Network& net, const Eigen::VectorXd& max_refl
                              const SolverSettings& settings);
 
 /// The exchange factors GR: exact by dense LU when the settings ask for full accuracy
-/// (refinement) and n ≤ kDenseExchangeMaxNodes, else E V C Vᵀ E from the eigenpairs.
+/// (refinement) and n ≤ kDenseExchangeMaxNodes, else E G E + E V (C − Λ) Vᵀ E.
 /// ExchangeFactors::method says which; a failure is its status.
 ExchangeFactors exchangeFactors(const Network& net, const EigenPairs& pairs, const Eigen::VectorXd& emissivity,
                                 const SolverSettings& settings);
