@@ -118,6 +118,26 @@ EigenPairs lanczosOnNetwork(const Network& net, int nev, const EigenRequest& req
 
 bool finite(const EigenPairs& p) { return p.values.allFinite() && p.vectors.allFinite(); }
 
+// The rank of a set of pairs from the tolerance: the a-posteriori rule when the request has
+// one and it accepts, else the a-priori bound, within the cap.
+EigenPairs rankFromTolerance(const EigenPairs& found, const EigenRequest& req, double max_s, int cap,
+                             double tolerance = -1.0) {
+  if (tolerance < 0) tolerance = req.tolerance;
+  const int accepted = req.accept ? req.accept(found) : 0;
+  if (accepted > 0) {
+    EigenPairs out = truncate(found, accepted);
+    out.rank_rule = "a posteriori";
+    return out;
+  }
+  const int apriori = rankForTolerance(found.values, tolerance, max_s);
+  const int k_found = found.rank();
+  const bool bound_met = apriori < k_found || k_found == found.vectors.rows() ||
+                         (k_found > 0 && std::abs(found.values[k_found - 1]) * max_s <= tolerance);
+  EigenPairs out = truncate(found, std::min(cap, apriori));
+  out.rank_rule = apriori > cap || !bound_met ? "rank cap" : "a-priori bound";
+  return out;
+}
+
 }  // namespace
 
 EigenPairs decomposeConductance(const Network& net, const EigenRequest& req) {
@@ -145,33 +165,39 @@ EigenPairs decomposeConductance(const Network& net, const EigenRequest& req) {
   if (method == EigenMethod::Dense) {
     EigenPairs all = denseEigenPairs(net.denseConductance());
     if (all.status != Status::Converged) return all;
-    const int k =
-        req.rank > 0 ? std::min(req.rank, n) : std::min(cap, rankForTolerance(all.values, req.tolerance, max_s));
-    result = truncate(all, k);
+    result = req.rank > 0 ? truncate(all, std::min(req.rank, n)) : rankFromTolerance(all, req, max_s, cap);
   } else if (req.rank > 0) {
     result = lanczosOnNetwork(net, req.rank, req);
     result.dropped_bound = result.status == Status::Converged ? std::abs(result.values[result.rank() - 1]) : 0.0;
   } else {
-    // Grow the number of pairs until the smallest one found already meets the tolerance
-    // (then every pair not found does too, since Lanczos returns the largest |λ|).
+    // Grow the number of pairs until the rank is accepted a posteriori, or the smallest
+    // pair found already meets the a-priori rule (then every pair not found does too,
+    // since Lanczos returns the largest |λ|), or the cap.
     int nev = std::min(16, n - 2);
     for (;;) {
       result = lanczosOnNetwork(net, nev, req);
       if (result.status != Status::Converged) return result;
+      const int accepted = req.accept ? req.accept(result) : 0;
+      if (accepted > 0) {
+        result = truncate(result, std::min(accepted, nev));
+        result.rank_rule = "a posteriori";
+        if (result.rank() == nev) result.dropped_bound = std::abs(result.values[nev - 1]);  // not yet computed
+        break;
+      }
       const bool enough = std::abs(result.values[nev - 1]) * max_s <= req.tolerance;
-      if (enough || nev >= cap) break;
+      if (enough || nev >= cap) {
+        result = rankFromTolerance(result, EigenRequest{}, max_s, cap, req.tolerance);
+        if (result.rank() == nev && nev < n) result.dropped_bound = std::abs(result.values[nev - 1]);  // not yet computed
+        break;
+      }
       if (2 * nev >= n - 1) {  // most of the spectrum is wanted: the dense solver is cheaper
         EigenPairs all = denseEigenPairs(net.denseConductance());
         if (all.status != Status::Converged) return all;
-        result = truncate(all, std::min(cap, rankForTolerance(all.values, req.tolerance, max_s)));
-        result.tolerance = req.tolerance;
-        return result;
+        result = rankFromTolerance(all, req, max_s, cap);
+        break;
       }
       nev = std::min(2 * nev, n - 2);
     }
-    const int k = std::min(cap, rankForTolerance(result.values, req.tolerance, max_s));
-    result = truncate(result, k);
-    if (k == nev) result.dropped_bound = std::abs(result.values[k - 1]);  // bound: not yet computed
   }
   result.tolerance = req.rank > 0 ? 0.0 : req.tolerance;
   if (result.status == Status::Converged && !finite(result)) {

@@ -19,6 +19,8 @@ enum class EigenMethod {
 
 const char* toString(EigenMethod m);
 
+struct EigenPairs;
+
 /// Which eigenpairs to keep.
 ///
 /// Rank from a tolerance (Ashdown §12: dropping eigenvalues below c changes G by at most
@@ -33,6 +35,10 @@ struct EigenRequest {
   EigenMethod method = EigenMethod::Auto;
   int lanczos_max_iterations = 1000;
   double lanczos_tolerance = 1e-12;  ///< relative accuracy of Ritz values (Spectra's tol)
+  /// A-posteriori acceptance of a rank from a tolerance (solver/rank_probe.hpp): given the
+  /// pairs found so far (largest |λ| first), the rank to keep, or 0 while more pairs are
+  /// wanted. Asked before the a-priori rule; empty: the a-priori rule alone.
+  std::function<int(const EigenPairs&)> accept;
 };
 
 /// Truncated spectral decomposition G'_k = V Λ Vᵀ, |λ_1| ≥ |λ_2| ≥ … .
@@ -45,6 +51,11 @@ struct EigenPairs {
   double tolerance = 0.0;      ///< the truncation tolerance requested (0 for an explicit rank)
   double dropped_bound = 0.0;  ///< largest |λ| not kept (or a bound for it), m²
   int iterations = 0;          ///< Lanczos restarts (0 for dense)
+  /// Why this rank: "explicit", "a-priori bound", "rank cap", or the a-posteriori rule's
+  /// own reason (solver/rank_probe.hpp).
+  std::string rank_rule = "explicit";
+  double probe_residual = -1.0;        ///< a-posteriori: the probes' largest band residual at this rank (−1: not measured)
+  double probe_exchange_error = -1.0;  ///< a-posteriori: the probes' largest GR error at this rank (−1: not measured)
   int rank() const { return static_cast<int>(values.size()); }
 };
 

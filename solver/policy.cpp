@@ -1,6 +1,7 @@
 #include "solver/policy.hpp"
 
 #include "solver/low_rank_solver.hpp"
+#include "solver/rank_probe.hpp"
 
 #include <algorithm>
 
@@ -14,6 +15,10 @@ EigenMethod eigenMethod(EigenMethod requested, int n, int rank) {
 
 bool storeSparse(long long nonzeros, int n) { return double(nonzeros) / (double(n) * n) < kSparseStorageMaxDensity; }
 
+bool exchangeFromPairs(int n, const SolverSettings& settings) {
+  return !(settings.refineEnabled() && n <= kDenseExchangeMaxNodes);
+}
+
 EigenPairs decomposeForBands(const Network& net, const Eigen::VectorXd& max_reflectance,
                              const SolverSettings& settings) {
   EigenRequest req;
@@ -22,12 +27,28 @@ EigenPairs decomposeForBands(const Network& net, const Eigen::VectorXd& max_refl
   req.max_s = std::max(max_reflectance.cwiseQuotient(net.area()).maxCoeff(), 1e-300);
   req.max_rank = settings.max_rank;
   req.method = settings.method;
-  return decomposeConductance(net, req);
+  if (settings.rank > 0) return decomposeConductance(net, req);
+  // The rank from the tolerance, measured (rank_probe.hpp): the refined band solves need
+  // only a good start, the rank-k answer kept or GR from the pairs need the tolerance.
+  RankTargets targets;
+  targets.reflectance = max_reflectance;
+  targets.band_residual =
+      settings.refineEnabled() ? std::max(kRefinedStartResidual, settings.tolerance) : settings.tolerance;
+  targets.exchange_error = exchangeFromPairs(net.size(), settings) ? settings.tolerance : 0.0;
+  RankProbe probe(net, targets);
+  req.accept = [&probe](const EigenPairs& found) { return probe(found); };
+  EigenPairs pairs = decomposeConductance(net, req);
+  if (pairs.status != Status::Converged || pairs.rank() == 0) return pairs;
+  if (pairs.rank_rule == "a posteriori") pairs.rank_rule = probe.rule();
+  const RankMeasure kept = probe.measure(pairs, pairs.rank());
+  pairs.probe_residual = kept.band_residual;
+  if (targets.exchange_error > 0) pairs.probe_exchange_error = kept.exchange_error;
+  return pairs;
 }
 
 ExchangeFactors exchangeFactors(const Network& net, const EigenPairs& pairs, const Eigen::VectorXd& emissivity,
                                 const SolverSettings& settings) {
-  if (settings.refineEnabled() && net.size() <= kDenseExchangeMaxNodes) return exchangeFactorsDense(net, emissivity);
+  if (!exchangeFromPairs(net.size(), settings)) return exchangeFactorsDense(net, emissivity);
   const LowRankBandSolver ir(net, pairs, Eigen::VectorXd::Ones(net.size()) - emissivity);
   return exchangeFactorsLowRank(net, ir, emissivity);
 }

@@ -20,6 +20,11 @@ inline constexpr int kDenseEigenRankDivisor = 4;
 /// Exact exchange factors by one dense LU (O(n³), 8 n² bytes for the factors) up to this
 /// many nodes when the case asks for full accuracy; E G E + E V (C − Λ) Vᵀ E (direct exact, reflections in rank k) beyond.
 inline constexpr int kDenseExchangeMaxNodes = 3000;
+/// With refinement, the rank a posteriori needs only this relative residual of the rank-k
+/// answer on the probes (rank_probe.hpp): from there the preconditioned CG reaches the
+/// budget's 1e-4 … 1e-3 in one to three iterations (each one product with G per right-hand
+/// side), while every doubling of the pairs costs more than the Lanczos run before it.
+inline constexpr double kRefinedStartResidual = 1e-2;
 /// A corrected view-factor matrix is stored sparse when fewer than this share of its
 /// entries is non-zero (sparse products then beat dense ones).
 inline constexpr double kSparseStorageMaxDensity = 0.25;
@@ -34,8 +39,13 @@ EigenMethod eigenMethod(EigenMethod requested, int n, int rank);
 /// True when a view-factor matrix with `nonzeros` entries of n × n is stored sparse.
 bool storeSparse(long long nonzeros, int n);
 
-/// The one eigendecomposition of G that serves both bands: the rank rule bounds ‖S‖ by
-/// the larger of the two bands' reflectance over area (`max_reflectance` per node).
+/// True when GR is formed from the eigenpairs (E G E + E V (C − Λ) Vᵀ E), not by dense LU.
+bool exchangeFromPairs(int n, const SolverSettings& settings);
+
+/// The one eigendecomposition of G that serves both bands. An explicit rank is kept; a rank
+/// from the tolerance is measured a posteriori on probes (rank_probe.hpp) against the
+/// larger of the two bands' reflectance per node (`max_reflectance`), with the a-priori
+/// bound |λ| max ρ/A ≤ τ and settings.max_rank as the limits; EigenPairs::rank_rule says which.
 EigenPairs decomposeForBands(const Network& net, const Eigen::VectorXd& max_reflectance,
                              const SolverSettings& settings);
 

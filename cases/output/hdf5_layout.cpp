@@ -73,6 +73,9 @@ void writeRadiativeNetwork(Hdf5Writer& h5, const RadiativeNetwork& radiative) {
   h5.attribute("/eigen", "tolerance", pairs.tolerance);
   h5.attribute("/eigen", "method", std::string(solver::toString(pairs.method)));
   h5.attribute("/eigen", "largest_dropped_eigenvalue_bound", pairs.dropped_bound);
+  h5.attribute("/eigen", "rank_rule", pairs.rank_rule);
+  if (pairs.probe_residual >= 0) h5.attribute("/eigen", "probe_residual", pairs.probe_residual);
+  if (pairs.probe_exchange_error >= 0) h5.attribute("/eigen", "probe_exchange_error", pairs.probe_exchange_error);
 }
 
 void writeGeometry(Hdf5Writer& h5, const geometry::Scene& scene, const geometry::SeamReport& seams,

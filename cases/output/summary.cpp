@@ -196,7 +196,7 @@ void printNetworkSummary(const NetworkCase& c, const NetworkRunResult& r, std::o
                 {"F_space", net.spaceViewFactor(), Aggregate::Mean}},
                out, 4);
   out << "eigenpairs: rank " << pairs.rank() << " of " << net.size() << " (" << solver::toString(pairs.method)
-      << "), largest dropped |λ| ≤ " << pairs.dropped_bound << " m²\n";
+      << ", " << pairs.rank_rule << "), largest dropped |λ| ≤ " << pairs.dropped_bound << " m²\n";
   out << "residual ‖M_o − (I − S G) M‖/‖M_o‖ with the full G: " << std::scientific << std::setprecision(3)
       << r.solution.max_residual << std::defaultfloat << refinementNote(r.solution, c.solver, pairs.rank()) << "\n";
   if (r.thermal) {
@@ -250,8 +250,11 @@ void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std
         << r.exact->pairs_occluded << " occluded), " << r.exact->sampled_rows << " rows by rays, ";
   out << r.total_rays << " rays, correction ≤ " << r.correction.max_change << " ("
       << r.correction.max_change_sigma << " σ); closure error " << r.correction.max_closure_error << "\n";
-  out << "eigenpairs: rank " << r.radiative.pairs.rank() << " (" << solver::toString(r.radiative.pairs.method)
-      << "); exchange factors: " << ex.method << "\n";
+  const solver::EigenPairs& pairs = r.radiative.pairs;
+  out << "eigenpairs: rank " << pairs.rank() << " (" << solver::toString(pairs.method) << ", " << pairs.rank_rule;
+  if (pairs.probe_residual >= 0) out << "; probe residual " << pairs.probe_residual;
+  if (pairs.probe_exchange_error >= 0) out << ", GR error " << pairs.probe_exchange_error;
+  out << "); exchange factors: " << ex.method << "\n";
   printTimings(r.timings, out);
 }
 

@@ -106,11 +106,12 @@ void joinLoads(orbits::EnvironmentLoads& e) {
 
 void shareEigenPairs(solver::EigenPairs& pairs) {
   if (!cluster::distributed()) return;
-  double header[7] = {static_cast<double>(pairs.values.size()), static_cast<double>(pairs.vectors.rows()),
+  double header[9] = {static_cast<double>(pairs.values.size()), static_cast<double>(pairs.vectors.rows()),
                       static_cast<double>(pairs.method),        static_cast<double>(pairs.status),
                       pairs.tolerance,                           pairs.dropped_bound,
-                      static_cast<double>(pairs.iterations)};
-  cluster::broadcast(header, 7);
+                      static_cast<double>(pairs.iterations),     pairs.probe_residual,
+                      pairs.probe_exchange_error};
+  cluster::broadcast(header, 9);
   const auto k = static_cast<Eigen::Index>(header[0]), n = static_cast<Eigen::Index>(header[1]);
   pairs.values.resize(k);
   pairs.vectors.resize(n, k);
@@ -119,9 +120,12 @@ void shareEigenPairs(solver::EigenPairs& pairs) {
   pairs.tolerance = header[4];
   pairs.dropped_bound = header[5];
   pairs.iterations = static_cast<int>(header[6]);
+  pairs.probe_residual = header[7];
+  pairs.probe_exchange_error = header[8];
   cluster::broadcast(pairs.values.data(), static_cast<std::size_t>(k));
   cluster::broadcast(pairs.vectors.data(), static_cast<std::size_t>(n * k));
   cluster::broadcast(pairs.message);
+  cluster::broadcast(pairs.rank_rule, 0);
 }
 
 void shareThermal(ThermalOutcome& outcome, int owner) {
