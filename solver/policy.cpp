@@ -20,7 +20,7 @@ bool exchangeFromPairs(int n, const SolverSettings& settings) {
 }
 
 EigenPairs decomposeForBands(const Network& net, const Eigen::VectorXd& max_reflectance,
-                             const SolverSettings& settings) {
+                             const SolverSettings& settings, const std::vector<Eigen::VectorXd>& emissivities) {
   EigenRequest req;
   req.rank = settings.rank;
   req.tolerance = settings.tolerance;
@@ -35,6 +35,7 @@ EigenPairs decomposeForBands(const Network& net, const Eigen::VectorXd& max_refl
   targets.band_residual =
       settings.refineEnabled() ? std::max(kRefinedStartResidual, settings.tolerance) : settings.tolerance;
   targets.exchange_error = exchangeFromPairs(net.size(), settings) ? settings.tolerance : 0.0;
+  targets.emissivities = emissivities;
   RankProbe probe(net, targets);
   req.accept = [&probe](const EigenPairs& found) { return probe(found); };
   EigenPairs pairs = decomposeConductance(net, req);

@@ -9,6 +9,8 @@
 
 #include <Eigen/Dense>
 
+#include <vector>
+
 namespace radnet::solver::policy {
 
 /// EigenMethod::Auto uses the dense solver up to this many nodes: Ashdown §10 finds
@@ -46,8 +48,9 @@ bool exchangeFromPairs(int n, const SolverSettings& settings);
 /// from the tolerance is measured a posteriori on probes (rank_probe.hpp) against the
 /// larger of the two bands' reflectance per node (`max_reflectance`), with the a-priori
 /// bound |λ| max ρ/A ≤ τ and settings.max_rank as the limits; EigenPairs::rank_rule says which.
+/// `emissivities`: every optical set's ε, the GR check's (empty: 1 − max_reflectance).
 EigenPairs decomposeForBands(const Network& net, const Eigen::VectorXd& max_reflectance,
-                             const SolverSettings& settings);
+                             const SolverSettings& settings, const std::vector<Eigen::VectorXd>& emissivities = {});
 
 /// The exchange factors GR: exact by dense LU when the settings ask for full accuracy
 /// (refinement) and n ≤ kDenseExchangeMaxNodes, else E G E + E V (C − Λ) Vᵀ E.

@@ -1,6 +1,5 @@
 #include "solver/rank_probe.hpp"
 
-#include "solver/low_rank_solver.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -32,21 +31,44 @@ RankProbe::RankProbe(const Network& net, RankTargets targets, unsigned seed) : n
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (int c = 1; c < kProbes; ++c)
     for (int i = 0; i < n; ++i) probes_(i, c) = u(rng);
+  if (targets_.emissivities.empty()) targets_.emissivities.push_back(Eigen::VectorXd::Ones(n) - targets_.reflectance);
+  for (const Eigen::VectorXd& eps : targets_.emissivities)
+    if (eps.size() != n) throw std::invalid_argument("rank probe: one emissivity per node");
 }
 
-bool RankProbe::exchangeReference(const EigenPairs& found) {
+bool RankProbe::exchangeReferences(const EigenPairs& found) {
   if (reference_failed_) return false;
-  if (reference_gr_x_.size() != 0) return true;
-  const Eigen::VectorXd eps = Eigen::VectorXd::Ones(net_.size()) - targets_.reflectance;
-  const LowRankBandSolver band(net_, found, targets_.reflectance);
-  // GR x = E G M with M = E x + S G M: one refined band solve per probe.
-  const BandSolution sol = band.solve(eps.asDiagonal() * probes_, kReferenceTolerance);
-  if (band.status() != Status::Converged || sol.status != Status::Converged) {
-    reference_failed_ = true;
-    return false;
+  if (!reference_gr_x_.empty()) return true;
+  for (const Eigen::VectorXd& eps : targets_.emissivities) {
+    const LowRankBandSolver band(net_, found, Eigen::VectorXd::Ones(net_.size()) - eps);
+    // GR x = E G M with M = E x + S G M: one refined band solve per probe.
+    const BandSolution sol = band.solve(eps.asDiagonal() * probes_, kReferenceTolerance);
+    if (band.status() != Status::Converged || sol.status != Status::Converged) {
+      reference_failed_ = true;
+      return false;
+    }
+    reference_gr_x_.push_back(eps.asDiagonal() * net_.applyConductance(sol.exitance));
   }
-  reference_gr_x_ = eps.asDiagonal() * net_.applyConductance(sol.exitance);
   return true;
+}
+
+// max over probes and nodes of |(GR_k x − GR x)_i| / (ε_i A_i max x), GR_k formed as
+// exchangeFactorsLowRank forms it: E (G + V (C − Λ) Vᵀ) E.
+double RankProbe::exchangeError(const LowRankBandSolver& band, const Eigen::VectorXd& eps,
+                                const Eigen::MatrixXd& reference) const {
+  const Eigen::MatrixXd ex = eps.asDiagonal() * probes_;
+  const Eigen::MatrixXd vt_ex = band.vectors().transpose() * ex;
+  const Eigen::MatrixXd reflected = band.applyCore(ex) - band.vectors() * (band.values().asDiagonal() * vt_ex);
+  const Eigen::MatrixXd gr_x = eps.asDiagonal() * (net_.applyConductance(ex) + reflected);
+  double worst = 0.0;
+  for (int c = 0; c < kProbes; ++c) {
+    const double x_max = probes_.col(c).maxCoeff();
+    for (int i = 0; i < net_.size(); ++i) {
+      const double scale = eps[i] * net_.area()[i] * x_max;
+      if (scale > 0) worst = std::max(worst, std::abs(gr_x(i, c) - reference(i, c)) / scale);
+    }
+  }
+  return worst;
 }
 
 RankMeasure RankProbe::measure(const EigenPairs& found, int k) {
@@ -61,24 +83,18 @@ RankMeasure RankProbe::measure(const EigenPairs& found, int k) {
   const BandSolution sol = band.solve(probes_);
   m.band_residual = sol.status == Status::Converged ? sol.max_residual : inf();
   if (targets_.exchange_error <= 0) return m;
-  if (!exchangeReference(found)) {
+  if (!exchangeReferences(found)) {
     m.exchange_error = inf();
     return m;
   }
-  // GR x from the pairs as exchangeFactorsLowRank forms it: E (G + V (C − Λ) Vᵀ) E x.
-  const Eigen::VectorXd eps = Eigen::VectorXd::Ones(net_.size()) - targets_.reflectance;
-  const Eigen::MatrixXd ex = eps.asDiagonal() * probes_;
-  const Eigen::MatrixXd vt_ex = band.vectors().transpose() * ex;
-  const Eigen::MatrixXd reflected =
-      band.applyCore(ex) - band.vectors() * (band.values().asDiagonal() * vt_ex);
-  const Eigen::MatrixXd gr_x = eps.asDiagonal() * (net_.applyConductance(ex) + reflected);
-  for (int c = 0; c < kProbes; ++c) {
-    const double x_max = probes_.col(c).maxCoeff();
-    for (int i = 0; i < net_.size(); ++i) {
-      const double scale = eps[i] * net_.area()[i] * x_max;
-      if (scale > 0)
-        m.exchange_error = std::max(m.exchange_error, std::abs(gr_x(i, c) - reference_gr_x_(i, c)) / scale);
+  for (std::size_t set = 0; set < targets_.emissivities.size(); ++set) {
+    const Eigen::VectorXd& eps = targets_.emissivities[set];
+    const LowRankBandSolver ir(net_, pairs, Eigen::VectorXd::Ones(net_.size()) - eps);
+    if (ir.status() != Status::Converged) {
+      m.exchange_error = inf();
+      return m;
     }
+    m.exchange_error = std::max(m.exchange_error, exchangeError(ir, eps, reference_gr_x_[set]));
   }
   return m;
 }

@@ -5,11 +5,13 @@
 // refinement a residual below 1e-3. Here the rank-k answers are measured instead, with the
 // full G, on fixed probe right-hand sides, and the smallest rank that does the job is kept.
 #include "solver/eigenpairs.hpp"
+#include "solver/low_rank_solver.hpp"
 #include "solver/network.hpp"
 
 #include <Eigen/Dense>
 
 #include <string>
+#include <vector>
 
 namespace radnet::solver {
 
@@ -24,6 +26,8 @@ struct RankTargets {
   /// the probes relative to ε_i A_i max x, with ε = 1 − reflectance; 0: GR is exact (dense LU)
   /// and only the band residual counts.
   double exchange_error = 0.0;
+  /// The emissivities GR is formed with (every optical set's, ε per node); empty: 1 − reflectance.
+  std::vector<Eigen::VectorXd> emissivities;
 };
 
 /// One measurement of a rank on the probes.
@@ -52,12 +56,14 @@ class RankProbe {
 
  private:
   bool meets(const RankMeasure& m) const;
-  bool exchangeReference(const EigenPairs& found);
+  bool exchangeReferences(const EigenPairs& found);
+  double exchangeError(const LowRankBandSolver& band, const Eigen::VectorXd& eps,
+                       const Eigen::MatrixXd& reference) const;
 
   const Network& net_;
   RankTargets targets_;
   Eigen::MatrixXd probes_;         ///< n × kProbes, values in [0, 1]
-  Eigen::MatrixXd reference_gr_x_;  ///< GR x with the full G (refined), once
+  std::vector<Eigen::MatrixXd> reference_gr_x_;  ///< GR x per emissivity set with the full G (refined), once
   bool reference_failed_ = false;
   double previous_band_ = -1.0;
   std::string rule_;

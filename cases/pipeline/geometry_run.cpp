@@ -39,12 +39,30 @@ geometry::ViewFactorResult castRays(const GeometryCase& c, const geometry::RayCa
   return vf;
 }
 
+// Per node, the largest reflectance of either band under any optical set, and under the
+// samples of `uncertainty:` to 4σ.
+Eigen::VectorXd largestReflectance(const GeometryCase& c) {
+  const Eigen::Index n = c.emissivity.size();
+  double margin_e = 0.0, margin_a = 0.0;
+  if (c.optical_uncertainty) {
+    margin_e = 4.0 * c.optical_uncertainty->emissivity_sigma;
+    margin_a = 4.0 * c.optical_uncertainty->absorptivity_sigma;
+  }
+  Eigen::VectorXd rho = Eigen::VectorXd::Zero(n);
+  for (const OpticalSet& set : c.optical_sets)
+    rho = rho.cwiseMax((1.0 + margin_e - set.emissivity.array()).matrix())
+              .cwiseMax((1.0 + margin_a - set.absorptivity.array()).matrix());
+  return rho.cwiseMin(1.0);
+}
+
 // The one decomposition: on rank 0, broadcast to the others (who time their wait).
-solver::EigenPairs decomposeOnce(const solver::Network& net, const Eigen::VectorXd& max_reflectance,
+solver::EigenPairs decomposeOnce(const solver::Network& net, const GeometryCase& c,
                                  const solver::SolverSettings& settings, StageTimings& timings) {
   solver::EigenPairs pairs;
   if (cluster::rank() == 0) {
-    pairs = decomposeNetwork(net, max_reflectance, settings, timings);
+    std::vector<Eigen::VectorXd> emissivities;
+    for (const OpticalSet& set : c.optical_sets) emissivities.push_back(set.emissivity);
+    pairs = decomposeNetwork(net, largestReflectance(c), emissivities, settings, timings);
     shareEigenPairs(pairs);
   } else {
     StageTimer waiting(timings, Stage::Eigendecomposition);
@@ -136,22 +154,6 @@ std::unique_ptr<solver::Network> buildNetwork(const GeometryCase& c, const Eigen
   return std::make_unique<solver::Network>(c.node_names, area, Eigen::MatrixXd(f), correction.blocked, tol);
 }
 
-// Per node, the largest reflectance of either band under any optical set, and under the
-// samples of `uncertainty:` to 4σ.
-Eigen::VectorXd largestReflectance(const GeometryCase& c) {
-  const Eigen::Index n = c.emissivity.size();
-  double margin_e = 0.0, margin_a = 0.0;
-  if (c.optical_uncertainty) {
-    margin_e = 4.0 * c.optical_uncertainty->emissivity_sigma;
-    margin_a = 4.0 * c.optical_uncertainty->absorptivity_sigma;
-  }
-  Eigen::VectorXd rho = Eigen::VectorXd::Zero(n);
-  for (const OpticalSet& set : c.optical_sets)
-    rho = rho.cwiseMax((1.0 + margin_e - set.emissivity.array()).matrix())
-              .cwiseMax((1.0 + margin_a - set.absorptivity.array()).matrix());
-  return rho.cwiseMin(1.0);
-}
-
 }  // namespace
 
 GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std::ostream& progress) {
@@ -177,7 +179,7 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
   // One decomposition serves every optical set and sample: its rank rule takes the largest
   // reflectance any of them may give each node.
   r.solver = budgetedSolverSettings(c.solver, solver::largestEntry(r.view_factor_stderr));
-  r.radiative.pairs = decomposeOnce(*r.radiative.network, largestReflectance(c), r.solver, r.timings);
+  r.radiative.pairs = decomposeOnce(*r.radiative.network, c, r.solver, r.timings);
   r.radiative.exchange = exchangeFactors(r.radiative, c.emissivity, r.solver, r.timings);
   const DesignContext ctx{c, caster, r.radiative, r.solver, r.view_factor_stderr, r.lost_view_factor_stderr, area};
   std::vector<CaseRun> runs;

@@ -21,7 +21,9 @@ NetworkRunResult runNetworkCase(const NetworkCase& c, std::ostream& progress) {
   // One eigendecomposition serves both bands.
   Eigen::VectorXd rho_max = c.reflectance;
   if (c.emissivity) rho_max = rho_max.cwiseMax(Eigen::VectorXd::Ones(net.size()) - *c.emissivity);
-  r.radiative.pairs = decomposeNetwork(net, rho_max, c.solver, r.timings);
+  std::vector<Eigen::VectorXd> emissivities;
+  if (c.emissivity) emissivities.push_back(*c.emissivity);
+  r.radiative.pairs = decomposeNetwork(net, rho_max, emissivities, c.solver, r.timings);
   const solver::EigenPairs& pairs = r.radiative.pairs;
   progress << "radnet: " << pairs.rank() << " eigenpairs (" << solver::toString(pairs.method) << ")";
   if (pairs.rank() > 0) progress << ", largest |λ| " << std::abs(pairs.values[0]) << " m²";

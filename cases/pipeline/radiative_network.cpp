@@ -6,9 +6,10 @@
 namespace radnet::cases {
 
 solver::EigenPairs decomposeNetwork(const solver::Network& net, const Eigen::VectorXd& max_reflectance,
+                                    const std::vector<Eigen::VectorXd>& emissivities,
                                     const solver::SolverSettings& settings, StageTimings& timings) {
   StageTimer timer(timings, Stage::Eigendecomposition);
-  solver::EigenPairs pairs = solver::policy::decomposeForBands(net, max_reflectance, settings);
+  solver::EigenPairs pairs = solver::policy::decomposeForBands(net, max_reflectance, settings, emissivities);
   timer.stop();
   if (pairs.status != solver::Status::Converged)
     throw NumericalError(std::string("eigendecomposition of G ") + solver::toString(pairs.status) + ": " +

@@ -9,8 +9,10 @@
 namespace radnet::cases {
 
 /// The eigenpairs serving both bands; `max_reflectance` per node is the larger of the
-/// two bands' ρ. @throws NumericalError when the eigensolver fails
+/// two bands' ρ, `emissivities` every optical set's ε (the rank's GR check).
+/// @throws NumericalError when the eigensolver fails
 solver::EigenPairs decomposeNetwork(const solver::Network& net, const Eigen::VectorXd& max_reflectance,
+                                    const std::vector<Eigen::VectorXd>& emissivities,
                                     const solver::SolverSettings& settings, StageTimings& timings);
 
 /// GR and GR to space. @throws NumericalError when they cannot be formed (e.g. a lossless closed cavity)
