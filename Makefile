@@ -60,6 +60,14 @@ bench: build
 	# Writing the n × n matrices: HDF5's filter against radnet's parallel chunks (issue 12).
 	./$(BUILD_DIR)/radnet run bench/cases/satellite-6402.yaml -o $(BUILD_DIR)/satellite-6402.h5 -q
 	./$(BUILD_DIR)/bench/bench_hdf5_write $(BUILD_DIR)/satellite-6402.h5 docs/hdf5-write-benchmark.md
+	# Every band-solve method on the satellites' own networks, n = 1,602 … 19,202 (about 25 minutes).
+	./$(BUILD_DIR)/radnet run bench/cases/satellite-1602.yaml -o $(BUILD_DIR)/satellite-1602.h5 -q
+	./$(BUILD_DIR)/radnet run bench/cases/satellite-19202.yaml -o $(BUILD_DIR)/satellite-19202.h5 -q
+	./$(BUILD_DIR)/bench/bench_solver_satellites docs/solver-satellite-benchmark.md \
+	  docs/solver-satellite-eigenvalues.csv $(BUILD_DIR)/satellite-1602.h5 $(BUILD_DIR)/satellite-6402.h5 \
+	  $(BUILD_DIR)/satellite-19202.h5
+	/usr/bin/python3 bench/plot_solver_benchmark.py docs/solver-satellite-benchmark.md \
+	  docs/solver-satellite-eigenvalues.csv docs/solver-satellite-benchmark.png
 	# End to end against n, before and with the error budget (about 15 minutes).
 	/usr/bin/python3 bench/bench_end_to_end.py $(BUILD_DIR)/radnet docs/benchmarks.md \
 	  bench/cases/satellite-1602.yaml bench/cases/satellite-6402.yaml bench/cases/satellite-19202.yaml

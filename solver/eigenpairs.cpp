@@ -125,7 +125,7 @@ EigenPairs rankFromTolerance(const EigenPairs& found, const EigenRequest& req, d
   if (tolerance < 0) tolerance = req.tolerance;
   const int accepted = req.accept ? req.accept(found) : 0;
   if (accepted > 0) {
-    EigenPairs out = truncate(found, accepted);
+    EigenPairs out = truncate(found, std::min(accepted, cap));
     out.rank_rule = "a posteriori";
     return out;
   }
@@ -173,13 +173,13 @@ EigenPairs decomposeConductance(const Network& net, const EigenRequest& req) {
     // Grow the number of pairs until the rank is accepted a posteriori, or the smallest
     // pair found already meets the a-priori rule (then every pair not found does too,
     // since Lanczos returns the largest |λ|), or the cap.
-    int nev = std::min(16, n - 2);
+    int nev = std::min({16, n - 2, cap});
     for (;;) {
       result = lanczosOnNetwork(net, nev, req);
       if (result.status != Status::Converged) return result;
       const int accepted = req.accept ? req.accept(result) : 0;
       if (accepted > 0) {
-        result = truncate(result, std::min(accepted, nev));
+        result = truncate(result, std::min({accepted, nev, cap}));
         result.rank_rule = "a posteriori";
         if (result.rank() == nev) result.dropped_bound = std::abs(result.values[nev - 1]);  // not yet computed
         break;
@@ -196,7 +196,7 @@ EigenPairs decomposeConductance(const Network& net, const EigenRequest& req) {
         result = rankFromTolerance(all, req, max_s, cap);
         break;
       }
-      nev = std::min(2 * nev, n - 2);
+      nev = std::min({2 * nev, n - 2, cap});  // the last run at the cap exactly
     }
   }
   result.tolerance = req.rank > 0 ? 0.0 : req.tolerance;

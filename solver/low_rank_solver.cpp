@@ -1,5 +1,7 @@
 #include "solver/low_rank_solver.hpp"
 
+#include "solver/policy.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -65,7 +67,7 @@ Eigen::MatrixXd LowRankBandSolver::applyCore(const Eigen::Ref<const Eigen::Matri
 }
 
 BandSolution LowRankBandSolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& mo, double refine_tolerance,
-                                      int max_refine_iterations) const {
+                                      int max_refine_iterations, Refinement how) const {
   BandSolution sol;
   if (mo.rows() != net_.size()) throw std::invalid_argument("initial exitance must have one row per node");
   if (!mo.allFinite()) throw std::invalid_argument("initial exitance contains a non-finite value");
@@ -80,8 +82,16 @@ BandSolution LowRankBandSolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& m
   sol.full_flux = net_.applyConductance(sol.exitance);
   sol.residual = relativeResidual(sol.full_flux, net_.area(), rho_, mo, sol.exitance);
   sol.max_residual = sol.residual.size() ? sol.residual.maxCoeff() : 0.0;
-  if (refine_tolerance > 0 && sol.max_residual > refine_tolerance)
-    refine(mo, sol, refine_tolerance, max_refine_iterations);
+  if (refine_tolerance > 0 && sol.max_residual > refine_tolerance) {
+    // The cheaper way to the tolerance, by predicted cost (policy.hpp): CG from the rank-k
+    // answer, or one dense LU of I − S G when CG would need many products with G.
+    const policy::BandSolveCost cost =
+        policy::bandSolveCost(net_, rank(), mo.cols(), sol.max_residual, refine_tolerance);
+    sol.predicted_refine_s = cost.refine_s;
+    sol.predicted_direct_s = cost.direct_s;
+    const bool direct = how == Refinement::Cheapest && cost.direct();
+    if (!(direct && solveDirect(mo, sol))) refine(mo, sol, refine_tolerance, max_refine_iterations);
+  }
   if (!sol.exitance.allFinite() || !sol.irradiance.allFinite()) {
     sol.status = Status::NonFinite;
     sol.message = "band solution is not finite";
@@ -112,11 +122,12 @@ Eigen::MatrixXd LowRankBandSolver::applyPreconditioner(const Eigen::Ref<const Ei
 // until the recurrence residual of every column meets `tol`, `max_iter` total iterations
 // pass, the preconditioner turns indefinite (then low_rank_pc is cleared) or K proves
 // indefinite (`broke_down`). Returns the iterations done.
-int LowRankBandSolver::pcgRun(const Eigen::MatrixXd& b, Eigen::MatrixXd& z, const Eigen::VectorXd& scale, double tol,
-                              int max_iter, bool& low_rank_pc, bool& broke_down) const {
+int LowRankBandSolver::pcgRun(const Eigen::MatrixXd& b, const Eigen::MatrixXd& start_residual, Eigen::MatrixXd& z,
+                              const Eigen::VectorXd& scale, double tol, int max_iter, bool& low_rank_pc,
+                              bool& broke_down) const {
   const Eigen::VectorXd& area = net_.area();
   const Eigen::VectorXd r_weight = area.cwiseInverse().cwiseProduct(sqrt_rho_);
-  const Eigen::Index cols = b.cols();
+  const Eigen::Index cols = z.cols();
   auto applyK = [&](const Eigen::MatrixXd& x) -> Eigen::MatrixXd {
     return area.asDiagonal() * x - sqrt_rho_.asDiagonal() * net_.applyConductance(sqrt_rho_.asDiagonal() * x);
   };
@@ -124,7 +135,7 @@ int LowRankBandSolver::pcgRun(const Eigen::MatrixXd& b, Eigen::MatrixXd& z, cons
     const Eigen::VectorXd rel = (r_weight.asDiagonal() * res).colwise().norm().transpose().cwiseQuotient(scale);
     return (rel.array() <= tol).all();
   };
-  Eigen::MatrixXd r = b - applyK(z);
+  Eigen::MatrixXd r = b.size() != 0 ? Eigen::MatrixXd(b - applyK(z)) : start_residual;
   Eigen::MatrixXd y = applyPreconditioner(r, low_rank_pc);
   Eigen::VectorXd rz = (r.cwiseProduct(y)).colwise().sum().transpose();
   if (low_rank_pc && (rz.array() < 0).any()) {  // indefinite preconditioner: use the diagonal one
@@ -167,21 +178,47 @@ int LowRankBandSolver::pcgRun(const Eigen::MatrixXd& b, Eigen::MatrixXd& z, cons
   return done_iterations;
 }
 
+// M = (I − S G)⁻¹ M_o by dense LU; false (sol untouched) when I − S G is numerically
+// singular, and CG then says what it can.
+bool LowRankBandSolver::solveDirect(const Eigen::Ref<const Eigen::MatrixXd>& mo, BandSolution& sol) const {
+  const Eigen::VectorXd s = rho_.cwiseQuotient(net_.area());
+  Eigen::MatrixXd lhs = -(s.asDiagonal() * net_.denseConductance());
+  lhs.diagonal().array() += 1.0;
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(lhs);
+  if (!(lu.rcond() > 1e-14)) return false;
+  Eigen::MatrixXd m = lu.solve(mo);
+  if (!m.allFinite()) return false;
+  sol.exitance = std::move(m);
+  sol.full_flux = net_.applyConductance(sol.exitance);
+  sol.irradiance = net_.area().cwiseInverse().asDiagonal() * sol.full_flux;
+  sol.residual = relativeResidual(sol.full_flux, net_.area(), rho_, mo, sol.exitance);
+  sol.max_residual = sol.residual.size() ? sol.residual.maxCoeff() : 0.0;
+  sol.refined = true;
+  sol.method = "dense LU";
+  return true;
+}
+
 void LowRankBandSolver::refine(const Eigen::Ref<const Eigen::MatrixXd>& mo, BandSolution& sol, double tol,
                                int max_iter) const {
+  sol.method = "low-rank core + CG";
   const Eigen::VectorXd& area = net_.area();
   const Eigen::Index cols = mo.cols();
   Eigen::VectorXd scale(cols);
   for (Eigen::Index c = 0; c < cols; ++c) scale[c] = std::max(mo.col(c).norm(), std::numeric_limits<double>::min());
 
-  const Eigen::MatrixXd b = sqrt_rho_.asDiagonal() * net_.applyConductance(mo);
   Eigen::MatrixXd z = sqrt_rho_.asDiagonal() * sol.irradiance;  // the low-rank answer as the start
+  // Its residual b − K z without a product with G: with b = R^½ G M_o and
+  // G R^½ z = G (M_k − M_o), b − K z = R^½ G M_k − A z, and G M_k is the residual check's
+  // full_flux. b itself only for a restart (after recurrence drift).
+  const Eigen::MatrixXd start_residual = sqrt_rho_.asDiagonal() * sol.full_flux - area.asDiagonal() * z;
+  Eigen::MatrixXd b;
   bool low_rank_pc = true;
   sol.refined = true;
   int total = 0;
   for (int restart = 0; restart < 4 && total < max_iter; ++restart) {
     bool broke_down = false;
-    total += pcgRun(b, z, scale, tol, max_iter - total, low_rank_pc, broke_down);
+    if (restart > 0 && b.size() == 0) b = sqrt_rho_.asDiagonal() * net_.applyConductance(mo);
+    total += pcgRun(b, start_residual, z, scale, tol, max_iter - total, low_rank_pc, broke_down);
     if (broke_down) {
       sol.status = Status::Singular;
       sol.message = "refinement: A − R^½ G R^½ is not positive definite (spectral radius of S G ≥ 1?)";

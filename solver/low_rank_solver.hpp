@@ -30,9 +30,20 @@ struct BandSolution {
   Eigen::MatrixXd full_flux;   ///< G M with the full G (n×P), W: the residual's product, kept for reuse
   double max_residual = 0.0;
   int refine_iterations = 0;  ///< preconditioned CG iterations (0: low-rank answer kept)
-  bool refined = false;
+  bool refined = false;       ///< brought to the tolerance (by CG or by the direct solve)
+  /// How the answer was reached: "low-rank core" (kept), "low-rank core + CG", or "dense LU"
+  /// (policy::bandSolveCost predicted it cheaper than CG to the tolerance).
+  std::string method = "low-rank core";
+  double predicted_refine_s = 0.0;  ///< the policy's prediction for CG to the tolerance, s (0: not asked)
+  double predicted_direct_s = 0.0;  ///< ... and for dense LU of I − S G, s
   Status status = Status::Converged;
   std::string message;
+};
+
+/// How a band solve reaches its tolerance when the rank-k answer misses it.
+enum class Refinement {
+  Cheapest,          ///< CG or dense LU, by the policy's predicted cost (policy::bandSolveCost)
+  ConjugateGradient  ///< always CG (benchmarks and tests of the CG path)
 };
 
 /// One band (solar: ρ = 1 − α; IR: ρ = 1 − ε) of one network, built on shared eigenpairs.
@@ -62,12 +73,14 @@ class LowRankBandSolver {
   ///        > 0: refine with the full G (preconditioned CG, see docs/solver.md) until every
   ///        column's relative residual is at most this
   BandSolution solve(const Eigen::Ref<const Eigen::MatrixXd>& initial_exitance, double refine_tolerance = 0.0,
-                     int max_refine_iterations = 500) const;
+                     int max_refine_iterations = 500, Refinement how = Refinement::Cheapest) const;
 
  private:
   void refine(const Eigen::Ref<const Eigen::MatrixXd>& mo, BandSolution& sol, double tol, int max_iter) const;
-  int pcgRun(const Eigen::MatrixXd& b, Eigen::MatrixXd& z, const Eigen::VectorXd& scale, double tol, int max_iter,
-             bool& low_rank_pc, bool& broke_down) const;
+  bool solveDirect(const Eigen::Ref<const Eigen::MatrixXd>& mo, BandSolution& sol) const;
+  /// `b` empty: start from `start_residual` (b − K z for the z given) instead of forming it.
+  int pcgRun(const Eigen::MatrixXd& b, const Eigen::MatrixXd& start_residual, Eigen::MatrixXd& z,
+             const Eigen::VectorXd& scale, double tol, int max_iter, bool& low_rank_pc, bool& broke_down) const;
   Eigen::MatrixXd applyPreconditioner(const Eigen::Ref<const Eigen::MatrixXd>& r, bool low_rank) const;
 
   const Network& net_;

@@ -27,6 +27,15 @@ inline constexpr int kDenseExchangeMaxNodes = 3000;
 /// budget's 1e-4 … 1e-3 in one to three iterations (each one product with G per right-hand
 /// side), while every doubling of the pairs costs more than the Lanczos run before it.
 inline constexpr double kRefinedStartResidual = 1e-2;
+/// The band solve's cost model (bandSolveCost): single-thread rates measured on the CI
+/// machine (docs/solver-satellite-benchmark.md: Eigen's blocked dense LU about 4e10 flop/s,
+/// a sparse product with G plus the thin low-rank products about 4e9). Only their ratio
+/// decides; a dense product with G runs at the dense rate.
+inline constexpr double kDenseFlopsPerSecond = 4e10;
+inline constexpr double kSparseFlopsPerSecond = 4e9;
+/// Dense LU of I − S G for a band solve only up to this many nodes (8 n² bytes each for
+/// I − S G and, for a sparse network, a dense copy of G: 1 GiB at the limit).
+inline constexpr int kDenseBandSolveMaxNodes = 8000;
 /// A corrected view-factor matrix is stored sparse when fewer than this share of its
 /// entries is non-zero (sparse products then beat dense ones).
 inline constexpr double kSparseStorageMaxDensity = 0.25;
@@ -40,6 +49,19 @@ EigenMethod eigenMethod(EigenMethod requested, int n, int rank);
 
 /// True when a view-factor matrix with `nonzeros` entries of n × n is stored sparse.
 bool storeSparse(long long nonzeros, int n);
+
+/// Predicted cost of bringing a band solve of `columns` right-hand sides from the rank-k
+/// answer's residual `start_residual` to `tolerance`: preconditioned CG (iterations from the
+/// contraction √start_residual per iteration, each one product with G and the thin rank-k
+/// products per column) against one dense LU of I − S G and its solves.
+struct BandSolveCost {
+  int refine_iterations = 0;  ///< predicted CG iterations
+  double refine_s = 0.0;      ///< predicted CG time, s
+  double direct_s = 0.0;      ///< predicted dense LU time, s (infinite beyond kDenseBandSolveMaxNodes)
+  bool direct() const { return direct_s < refine_s; }
+};
+BandSolveCost bandSolveCost(const Network& net, int rank, Eigen::Index columns, double start_residual,
+                            double tolerance);
 
 /// True when GR is formed from the eigenpairs (E G E + E V (C − Λ) Vᵀ E), not by dense LU.
 bool exchangeFromPairs(int n, const SolverSettings& settings);

@@ -67,7 +67,7 @@ TEST_CASE("nearly closed cavity (spectral radius of S G > 0.999): converge or sa
   // 1e-11, not tighter: the residual of an answer amplified ~2000× carries round-off of
   // about n · 2000 · 1e-16 ≈ 1e-11 relative; 1e-13 converged with -O3 -march=native (FMA) and
   // stalled at 21 iterations in the Debug/sanitizer build. Error ≤ 2000 · 1e-11 = 2e-8.
-  const solver::BandSolution sol = band.solve(mo, 1e-11);
+  const solver::BandSolution sol = band.solve(mo, 1e-11, 500, solver::Refinement::ConjugateGradient);
   INFO(sol.message << " (" << sol.refine_iterations << " CG iterations)");
   REQUIRE(sol.status == solver::Status::Converged);
   CHECK(test::relativeError(sol.exitance.col(0), lu) < 3e-8);
@@ -108,7 +108,7 @@ TEST_CASE("areas spanning 1e9: low-rank + refinement and exchange factors stay a
   req.max_s = rho.cwiseQuotient(area).maxCoeff();
   req.max_rank = 20;
   solver::LowRankBandSolver band(net, solver::decomposeConductance(net, req), rho);
-  const solver::BandSolution sol = band.solve(mo, 1e-13);
+  const solver::BandSolution sol = band.solve(mo, 1e-13, 500, solver::Refinement::ConjugateGradient);
   REQUIRE(sol.status == solver::Status::Converged);
   CHECK(test::relativeError(sol.exitance.col(0), lu) < 1e-10);
   const solver::ExchangeFactors ex = solver::exchangeFactorsDense(net, Eigen::VectorXd::Ones(n) - rho);
@@ -145,7 +145,7 @@ TEST_CASE("a truncation where the paper's eigenvector iteration diverges: report
         CHECK(test::relativeError(exact_k.exitance.col(0), direct) < 1e-9);
       }
       // …and refinement with the full G reaches the true answer, or says why not.
-      const solver::BandSolution refined = band.solve(mo, 1e-12);
+      const solver::BandSolution refined = band.solve(mo, 1e-12, 500, solver::Refinement::ConjugateGradient);
       CHECK(refined.exitance.allFinite());
       if (refined.status == solver::Status::Converged) {
         const Eigen::MatrixXd g = net.denseConductance();

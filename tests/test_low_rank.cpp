@@ -95,7 +95,7 @@ TEST_CASE("refinement reaches the full-G solution from any rank") {
   const Eigen::MatrixXd mo = randomSources(n, 4, 12);
   for (int k : {1, 8, 40}) {
     solver::LowRankBandSolver band(net, solver::truncate(all, k), rho);
-    const solver::BandSolution sol = band.solve(mo, 1e-12);
+    const solver::BandSolution sol = band.solve(mo, 1e-12, 500, solver::Refinement::ConjugateGradient);
     INFO("k = " << k << ": " << sol.message << ", iterations " << sol.refine_iterations);
     REQUIRE(sol.status == solver::Status::Converged);
     CHECK(sol.max_residual <= 1e-12);
@@ -172,7 +172,7 @@ TEST_CASE("a network with no exchange at all (G = 0) keeps rank 0 and solves exa
     CHECK(pairs.rank() == 0);
     const solver::LowRankBandSolver band(net, pairs, Eigen::VectorXd::Constant(n, 0.3));
     const Eigen::MatrixXd mo = Eigen::MatrixXd::Random(n, 3).cwiseAbs();
-    const solver::BandSolution s = band.solve(mo, 1e-12, 50);
+    const solver::BandSolution s = band.solve(mo, 1e-12, 50, solver::Refinement::ConjugateGradient);
     REQUIRE(s.status == solver::Status::Converged);
     CHECK((s.exitance - mo).cwiseAbs().maxCoeff() == 0.0);
     CHECK(s.irradiance.cwiseAbs().maxCoeff() == 0.0);

@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 using namespace radnet;
 
@@ -150,4 +151,43 @@ TEST_CASE("a-posteriori rank: a flat spectrum stops the growth when refinement f
   INFO("rank " << pairs.rank() << ": " << pairs.rank_rule << " / " << probe.rule());
   CHECK(pairs.rank() < 300);
   CHECK(probe.rule().find("flat") != std::string::npos);
+}
+
+TEST_CASE("band solve to a tolerance: CG from the rank-k answer or dense LU, whichever is predicted cheaper") {
+  const solver::Network net = facingPlates(12);  // n = 288, dense
+  const int n = net.size();
+  const Eigen::VectorXd rho = uniformIn(n, 0.1, 0.9, 3);
+  const solver::EigenPairs all = solver::denseEigenPairs(net.denseConductance());
+  const Eigen::MatrixXd mo = halfLit(n, 6, 13);
+  const Eigen::MatrixXd s = rho.cwiseQuotient(net.area()).asDiagonal();
+  const Eigen::MatrixXd exact =
+      (Eigen::MatrixXd::Identity(n, n) - s * net.denseConductance()).partialPivLu().solve(mo);
+  const solver::LowRankBandSolver band(net, solver::truncate(all, 8), rho);
+  // A loose tolerance from a good start: one or two CG iterations beat an O(n³) LU ...
+  const solver::BandSolution loose = band.solve(mo, 5e-3);
+  const solver::policy::BandSolveCost loose_cost = solver::policy::bandSolveCost(net, 8, 6, 2e-2, 5e-3);
+  INFO("loose: CG " << loose_cost.refine_s << " s (" << loose_cost.refine_iterations << " it), LU "
+                    << loose_cost.direct_s << " s");
+  CHECK(loose.max_residual <= 5e-3);
+  // ... round-off from a poor start: many products with G, the LU is cheaper at this size.
+  const solver::BandSolution tight = band.solve(mo, 1e-13);
+  CHECK(tight.method == "dense LU");
+  CHECK(tight.predicted_direct_s < tight.predicted_refine_s);
+  CHECK(tight.max_residual <= 1e-13);
+  CHECK((tight.exitance - exact).norm() <= 1e-12 * exact.norm());
+  // Beyond kDenseBandSolveMaxNodes the LU is never predicted (memory), whatever the tolerance.
+  const int big_n = solver::policy::kDenseBandSolveMaxNodes + 1;
+  std::vector<Eigen::Triplet<double>> chain;  // neighbours see 10 % of each other, equal areas
+  for (int i = 0; i + 1 < big_n; ++i) {
+    chain.emplace_back(i, i + 1, 0.1);
+    chain.emplace_back(i + 1, i, 0.1);
+  }
+  Eigen::SparseMatrix<double> f(big_n, big_n);
+  f.setFromTriplets(chain.begin(), chain.end());
+  const solver::Network big(test::nodeNames(big_n), Eigen::VectorXd::Ones(big_n), f);
+  CHECK_FALSE(solver::policy::bandSolveCost(big, 32, 360, 0.5, 1e-14).direct());
+  // More columns never make CG relatively cheaper than the LU's one factorisation.
+  const auto few = solver::policy::bandSolveCost(net, 8, 1, 5e-2, 1e-10);
+  const auto many = solver::policy::bandSolveCost(net, 8, 1000, 5e-2, 1e-10);
+  CHECK(many.refine_s / many.direct_s >= few.refine_s / few.direct_s);
 }

@@ -69,7 +69,7 @@ TEST_CASE("seed room: refinement turns M'_2 into the full-G answer") {
   req.rank = 2;
   const solver::EigenPairs pairs = solver::decomposeConductance(net, req);
   solver::LowRankBandSolver band(net, pairs, test::seedRoomReflectance());
-  const solver::BandSolution sol = band.solve(test::unitCeiling(), 1e-13);
+  const solver::BandSolution sol = band.solve(test::unitCeiling(), 1e-13, 500, solver::Refinement::ConjugateGradient);
   REQUIRE(sol.status == solver::Status::Converged);
   CHECK(sol.refined);
   CHECK(sol.max_residual <= 1e-13);

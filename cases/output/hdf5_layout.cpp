@@ -182,6 +182,10 @@ void writeSweep(Hdf5Writer& h5, const SweepResult& sw, Eigen::Index n) {
   h5.attribute("/report", "solar_band_residual", sw.solar_residual);
   h5.attribute("/report", "truncation_residual", std::max(sw.solar_residual, sw.ir_residual));
   h5.attribute("/report", "ir_band_residual", sw.ir_residual);
+  h5.attribute("/report", "solar_band_method", sw.solar_band_method);
+  h5.attribute("/report", "ir_band_method", sw.ir_band_method);
+  h5.attribute("/report", "solar_refine_iterations", static_cast<long long>(sw.solar_refine_iterations));
+  h5.attribute("/report", "ir_refine_iterations", static_cast<long long>(sw.ir_refine_iterations));
   h5.attribute("/report", "solar_energy_balance_error", sw.energy_balance_error);
   h5.attribute("/report", "planet_ray_casts", static_cast<long long>(sw.irradiance.planet_casts));
 }

@@ -25,6 +25,7 @@ void writeNetworkResult(const NetworkCase& c, const NetworkRunResult& r, const s
   h5.attribute("/report", "truncation_residual", r.solution.max_residual);
   h5.attribute("/report", "refined", static_cast<long long>(r.solution.refined));
   h5.attribute("/report", "refine_iterations", static_cast<long long>(r.solution.refine_iterations));
+  h5.attribute("/report", "band_method", r.solution.method);
   h5.attribute("/report", "view_factor_error", r.radiative.network->reciprocity().max_view_factor_change);
   h5.commit();
 }

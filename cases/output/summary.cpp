@@ -80,8 +80,8 @@ void printSweepSummary(const std::vector<std::string>& names, const SweepResult&
 }
 
 void printSweepQuality(const std::vector<std::string>& names, const SweepResult& sw, std::ostream& out) {
-  out << "band residuals: solar " << sw.solar_residual << ", IR " << sw.ir_residual << "; solar energy balance error "
-      << sw.energy_balance_error << "\n";
+  out << "band residuals: solar " << sw.solar_residual << " (" << sw.solar_band_method << "), IR " << sw.ir_residual
+      << " (" << sw.ir_band_method << "); solar energy balance error " << sw.energy_balance_error << "\n";
   const UncertaintySummary& u = sw.uncertainty;
   out << "uncertainty (1σ, of each node's orbit-maximum absorbed power): at most " << 100 * u.total << " %";
   if (u.worst_node >= 0) out << " (" << names[static_cast<size_t>(u.worst_node)] << ")";
@@ -173,6 +173,8 @@ void printOpticalUncertainty(const GeometryRunResult& r, const Layout& layout, s
 }
 
 std::string refinementNote(const solver::BandSolution& s, const solver::SolverSettings& settings, int rank) {
+  if (s.method == "dense LU") return " (dense LU: predicted " + std::to_string(s.predicted_direct_s) + " s against " +
+                                     std::to_string(s.predicted_refine_s) + " s of CG)";
   if (s.refined) return " (refined, " + std::to_string(s.refine_iterations) + " CG iterations)";
   if (settings.refineEnabled()) return " (rank-" + std::to_string(rank) + " solve already within the tolerance)";
   return " (eigenvector radiosity at rank " + std::to_string(rank) + ", not refined)";

@@ -51,6 +51,13 @@ void appendSweep(SweepResult& all, const SweepResult& part) {
   all.ir_residual = std::max(all.ir_residual, part.ir_residual);
   all.solar_refine_iterations = std::max(all.solar_refine_iterations, part.solar_refine_iterations);
   all.ir_refine_iterations = std::max(all.ir_refine_iterations, part.ir_refine_iterations);
+  for (auto member : {&SweepResult::solar_band_method, &SweepResult::ir_band_method}) {
+    std::string& joined = all.*member;
+    const std::string& method = part.*member;
+    if (joined.empty()) joined = method;
+    else if (!method.empty() && (", " + joined + ", ").find(", " + method + ", ") == std::string::npos)
+      joined += ", " + method;
+  }
   all.energy_balance_error = std::max(all.energy_balance_error, part.energy_balance_error);
 }
 

@@ -168,12 +168,14 @@ SweepResult runSweep(const SweepInputs& in, StageTimings& timings, bool show_pro
   sw.exitance_solar = solar_band.solution.exitance.leftCols(P) + solar_band.solution.exitance.rightCols(P);
   sw.solar_residual = solar_band.solution.max_residual;
   sw.solar_refine_iterations = solar_band.solution.refine_iterations;
+  sw.solar_band_method = solar_band.solution.method;
   sw.energy_balance_error = solarEnergyBalanceError(net, sw);
   // IR band (ρ = 1 − ε): the planet's IR, interreflected.
   const BandOutcome ir_band = solveBand(ir, net, sw.irradiance.earth_ir, tol, "IR");
   sw.absorbed_earth_ir = ir_band.absorbed;
   sw.ir_residual = ir_band.solution.max_residual;
   sw.ir_refine_iterations = ir_band.solution.refine_iterations;
+  sw.ir_band_method = ir_band.solution.method;
   t_bands.stop();
   sw.absorbed_total = sw.absorbed_solar + sw.absorbed_albedo + sw.absorbed_earth_ir;
   StageTimer t_unc(timings, Stage::Uncertainty);

@@ -3,6 +3,8 @@
 #include "cases/config/errors.hpp"
 #include "solver/policy.hpp"
 
+#include <sstream>
+
 namespace radnet::cases {
 
 solver::EigenPairs decomposeNetwork(const solver::Network& net, const Eigen::VectorXd& max_reflectance,
@@ -15,6 +17,21 @@ solver::EigenPairs decomposeNetwork(const solver::Network& net, const Eigen::Vec
     throw NumericalError(std::string("eigendecomposition of G ") + solver::toString(pairs.status) + ": " +
                          pairs.message);
   return pairs;
+}
+
+std::string rankCapWarning(const solver::EigenPairs& pairs, const solver::SolverSettings& settings) {
+  if (pairs.rank_rule != "rank cap") return "";
+  const bool gr_short = pairs.probe_exchange_error > settings.tolerance;
+  const bool band_short = !settings.refineEnabled() && pairs.probe_residual > settings.tolerance;
+  if (!gr_short && !band_short) return "";
+  std::ostringstream w;
+  w << "the eigendecomposition stopped at solver.max_rank = " << settings.max_rank << " pairs with the probes' "
+    << (gr_short ? "GR error " + std::to_string(pairs.probe_exchange_error)
+                 : "band residual " + std::to_string(pairs.probe_residual))
+    << " above the tolerance " << settings.tolerance
+    << " (the uncertainty reported does not include it): raise solver.max_rank, or accept the looser "
+    << (gr_short ? "exchange factors" : "band solves");
+  return w.str();
 }
 
 solver::ExchangeFactors exchangeFactors(const RadiativeNetwork& radiative, const Eigen::VectorXd& emissivity,

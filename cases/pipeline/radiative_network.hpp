@@ -15,6 +15,10 @@ solver::EigenPairs decomposeNetwork(const solver::Network& net, const Eigen::Vec
                                     const std::vector<Eigen::VectorXd>& emissivities,
                                     const solver::SolverSettings& settings, StageTimings& timings);
 
+/// A warning when the rank cap stopped the decomposition before the probes met the
+/// tolerance the rank-k answers are used at (GR from the pairs, or unrefined band solves); "" otherwise.
+std::string rankCapWarning(const solver::EigenPairs& pairs, const solver::SolverSettings& settings);
+
 /// GR and GR to space. @throws NumericalError when they cannot be formed (e.g. a lossless closed cavity)
 solver::ExchangeFactors exchangeFactors(const RadiativeNetwork& radiative, const Eigen::VectorXd& emissivity,
                                         const solver::SolverSettings& settings, StageTimings& timings);

@@ -56,6 +56,9 @@ struct SweepResult {
   Eigen::MatrixXd exitance_solar;                  ///< solar-band exitance (direct + albedo), W/m² (n×P)
   double solar_residual = 0.0, ir_residual = 0.0;  ///< band-solve residuals with the full G
   int solar_refine_iterations = 0, ir_refine_iterations = 0;
+  /// How each band reached its tolerance (BandSolution::method; several design cases'
+  /// different methods joined by ", ").
+  std::string solar_band_method, ir_band_method;
   double energy_balance_error = 0.0;  ///< max over positions of |in − absorbed − lost| / in, solar band
   /// Standard uncertainty of absorbed_total (n×P), W, and its parts: the view factors'
   /// errors (both bands, taken as fully correlated), the loads' sampling, the truncation.
