@@ -55,7 +55,7 @@ def main():
     md, decay_csv, out = sys.argv[1:4]
     data = tables(md)
     markers = dict(zip(FAMILIES + ["a-posteriori rank"], "oH*^v<sDPXdp"))
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(13, 5.5))
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(13, 7))
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     seen = set()
     for c, (n, rows) in zip(colours, sorted(data.items())):
@@ -72,7 +72,7 @@ def main():
     ax.set_title("Band solves: time against error (lower left is better)")
     ax.axhline(1e-3, color="grey", lw=0.8, ls="--")
     ax.text(ax.get_xlim()[0] * 1.1, 1.3e-3, "1 % budget's largest solver tolerance, 1e-3", fontsize=8, color="grey")
-    ax.legend(fontsize=7, ncol=2)
+    ax.legend(fontsize=7, ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.13))
     decay = {}
     with open(decay_csv) as f:
         for row in csv.DictReader(f):

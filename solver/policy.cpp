@@ -58,6 +58,8 @@ EigenPairs decomposeForBands(const Network& net, const Eigen::VectorXd& max_refl
       settings.refineEnabled() ? std::max(kRefinedStartResidual, settings.tolerance) : settings.tolerance;
   targets.exchange_error = exchangeFromPairs(net.size(), settings) ? settings.tolerance : 0.0;
   targets.emissivities = emissivities;
+  targets.exchange_fallback = net.size() <= kDenseBandSolveMaxNodes;
+  targets.band_refined = settings.refineEnabled();
   RankProbe probe(net, targets);
   req.accept = [&probe](const EigenPairs& found) { return probe(found); };
   EigenPairs pairs = decomposeConductance(net, req);
@@ -71,7 +73,10 @@ EigenPairs decomposeForBands(const Network& net, const Eigen::VectorXd& max_refl
 
 ExchangeFactors exchangeFactors(const Network& net, const EigenPairs& pairs, const Eigen::VectorXd& emissivity,
                                 const SolverSettings& settings) {
-  if (!exchangeFromPairs(net.size(), settings)) return exchangeFactorsDense(net, emissivity);
+  // Dense LU also when the pairs missed the tolerance on the probes' GR x and the network is
+  // small enough for it (a closed room's flat spectrum).
+  const bool pairs_short = pairs.probe_exchange_error > settings.tolerance && net.size() <= kDenseBandSolveMaxNodes;
+  if (!exchangeFromPairs(net.size(), settings) || pairs_short) return exchangeFactorsDense(net, emissivity);
   const LowRankBandSolver ir(net, pairs, Eigen::VectorXd::Ones(net.size()) - emissivity);
   return exchangeFactorsLowRank(net, ir, emissivity);
 }

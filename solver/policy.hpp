@@ -75,7 +75,8 @@ EigenPairs decomposeForBands(const Network& net, const Eigen::VectorXd& max_refl
                              const SolverSettings& settings, const std::vector<Eigen::VectorXd>& emissivities = {});
 
 /// The exchange factors GR: exact by dense LU when the settings ask for full accuracy
-/// (refinement) and n ≤ kDenseExchangeMaxNodes, else E G E + E V (C − Λ) Vᵀ E.
+/// (refinement) and n ≤ kDenseExchangeMaxNodes, or when the pairs' measured GR error
+/// exceeds the tolerance and n ≤ kDenseBandSolveMaxNodes; else E G E + E V (C − Λ) Vᵀ E.
 /// ExchangeFactors::method says which; a failure is its status.
 ExchangeFactors exchangeFactors(const Network& net, const EigenPairs& pairs, const Eigen::VectorXd& emissivity,
                                 const SolverSettings& settings);

@@ -109,15 +109,26 @@ int RankProbe::operator()(const EigenPairs& found) {
   if (nev == 0) return 0;
   const RankMeasure all = measure(found, nev);
   if (!meets(all)) {
-    // The band solves are refined to the budget whatever the rank: when twice the pairs
-    // no longer halve the residual (a flat spectrum, as in a closed room), more pairs cost
-    // more Lanczos time than the refinement iterations they save. GR from the pairs is
-    // not refined, so its target is never given up this way.
-    const bool flat = targets_.exchange_error <= 0 && previous_band_ > 0 && std::isfinite(all.band_residual) &&
-                      all.band_residual > 0.5 * previous_band_;
+    // The band solves are refined to the budget whatever the rank, and GR may fall back to
+    // dense LU: when twice the pairs no longer halve what misses its target (a flat
+    // spectrum, as in a closed room), more pairs cost more Lanczos time than they save.
+    // GR from the pairs with no fallback is never given up this way.
+    const auto stalled = [](double now, double before, double target) {
+      return now <= target || (before > 0 && std::isfinite(now) && now > 0.5 * before);
+    };
+    const bool exchange_ok = targets_.exchange_error <= 0 || all.exchange_error <= targets_.exchange_error;
+    const bool band_ok = all.band_residual <= targets_.band_residual;
+    const bool flat = previous_band_ > 0 &&
+                      (band_ok || (targets_.band_refined &&
+                                   stalled(all.band_residual, previous_band_, targets_.band_residual))) &&
+                      (exchange_ok || (targets_.exchange_fallback &&
+                                       stalled(all.exchange_error, previous_exchange_, targets_.exchange_error)));
     previous_band_ = all.band_residual;
+    previous_exchange_ = all.exchange_error;
     if (!flat) return 0;
-    rule_ = "a posteriori: spectrum flat (twice the pairs did not halve the probes' residual), refinement finishes";
+    rule_ = "a posteriori: spectrum flat (twice the pairs did not halve what misses its target)";
+    if (!band_ok) rule_ += ", refinement finishes the band solves";
+    if (!exchange_ok) rule_ += ", GR by dense LU";
     return nev;
   }
   // The smallest rank that still meets the targets, halving from the pairs found.

@@ -22,10 +22,17 @@ struct RankTargets {
   /// Largest relative residual ‖M_o − (I − S G) M‖/‖M_o‖ of a rank-k band solve: the
   /// solver tolerance when the rank-k answer is kept, a looser start for refinement.
   double band_residual = 1e-2;
+  /// The band solves are refined to the tolerance after the rank-k answer (a stalled band
+  /// residual may then stop the growth); false: the rank-k answers are kept as they are.
+  bool band_refined = true;
   /// When GR comes from the pairs (E G E + E V (C − Λ) Vᵀ E): the largest error of GR x on
   /// the probes relative to ε_i A_i max x, with ε = 1 − reflectance; 0: GR is exact (dense LU)
   /// and only the band residual counts.
   double exchange_error = 0.0;
+  /// GR may fall back to dense LU when the pairs miss `exchange_error` (policy::exchangeFactors
+  /// up to kDenseBandSolveMaxNodes): a stalled GR error then stops the growth as a stalled
+  /// band residual does.
+  bool exchange_fallback = false;
   /// The emissivities GR is formed with (every optical set's, ε per node); empty: 1 − reflectance.
   std::vector<Eigen::VectorXd> emissivities;
 };
@@ -39,8 +46,8 @@ struct RankMeasure {
 
 /// The EigenRequest::accept hook: the smallest rank (halving from the pairs found, down to
 /// kMinRank) whose measurement meets the targets; "keep all" when doubling the pairs no
-/// longer halves the band residual and the refinement is left to finish (band target
-/// only); 0 while more pairs are wanted.
+/// longer halves what misses its target (the band residual, which refinement finishes, and
+/// the GR error when GR can fall back to dense LU); 0 while more pairs are wanted.
 class RankProbe {
  public:
   static constexpr int kProbes = 4;   ///< uniform and three random fields (fixed seed)
@@ -66,6 +73,7 @@ class RankProbe {
   std::vector<Eigen::MatrixXd> reference_gr_x_;  ///< GR x per emissivity set with the full G (refined), once
   bool reference_failed_ = false;
   double previous_band_ = -1.0;
+  double previous_exchange_ = -1.0;
   std::string rule_;
 };
 

@@ -191,3 +191,22 @@ TEST_CASE("band solve to a tolerance: CG from the rank-k answer or dense LU, whi
   const auto many = solver::policy::bandSolveCost(net, 8, 1000, 5e-2, 1e-10);
   CHECK(many.refine_s / many.direct_s >= few.refine_s / few.direct_s);
 }
+
+TEST_CASE("a-posteriori rank: beyond the dense-GR size a flat spectrum hands GR to dense LU, not to a short rank") {
+  // n just above kDenseExchangeMaxNodes: GR would come from the pairs, but a random network's
+  // flat spectrum cannot meet a tight tolerance at any affordable rank.
+  const int n = solver::policy::kDenseExchangeMaxNodes + 1;
+  const solver::Network net = test::randomNetwork(n, 43, 0.3, 0.2);
+  const Eigen::VectorXd eps = uniformIn(n, 0.3, 0.9, 9);
+  solver::SolverSettings settings;
+  settings.tolerance = 1e-6;
+  settings.method = solver::EigenMethod::Lanczos;
+  const Eigen::VectorXd rho = Eigen::VectorXd::Ones(n) - eps;
+  const solver::EigenPairs pairs = solver::policy::decomposeForBands(net, rho, settings, {eps});
+  REQUIRE(pairs.status == solver::Status::Converged);
+  INFO("rank " << pairs.rank() << " (" << pairs.rank_rule << "), GR error " << pairs.probe_exchange_error);
+  CHECK(pairs.rank() < settings.max_rank);
+  CHECK(pairs.rank_rule.find("GR by dense LU") != std::string::npos);
+  const solver::ExchangeFactors ex = solver::policy::exchangeFactors(net, pairs, eps, settings);
+  CHECK(ex.method == "dense LU");
+}

@@ -21,7 +21,8 @@ solver::EigenPairs decomposeNetwork(const solver::Network& net, const Eigen::Vec
 
 std::string rankCapWarning(const solver::EigenPairs& pairs, const solver::SolverSettings& settings) {
   if (pairs.rank_rule != "rank cap") return "";
-  const bool gr_short = pairs.probe_exchange_error > settings.tolerance;
+  const bool gr_short = pairs.probe_exchange_error > settings.tolerance &&
+                        pairs.vectors.rows() > solver::policy::kDenseBandSolveMaxNodes;  // else GR by dense LU
   const bool band_short = !settings.refineEnabled() && pairs.probe_residual > settings.tolerance;
   if (!gr_short && !band_short) return "";
   std::ostringstream w;
