@@ -138,6 +138,35 @@ EigenPairs rankFromTolerance(const EigenPairs& found, const EigenRequest& req, d
   return out;
 }
 
+// Rank from the tolerance by Lanczos: grows the number of pairs until the rank is accepted
+// a posteriori, or the smallest pair found already meets the a-priori rule (then every pair
+// not found does too, since Lanczos returns the largest |λ|), or the cap.
+EigenPairs growLanczos(const Network& net, const EigenRequest& req, double max_s, int cap) {
+  const int n = net.size();
+  int nev = std::min({16, n - 2, cap});
+  for (;;) {
+    EigenPairs found = lanczosOnNetwork(net, nev, req);
+    if (found.status != Status::Converged) return found;
+    EigenPairs result;
+    const int accepted = req.accept ? req.accept(found) : 0;
+    const bool enough = std::abs(found.values[nev - 1]) * max_s <= req.tolerance;
+    if (accepted > 0) {
+      result = truncate(found, std::min({accepted, nev, cap}));
+      result.rank_rule = "a posteriori";
+    } else if (enough || nev >= cap) {
+      result = rankFromTolerance(found, EigenRequest{}, max_s, cap, req.tolerance);
+    } else if (2 * nev >= n - 1) {  // most of the spectrum is wanted: the dense solver is cheaper
+      EigenPairs all = denseEigenPairs(net.denseConductance());
+      return all.status != Status::Converged ? all : rankFromTolerance(all, req, max_s, cap);
+    } else {
+      nev = std::min({2 * nev, n - 2, cap});  // the last run at the cap exactly
+      continue;
+    }
+    if (result.rank() == nev && nev < n) result.dropped_bound = std::abs(result.values[nev - 1]);  // not yet computed
+    return result;
+  }
+}
+
 }  // namespace
 
 EigenPairs decomposeConductance(const Network& net, const EigenRequest& req) {
@@ -170,34 +199,7 @@ EigenPairs decomposeConductance(const Network& net, const EigenRequest& req) {
     result = lanczosOnNetwork(net, req.rank, req);
     result.dropped_bound = result.status == Status::Converged ? std::abs(result.values[result.rank() - 1]) : 0.0;
   } else {
-    // Grow the number of pairs until the rank is accepted a posteriori, or the smallest
-    // pair found already meets the a-priori rule (then every pair not found does too,
-    // since Lanczos returns the largest |λ|), or the cap.
-    int nev = std::min({16, n - 2, cap});
-    for (;;) {
-      result = lanczosOnNetwork(net, nev, req);
-      if (result.status != Status::Converged) return result;
-      const int accepted = req.accept ? req.accept(result) : 0;
-      if (accepted > 0) {
-        result = truncate(result, std::min({accepted, nev, cap}));
-        result.rank_rule = "a posteriori";
-        if (result.rank() == nev) result.dropped_bound = std::abs(result.values[nev - 1]);  // not yet computed
-        break;
-      }
-      const bool enough = std::abs(result.values[nev - 1]) * max_s <= req.tolerance;
-      if (enough || nev >= cap) {
-        result = rankFromTolerance(result, EigenRequest{}, max_s, cap, req.tolerance);
-        if (result.rank() == nev && nev < n) result.dropped_bound = std::abs(result.values[nev - 1]);  // not yet computed
-        break;
-      }
-      if (2 * nev >= n - 1) {  // most of the spectrum is wanted: the dense solver is cheaper
-        EigenPairs all = denseEigenPairs(net.denseConductance());
-        if (all.status != Status::Converged) return all;
-        result = rankFromTolerance(all, req, max_s, cap);
-        break;
-      }
-      nev = std::min({2 * nev, n - 2, cap});  // the last run at the cap exactly
-    }
+    result = growLanczos(net, req, max_s, cap);
   }
   result.tolerance = req.rank > 0 ? 0.0 : req.tolerance;
   if (result.status == Status::Converged && !finite(result)) {

@@ -112,10 +112,7 @@ double norm2(const Eigen::MatrixXd& m) { return Eigen::JacobiSVD<Eigen::MatrixXd
 TEST_CASE("truncated exchange factors: direct exchange exact, only the reflections truncated") {
   const int n = 150;
   const solver::Network net = test::randomNetwork(n, 23, 0.3, 0.2);
-  std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> u(0.2, 0.9);
-  Eigen::VectorXd eps(n);
-  for (int i = 0; i < n; ++i) eps[i] = u(rng);
+  const Eigen::VectorXd eps = test::uniformIn(n, 0.2, 0.9, 5);
   const Eigen::MatrixXd g = net.denseConductance();
   const solver::ExchangeFactors dense = solver::exchangeFactorsDense(net, eps);
   REQUIRE(dense.status == solver::Status::Converged);

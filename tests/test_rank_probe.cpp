@@ -35,14 +35,6 @@ solver::Network facingPlates(int m) {
   return solver::Network(test::nodeNames(n), area, area.cwiseInverse().asDiagonal() * g);
 }
 
-Eigen::VectorXd uniformIn(int n, double lo, double hi, unsigned seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(lo, hi);
-  Eigen::VectorXd v(n);
-  for (int i = 0; i < n; ++i) v[i] = u(rng);
-  return v;
-}
-
 // Residual of the rank-k answer for right-hand sides mo, with the full G (independent of
 // the probe's own code path: dense G, explicit formula).
 double rankKResidual(const solver::Network& net, const solver::EigenPairs& all, int k, const Eigen::VectorXd& rho,
@@ -70,7 +62,7 @@ Eigen::MatrixXd halfLit(int n, int columns, unsigned seed) {
 TEST_CASE("a-posteriori rank: meets its band target, half of it does not, far below the a-priori rank") {
   const solver::Network net = facingPlates(12);  // n = 288
   const int n = net.size();
-  const Eigen::VectorXd rho = uniformIn(n, 0.1, 0.9, 3);
+  const Eigen::VectorXd rho = test::uniformIn(n, 0.1, 0.9, 3);
   const double target = 1e-3;
   solver::RankTargets targets;
   targets.reflectance = rho;
@@ -94,7 +86,7 @@ TEST_CASE("a-posteriori rank: meets its band target, half of it does not, far be
 TEST_CASE("a-posteriori rank: GR from the pairs within the exchange target on fresh temperature fields") {
   const solver::Network net = facingPlates(12);
   const int n = net.size();
-  const Eigen::VectorXd eps = uniformIn(n, 0.2, 0.9, 5);
+  const Eigen::VectorXd eps = test::uniformIn(n, 0.2, 0.9, 5);
   const Eigen::VectorXd rho = Eigen::VectorXd::Ones(n) - eps;
   solver::SolverSettings settings;
   settings.tolerance = 1e-4;
@@ -109,7 +101,7 @@ TEST_CASE("a-posteriori rank: GR from the pairs within the exchange target on fr
   REQUIRE(low.status == solver::Status::Converged);
   // σT⁴ of fields between 150 K and 350 K, normalised to their maximum as the probes are.
   for (unsigned seed : {21u, 22u}) {
-    const Eigen::VectorXd t = uniformIn(n, 150.0, 350.0, seed);
+    const Eigen::VectorXd t = test::uniformIn(n, 150.0, 350.0, seed);
     const Eigen::VectorXd x = t.array().pow(4) / std::pow(t.maxCoeff(), 4);
     const Eigen::VectorXd error = ((low.gr - exact.gr) * x).cwiseAbs().cwiseQuotient(eps.cwiseProduct(net.area()));
     INFO("rank " << pairs.rank() << ", largest GR x error " << error.maxCoeff() << " of ε A");
@@ -119,7 +111,7 @@ TEST_CASE("a-posteriori rank: GR from the pairs within the exchange target on fr
 
 TEST_CASE("a-posteriori rank: Lanczos grows the pairs until the probes are met; explicit ranks are kept") {
   const solver::Network net = facingPlates(12);
-  const Eigen::VectorXd rho = uniformIn(net.size(), 0.1, 0.9, 3);
+  const Eigen::VectorXd rho = test::uniformIn(net.size(), 0.1, 0.9, 3);
   solver::SolverSettings settings;
   settings.tolerance = 1e-4;
   settings.method = solver::EigenMethod::Lanczos;
@@ -136,7 +128,7 @@ TEST_CASE("a-posteriori rank: Lanczos grows the pairs until the probes are met; 
 TEST_CASE("a-posteriori rank: a flat spectrum stops the growth when refinement finishes the solve") {
   // A random dense network: its eigenvalues barely decay, so doubling the pairs buys little.
   const solver::Network net = test::randomNetwork(600, 41, 0.3, 0.2);
-  const Eigen::VectorXd rho = uniformIn(600, 0.5, 0.9, 7);
+  const Eigen::VectorXd rho = test::uniformIn(600, 0.5, 0.9, 7);
   solver::RankTargets targets;
   targets.reflectance = rho;
   targets.band_residual = 1e-6;  // out of reach of any rank short of most of the spectrum
@@ -156,7 +148,7 @@ TEST_CASE("a-posteriori rank: a flat spectrum stops the growth when refinement f
 TEST_CASE("band solve to a tolerance: CG from the rank-k answer or dense LU, whichever is predicted cheaper") {
   const solver::Network net = facingPlates(12);  // n = 288, dense
   const int n = net.size();
-  const Eigen::VectorXd rho = uniformIn(n, 0.1, 0.9, 3);
+  const Eigen::VectorXd rho = test::uniformIn(n, 0.1, 0.9, 3);
   const solver::EigenPairs all = solver::denseEigenPairs(net.denseConductance());
   const Eigen::MatrixXd mo = halfLit(n, 6, 13);
   const Eigen::MatrixXd s = rho.cwiseQuotient(net.area()).asDiagonal();
@@ -197,7 +189,7 @@ TEST_CASE("a-posteriori rank: beyond the dense-GR size a flat spectrum hands GR 
   // flat spectrum cannot meet a tight tolerance at any affordable rank.
   const int n = solver::policy::kDenseExchangeMaxNodes + 1;
   const solver::Network net = test::randomNetwork(n, 43, 0.3, 0.2);
-  const Eigen::VectorXd eps = uniformIn(n, 0.3, 0.9, 9);
+  const Eigen::VectorXd eps = test::uniformIn(n, 0.3, 0.9, 9);
   solver::SolverSettings settings;
   settings.tolerance = 1e-6;
   settings.method = solver::EigenMethod::Lanczos;

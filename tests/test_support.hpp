@@ -58,6 +58,15 @@ inline solver::Network randomNetwork(int n, unsigned seed, double max_space = 0.
   return solver::Network(nodeNames(n), area, f, {}, solver::NetworkTolerances{1e-12, 1e-12});
 }
 
+/// n values uniform in [lo, hi), fixed seed.
+inline Eigen::VectorXd uniformIn(int n, double lo, double hi, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(lo, hi);
+  Eigen::VectorXd v(n);
+  for (int i = 0; i < n; ++i) v[i] = u(rng);
+  return v;
+}
+
 inline double relativeError(const Eigen::VectorXd& a, const Eigen::VectorXd& b) { return (a - b).norm() / b.norm(); }
 
 }  // namespace radnet::test
