@@ -41,6 +41,28 @@ bool exchangeFromPairs(int n, const SolverSettings& settings) {
   return !(settings.refineEnabled() && n <= kDenseExchangeMaxNodes);
 }
 
+namespace {
+
+// An explicit rank is kept as asked, but measured on the probes all the same, so that the
+// run can say what it costs in accuracy (rank_probe.hpp; GR only when it comes from the pairs
+// and the case has emissivities).
+EigenPairs measuredExplicitRank(const Network& net, EigenPairs pairs, const Eigen::VectorXd& max_reflectance,
+                                const SolverSettings& settings, const std::vector<Eigen::VectorXd>& emissivities) {
+  if (pairs.status != Status::Converged || pairs.rank() == 0) return pairs;
+  RankTargets targets;
+  targets.reflectance = max_reflectance;
+  const bool exchange = exchangeFromPairs(net.size(), settings) && !emissivities.empty();
+  targets.exchange_error = exchange ? 1.0 : 0.0;  // any positive value: measure it
+  targets.emissivities = emissivities;
+  RankProbe probe(net, targets);
+  const RankMeasure kept = probe.measure(pairs, pairs.rank());
+  pairs.probe_residual = kept.band_residual;
+  if (exchange) pairs.probe_exchange_error = kept.exchange_error;
+  return pairs;
+}
+
+}  // namespace
+
 EigenPairs decomposeForBands(const Network& net, const Eigen::VectorXd& max_reflectance,
                              const SolverSettings& settings, const std::vector<Eigen::VectorXd>& emissivities) {
   EigenRequest req;
@@ -49,7 +71,8 @@ EigenPairs decomposeForBands(const Network& net, const Eigen::VectorXd& max_refl
   req.max_s = std::max(max_reflectance.cwiseQuotient(net.area()).maxCoeff(), 1e-300);
   req.max_rank = settings.max_rank;
   req.method = settings.method;
-  if (settings.rank > 0) return decomposeConductance(net, req);
+  if (settings.rank > 0) return measuredExplicitRank(net, decomposeConductance(net, req), max_reflectance, settings,
+                                                     emissivities);
   // The rank from the tolerance, measured (rank_probe.hpp): the refined band solves need
   // only a good start, the rank-k answer kept or GR from the pairs need the tolerance.
   RankTargets targets;
@@ -75,7 +98,8 @@ ExchangeFactors exchangeFactors(const Network& net, const EigenPairs& pairs, con
                                 const SolverSettings& settings) {
   // Dense LU also when the pairs missed the tolerance on the probes' GR x and the network is
   // small enough for it (a closed room's flat spectrum).
-  const bool pairs_short = pairs.probe_exchange_error > settings.tolerance && net.size() <= kDenseBandSolveMaxNodes;
+  const bool pairs_short = settings.rank == 0 && pairs.probe_exchange_error > settings.tolerance &&
+                           net.size() <= kDenseBandSolveMaxNodes;  // an explicit rank is the user's choice
   if (!exchangeFromPairs(net.size(), settings) || pairs_short) return exchangeFactorsDense(net, emissivity);
   const LowRankBandSolver ir(net, pairs, Eigen::VectorXd::Ones(net.size()) - emissivity);
   return exchangeFactorsLowRank(net, ir, emissivity);

@@ -262,3 +262,29 @@ TEST_CASE("large matrices written chunk by chunk read back bit for bit, with the
   CHECK(std::memcmp(back.data(), m.data(), sizeof(double) * static_cast<size_t>(m.size())) == 0);
   CHECK(r.matrix("/a/small") == small);
 }
+
+TEST_CASE("cli: an explicit rank too low for GR warns, the budget's own rank does not, and /eigen says why") {
+  // A closed grey cube cut into 24 nodes: at rank 2 its GR, kept from the pairs (no
+  // refinement with an explicit rank), cannot hold the budget's 1e-3 of a node's emission.
+  TempDir dir;
+  const std::string body = R"(materials:
+  grey: {emissivity: 0.5, absorptivity: 0.5}
+geometry:
+  - box: {name: cube, origin: [0, 0, 0], size: [1, 1, 1], back: grey, subdivisions: 2}
+)";
+  std::ofstream(dir.path / "low.yaml") << "name: low-rank\n" << body << "solver: {rank: 2, view_factors: {rays: 2000}}\n";
+  std::ofstream(dir.path / "budget.yaml") << "name: budget\n" << body << "solver: {view_factors: {rays: 2000}}\n";
+  const Run low = runRadnet("run low.yaml -o low.h5 --threads 1", dir);
+  const Run budget = runRadnet("run budget.yaml -o budget.h5 --threads 1", dir);
+  INFO(low.err << "\n---\n" << budget.err);
+  REQUIRE(low.exit_code == 0);
+  REQUIRE(budget.exit_code == 0);
+  CHECK(low.err.find("warning: solver.rank = 2 leaves the exchange factors GR off") != std::string::npos);
+  CHECK(budget.err.find("leaves the exchange factors GR off") == std::string::npos);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const hid_t file = H5Fopen((dir.path / "budget.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  REQUIRE(file >= 0);
+  CHECK(readStringAttribute(file, "/eigen", "rank_rule").rfind("a posteriori", 0) == 0);
+  CHECK(readDoubleAttribute(file, "/eigen", "probe_residual") <= 1e-2);  // kRefinedStartResidual
+  H5Fclose(file);
+}

@@ -1,6 +1,7 @@
 #include "cases/pipeline/radiative_network.hpp"
 
 #include "cases/config/errors.hpp"
+#include "cases/config/error_budget.hpp"
 #include "solver/policy.hpp"
 
 #include <sstream>
@@ -19,7 +20,18 @@ solver::EigenPairs decomposeNetwork(const solver::Network& net, const Eigen::Vec
   return pairs;
 }
 
-std::string rankCapWarning(const solver::EigenPairs& pairs, const solver::SolverSettings& settings) {
+std::string rankWarning(const solver::EigenPairs& pairs, const solver::SolverSettings& settings) {
+  if (pairs.rank_rule == "explicit") {
+    // The band answers' truncation is in the reported uncertainty; GR's is not.
+    const double allowed = kSolverShare * settings.accuracy;
+    if (!(pairs.probe_exchange_error > allowed)) return "";
+    std::ostringstream w;
+    w << "solver.rank = " << pairs.rank() << " leaves the exchange factors GR off by up to "
+      << pairs.probe_exchange_error << " of a node's own emission on the probes, above the " << allowed
+      << " the error budget allows the solver (the temperatures' uncertainty does not include it): drop `rank` "
+         "to let the budget choose, or raise it";
+    return w.str();
+  }
   if (pairs.rank_rule != "rank cap") return "";
   const bool gr_short = pairs.probe_exchange_error > settings.tolerance &&
                         pairs.vectors.rows() > solver::policy::kDenseBandSolveMaxNodes;  // else GR by dense LU

@@ -16,8 +16,10 @@ solver::EigenPairs decomposeNetwork(const solver::Network& net, const Eigen::Vec
                                     const solver::SolverSettings& settings, StageTimings& timings);
 
 /// A warning when the rank cap stopped the decomposition before the probes met the
-/// tolerance the rank-k answers are used at (GR from the pairs, or unrefined band solves); "" otherwise.
-std::string rankCapWarning(const solver::EigenPairs& pairs, const solver::SolverSettings& settings);
+/// tolerance the rank-k answers are used at (GR from the pairs, or unrefined band solves),
+/// or when an explicit rank leaves GR less accurate than the error budget's solver share; ""
+/// otherwise.
+std::string rankWarning(const solver::EigenPairs& pairs, const solver::SolverSettings& settings);
 
 /// GR and GR to space. @throws NumericalError when they cannot be formed (e.g. a lossless closed cavity)
 solver::ExchangeFactors exchangeFactors(const RadiativeNetwork& radiative, const Eigen::VectorXd& emissivity,
