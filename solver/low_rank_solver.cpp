@@ -90,7 +90,8 @@ BandSolution LowRankBandSolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& m
     sol.predicted_refine_s = cost.refine_s;
     sol.predicted_direct_s = cost.direct_s;
     const bool direct = how == Refinement::Cheapest && cost.direct();
-    if (!(direct && solveDirect(mo, sol))) refine(mo, sol, refine_tolerance, max_refine_iterations);
+    const bool solved = direct && solveDirect(mo, sol) && sol.max_residual <= refine_tolerance;
+    if (!solved) refine(mo, sol, refine_tolerance, max_refine_iterations);  // from the LU's answer, if any
   }
   if (!sol.exitance.allFinite() || !sol.irradiance.allFinite()) {
     sol.status = Status::NonFinite;
