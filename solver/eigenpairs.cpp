@@ -126,7 +126,7 @@ EigenPairs rankFromTolerance(const EigenPairs& found, const EigenRequest& req, d
   const int accepted = req.accept ? req.accept(found) : 0;
   if (accepted > 0) {
     EigenPairs out = truncate(found, std::min(accepted, cap));
-    out.rank_rule = "a posteriori";
+    out.rank_rule = accepted <= cap ? "a posteriori" : "rank cap";  // the probes wanted more than the cap
     return out;
   }
   const int apriori = rankForTolerance(found.values, tolerance, max_s);

@@ -202,3 +202,20 @@ TEST_CASE("a-posteriori rank: beyond the dense-GR size a flat spectrum hands GR 
   const solver::ExchangeFactors ex = solver::policy::exchangeFactors(net, pairs, eps, settings);
   CHECK(ex.method == "dense LU");
 }
+
+TEST_CASE("a-posteriori rank: the cap wins over the probes, and says so") {
+  const solver::Network net = facingPlates(12);
+  const Eigen::VectorXd rho = test::uniformIn(net.size(), 0.1, 0.9, 3);
+  solver::SolverSettings settings;
+  settings.tolerance = 1e-4;
+  settings.refine = false;
+  settings.max_rank = 4;  // the probes want 36 or more (first test case)
+  for (solver::EigenMethod method : {solver::EigenMethod::Dense, solver::EigenMethod::Lanczos}) {
+    settings.method = method;
+    const solver::EigenPairs pairs = solver::policy::decomposeForBands(net, rho, settings);
+    REQUIRE(pairs.status == solver::Status::Converged);
+    CHECK(pairs.rank() == 4);
+    CHECK(pairs.rank_rule == "rank cap");
+    CHECK(pairs.probe_residual > settings.tolerance);  // measured at the kept rank: the warning's input
+  }
+}

@@ -42,8 +42,9 @@ std::string rankWarning(const solver::EigenPairs& pairs, const solver::SolverSet
     << (gr_short ? "GR error " + std::to_string(pairs.probe_exchange_error)
                  : "band residual " + std::to_string(pairs.probe_residual))
     << " above the tolerance " << settings.tolerance
-    << " (the uncertainty reported does not include it): raise solver.max_rank, or accept the looser "
-    << (gr_short ? "exchange factors" : "band solves");
+    << (gr_short ? " (the temperatures' uncertainty does not include it)"
+                 : " (the absorbed powers' uncertainty carries it as its truncation part)")
+    << ": raise solver.max_rank, or accept the looser " << (gr_short ? "exchange factors" : "band solves");
   return w.str();
 }
 
