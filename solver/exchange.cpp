@@ -75,6 +75,7 @@ ExchangeFactors exchangeFactorsLowRank(const Network& net, const LowRankBandSolv
   checkRange(net, emissivity, "emissivity", 0.0, 1.0);
   ExchangeFactors ex;
   ex.method = "direct + low-rank reflected (k = " + std::to_string(ir_band.rank()) + ")";
+  ex.from_pairs = true;
   if (ir_band.status() != Status::Converged) {
     ex.status = ir_band.status();
     ex.message = ir_band.message();

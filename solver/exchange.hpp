@@ -17,6 +17,7 @@ struct ExchangeFactors {
   Eigen::VectorXd gr_space;  ///< GR_i,space = ε_i A_i − Σ_j GR_ij, m²
   double asymmetry = 0.0;    ///< max |GR_ij − GR_ji| / max|GR| before symmetrising (round-off), –
   std::string method;        ///< "dense LU" or "direct + low-rank reflected (k = <rank>)"
+  bool from_pairs = false;   ///< the reflections come from the rank-k pairs (not exact)
   Status status = Status::Converged;
   std::string message;
 };

@@ -73,11 +73,13 @@ ThermalOutcome solveCase(const DesignContext& ctx, int k, const GeometryRunResul
   CaseRun& run = runs[static_cast<size_t>(k)];
   const DesignCase& d = ctx.c.design_cases[static_cast<size_t>(k)];
   const OpticalSet& set = ctx.c.optical_sets[static_cast<size_t>(d.optics)];
-  const ThermalErrorInputs errors{ctx.view_factor_stderr, ctx.lost_view_factor_stderr, set.emissivity, ctx.area};
+  const solver::ExchangeFactors& exchange = exchangeOf(r, d.optics);
+  const double gr_truncation = exchange.from_pairs ? std::max(0.0, ctx.radiative.pairs.probe_exchange_error) : 0.0;
+  const ThermalErrorInputs errors{ctx.view_factor_stderr, ctx.lost_view_factor_stderr, set.emissivity, ctx.area,
+                                  gr_truncation};
   ThermalOutcome out;
   std::ostringstream log;
-  out.thermal = runThermal(*run.settings, exchangeOf(r, d.optics), run.sweep ? &*run.sweep : nullptr, out.timings,
-                           log, &errors);
+  out.thermal = runThermal(*run.settings, exchange, run.sweep ? &*run.sweep : nullptr, out.timings, log, &errors);
   out.log = log.str();
   return out;
 }

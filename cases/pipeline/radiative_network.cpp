@@ -22,13 +22,13 @@ solver::EigenPairs decomposeNetwork(const solver::Network& net, const Eigen::Vec
 
 std::string rankWarning(const solver::EigenPairs& pairs, const solver::SolverSettings& settings) {
   if (pairs.rank_rule == "explicit") {
-    // The band answers' truncation is in the reported uncertainty; GR's is not.
+    // Both truncations are in the reported uncertainty, but the budget was not met.
     const double allowed = kSolverShare * settings.accuracy;
     if (!(pairs.probe_exchange_error > allowed)) return "";
     std::ostringstream w;
     w << "solver.rank = " << pairs.rank() << " leaves the exchange factors GR off by up to "
       << pairs.probe_exchange_error << " of a node's own emission on the probes, above the " << allowed
-      << " the error budget allows the solver (the temperatures' uncertainty does not include it): drop `rank` "
+      << " the error budget allows the solver (the temperatures' uncertainty carries it as a bound): drop `rank` "
          "to let the budget choose, or raise it";
     return w.str();
   }
@@ -42,7 +42,7 @@ std::string rankWarning(const solver::EigenPairs& pairs, const solver::SolverSet
     << (gr_short ? "GR error " + std::to_string(pairs.probe_exchange_error)
                  : "band residual " + std::to_string(pairs.probe_residual))
     << " above the tolerance " << settings.tolerance
-    << (gr_short ? " (the temperatures' uncertainty does not include it)"
+    << (gr_short ? " (the temperatures' uncertainty carries it as a bound)"
                  : " (the absorbed powers' uncertainty carries it as its truncation part)")
     << ": raise solver.max_rank, or accept the looser " << (gr_short ? "exchange factors" : "band solves");
   return w.str();

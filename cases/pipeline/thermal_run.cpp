@@ -2,6 +2,7 @@
 
 #include "cases/config/errors.hpp"
 #include "solver/uncertainty.hpp"
+#include "solver/units.hpp"
 
 #include <array>
 #include <cmath>
@@ -109,6 +110,22 @@ void checkDetermined(const ThermalSettings& ts, const solver::ThermalNetwork& ne
                        "needs a conductor to the structure (or a shell), or a boundary node");
 }
 
+// GR from the pairs: the probes bound |ΔGR x|_i by e ε_i A_i max x, so with x = σT⁴ node i's
+// net exchange (GR σT⁴)_i − (GR 1)_i σT_i⁴ moves by at most e ε_i A_i σ (max_j T_j⁴ + T_i⁴).
+// That bound is taken as one standard deviation of the heat balance (docs/solver.md).
+void addExchangeTruncation(const ThermalErrorInputs& in, const Eigen::Ref<const Eigen::MatrixXd>& t,
+                           Eigen::MatrixXd& var_q) {
+  if (!(in.exchange_truncation > 0)) return;
+  for (Eigen::Index p = 0; p < t.cols(); ++p) {
+    const double t4_max = t.col(p).array().pow(4).maxCoeff();
+    for (Eigen::Index i = 0; i < t.rows(); ++i) {
+      const double bound = in.exchange_truncation * in.emissivity[i] * in.area[i] * solver::kStefanBoltzmann *
+                           (t4_max + std::pow(t(i, p), 4));
+      var_q(i, p) += bound * bound;
+    }
+  }
+}
+
 // σ_T from the absorbed power's uncertainty and the view factors' errors in the exchange
 // between the radiative nodes (lumped nodes: no environment, no view factors).
 void temperatureUncertainty(const solver::ThermalNetwork& net, const SweepResult& sw, const ThermalErrorInputs& in,
@@ -119,6 +136,7 @@ void temperatureUncertainty(const solver::ThermalNetwork& net, const SweepResult
       sw.absorbed_stderr.array().square().matrix() +
       solver::exchangeHeatVariance(in.view_factor_stderr, in.lost_view_factor_stderr, in.emissivity, in.area,
                                    t.topRows(radiative_nodes), net.space_temperature);
+  addExchangeTruncation(in, t.topRows(radiative_nodes), var_q);
   solver::TemperaturePropagation used;
   out.temperature_stderr = solver::temperatureStderr(net, t, var_q, sw.case_start, used);
   if (!out.temperature_stderr.allFinite()) {  // a near-singular Jacobian: say so, write nothing

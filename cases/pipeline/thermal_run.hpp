@@ -18,6 +18,9 @@ struct ThermalErrorInputs {
   const Eigen::VectorXd& lost_view_factor_stderr;  ///< σ of F_space + F_blocked (n_r), –
   const Eigen::VectorXd& emissivity;          ///< of the radiative nodes, –
   const Eigen::VectorXd& area;                ///< of the radiative nodes, m²
+  /// GR formed from the pairs: the probes' largest error of GR x relative to ε_i A_i max x
+  /// (EigenPairs::probe_exchange_error); 0 when GR is exact.
+  double exchange_truncation = 0.0;
 };
 
 /// Temperatures (n×P; P = 1 without a sweep), K, with the sweep's absorbed loads, and the
