@@ -163,7 +163,8 @@ EigenPairs growLanczos(const Network& net, const EigenRequest& req, double max_s
       EigenPairs all = denseEigenPairs(net.denseConductance());
       return all.status != Status::Converged ? all : rankFromTolerance(all, req, max_s, cap);
     } else {
-      nev = std::min({2 * nev, n - 2, cap});  // the last run at the cap exactly
+      const int wanted = req.next ? std::max(2 * nev, req.next(nev)) : 2 * nev;
+      nev = std::min({wanted, n - 2, cap});  // the last run at the cap exactly
       continue;
     }
     if (result.rank() == nev && nev < n) result.dropped_bound = std::abs(result.values[nev - 1]);  // not yet computed

@@ -39,6 +39,9 @@ struct EigenRequest {
   /// pairs found so far (largest |λ| first), the rank to keep, or 0 while more pairs are
   /// wanted. Asked before the a-priori rule; empty: the a-priori rule alone.
   std::function<int(const EigenPairs&)> accept;
+  /// How many pairs to try after `nev` were not accepted (Lanczos; at least 2 nev is used);
+  /// empty: 2 nev.
+  std::function<int(int nev)> next;
 };
 
 /// Truncated spectral decomposition G'_k = V Λ Vᵀ, |λ_1| ≥ |λ_2| ≥ … .

@@ -85,6 +85,7 @@ EigenPairs decomposeForBands(const Network& net, const Eigen::VectorXd& max_refl
   targets.band_refined = settings.refineEnabled();
   RankProbe probe(net, targets);
   req.accept = [&probe](const EigenPairs& found) { return probe(found); };
+  req.next = [&probe](int nev) { return probe.nextRank(nev); };
   EigenPairs pairs = decomposeConductance(net, req);
   if (pairs.status != Status::Converged || pairs.rank() == 0) return pairs;
   if (pairs.rank_rule == "a posteriori") pairs.rank_rule = probe.rule();

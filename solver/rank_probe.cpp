@@ -99,6 +99,24 @@ RankMeasure RankProbe::measure(const EigenPairs& found, int k) {
   return m;
 }
 
+int RankProbe::nextRank(int nev) const {
+  double needed = nev;
+  if (history_.size() >= 2 && history_.back().rank == nev) {
+    const RankMeasure& now = history_.back();
+    const RankMeasure& before = history_[history_.size() - 2];
+    // error ∝ k^slope between the last two ranks; the rank where it meets its target.
+    const auto extrapolate = [&](double e_now, double e_before, double target) {
+      if (!(e_now > target) || !(e_before > e_now) || !std::isfinite(e_before)) return;
+      const double slope = std::log(e_now / e_before) / std::log(double(now.rank) / before.rank);
+      needed = std::max(needed, nev * std::pow(target / e_now, 1.0 / slope));
+    };
+    extrapolate(now.band_residual, before.band_residual, targets_.band_residual);
+    if (targets_.exchange_error > 0) extrapolate(now.exchange_error, before.exchange_error, targets_.exchange_error);
+  }
+  const double next = std::min(1.2 * needed, 1e9);
+  return std::max(2 * nev, static_cast<int>(std::ceil(next)));
+}
+
 bool RankProbe::meets(const RankMeasure& m) const {
   return m.band_residual <= targets_.band_residual &&
          (targets_.exchange_error <= 0 || m.exchange_error <= targets_.exchange_error);
@@ -118,13 +136,13 @@ int RankProbe::operator()(const EigenPairs& found) {
     };
     const bool exchange_ok = targets_.exchange_error <= 0 || all.exchange_error <= targets_.exchange_error;
     const bool band_ok = all.band_residual <= targets_.band_residual;
-    const bool flat = previous_band_ > 0 &&
+    const RankMeasure before = history_.empty() ? RankMeasure{} : history_.back();
+    const bool flat = !history_.empty() &&
                       (band_ok || (targets_.band_refined &&
-                                   stalled(all.band_residual, previous_band_, targets_.band_residual))) &&
+                                   stalled(all.band_residual, before.band_residual, targets_.band_residual))) &&
                       (exchange_ok || (targets_.exchange_fallback &&
-                                       stalled(all.exchange_error, previous_exchange_, targets_.exchange_error)));
-    previous_band_ = all.band_residual;
-    previous_exchange_ = all.exchange_error;
+                                       stalled(all.exchange_error, before.exchange_error, targets_.exchange_error)));
+    history_.push_back(all);
     if (!flat) return 0;
     rule_ = "a posteriori: spectrum flat (twice the pairs did not halve what misses its target)";
     if (!band_ok) rule_ += ", refinement finishes the band solves";

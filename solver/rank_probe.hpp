@@ -56,6 +56,10 @@ class RankProbe {
   RankProbe(const Network& net, RankTargets targets, unsigned seed = 1);
 
   int operator()(const EigenPairs& found);
+  /// The number of pairs to try next after `nev` were not enough: where the last two
+  /// measurements' power-law decay (error ∝ k^slope) meets the targets, with 20 % margin; at
+  /// least 2 nev (the EigenRequest::next hook).
+  int nextRank(int nev) const;
   /// Measures the first k pairs (k ≤ found.rank()).
   RankMeasure measure(const EigenPairs& found, int k);
   /// Why the last accepted rank was accepted ("" before one was).
@@ -72,8 +76,7 @@ class RankProbe {
   Eigen::MatrixXd probes_;         ///< n × kProbes, values in [0, 1]
   std::vector<Eigen::MatrixXd> reference_gr_x_;  ///< GR x per emissivity set with the full G (refined), once
   bool reference_failed_ = false;
-  double previous_band_ = -1.0;
-  double previous_exchange_ = -1.0;
+  std::vector<RankMeasure> history_;  ///< the measurement of every set of pairs found, in order
   std::string rule_;
 };
 
