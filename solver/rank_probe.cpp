@@ -1,18 +1,17 @@
 #include "solver/rank_probe.hpp"
 
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
 #include <stdexcept>
+#include <utility>
 
 namespace radnet::solver {
 namespace {
 
-// The refined reference for GR x: well below any exchange target a budget sets (≥ 1e-10
-// relative to the node's emission would need a tighter one; GR from the pairs is then not
-// chosen, since the budget's tolerance is that tight only for exact view factors).
+// The refined reference for GR x: a tenth of the tightest solver tolerance the error budget
+// sets (1e-10, for exact view factors), so the reference's own error never decides a rank.
 constexpr double kReferenceTolerance = 1e-11;
 
 double inf() { return std::numeric_limits<double>::infinity(); }
