@@ -127,15 +127,17 @@ int RankProbe::operator()(const EigenPairs& found) {
   const RankMeasure all = measure(found, nev);
   if (!meets(all)) {
     // The band solves are refined to the budget whatever the rank, and GR may fall back to
-    // dense LU: when twice the pairs no longer halve what misses its target (a flat
-    // spectrum, as in a closed room), more pairs cost more Lanczos time than they save.
-    // GR from the pairs with no fallback is never given up this way.
-    const auto stalled = [](double now, double before, double target) {
-      return now <= target || (before > 0 && std::isfinite(now) && now > 0.5 * before);
+    // dense LU: when what misses its target falls more slowly than 1/k from the last run
+    // (twice the pairs not halving it: a flat spectrum, as in a closed room), more pairs cost
+    // more Lanczos time than they save. GR from the pairs with no fallback is never given up
+    // this way. The ranks' ratio matters since the runs do not always double (nextRank).
+    const RankMeasure before = history_.empty() ? RankMeasure{} : history_.back();
+    const double expected_fall = before.rank > 0 ? double(before.rank) / nev : 0.5;
+    const auto stalled = [&](double now, double then, double target) {
+      return now <= target || (then > 0 && std::isfinite(now) && now > expected_fall * then);
     };
     const bool exchange_ok = targets_.exchange_error <= 0 || all.exchange_error <= targets_.exchange_error;
     const bool band_ok = all.band_residual <= targets_.band_residual;
-    const RankMeasure before = history_.empty() ? RankMeasure{} : history_.back();
     const bool flat = !history_.empty() &&
                       (band_ok || (targets_.band_refined &&
                                    stalled(all.band_residual, before.band_residual, targets_.band_residual))) &&
@@ -143,7 +145,7 @@ int RankProbe::operator()(const EigenPairs& found) {
                                        stalled(all.exchange_error, before.exchange_error, targets_.exchange_error)));
     history_.push_back(all);
     if (!flat) return 0;
-    rule_ = "a posteriori: spectrum flat (twice the pairs did not halve what misses its target)";
+    rule_ = "a posteriori: spectrum flat (what misses its target fell more slowly than 1/k)";
     if (!band_ok) rule_ += ", refinement finishes the band solves";
     if (!exchange_ok) rule_ += ", GR by dense LU";
     return nev;

@@ -45,9 +45,9 @@ struct RankMeasure {
 };
 
 /// The EigenRequest::accept hook: the smallest rank (halving from the pairs found, down to
-/// kMinRank) whose measurement meets the targets; "keep all" when doubling the pairs no
-/// longer halves what misses its target (the band residual, which refinement finishes, and
-/// the GR error when GR can fall back to dense LU); 0 while more pairs are wanted.
+/// kMinRank) whose measurement meets the targets; "keep all" when what misses its target
+/// falls more slowly than 1/k since the last run (the band residual, which refinement
+/// finishes, and the GR error when GR can fall back to dense LU); 0 while more pairs are wanted.
 class RankProbe {
  public:
   static constexpr int kProbes = 4;   ///< uniform and three random fields (fixed seed)
