@@ -1,10 +1,10 @@
 #include "bench/band_methods.hpp"
 
 #include "bench/bench_support.hpp"
-#include "solver/eigenpairs.hpp"
-#include "solver/low_rank_solver.hpp"
-#include "solver/policy.hpp"
-#include "solver/reference_solvers.hpp"
+#include "solver/radiative/eigenpairs.hpp"
+#include "solver/radiative/low_rank_solver.hpp"
+#include "solver/radiative/policy.hpp"
+#include "solver/radiative/reference_solvers.hpp"
 
 #include <Eigen/SparseLU>
 

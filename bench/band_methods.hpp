@@ -2,7 +2,7 @@
 // Every band-solve method of issue 12 on one scene, timed and scored against dense LU in the
 // same run: one Markdown section (bench_solver: box rooms; bench_solver_satellites: the
 // satellites of bench/cases, read from radnet's HDF5 output).
-#include "solver/network.hpp"
+#include "solver/radiative/network.hpp"
 
 #include <Eigen/Dense>
 

@@ -14,7 +14,7 @@
 #include "cases/pipeline/design_run.hpp"
 #include "cases/pipeline/geometry_run.hpp"
 #include "cases/pipeline/orbit_sweep.hpp"
-#include "solver/policy.hpp"
+#include "solver/radiative/policy.hpp"
 
 #include <Eigen/LU>
 

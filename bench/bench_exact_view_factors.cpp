@@ -6,9 +6,9 @@
 // closed forms (room) and the blocker case's converged value.
 //   bench_exact_view_factors OUT.md OUT.csv [VIEW3D]
 #include "bench/bench_support.hpp"
-#include "geometry/exact_view_factors.hpp"
-#include "geometry/primitives.hpp"
-#include "geometry/view_factors.hpp"
+#include "geometry/exact/view_factors.hpp"
+#include "geometry/scene/primitives.hpp"
+#include "geometry/rays/view_factors.hpp"
 #include "tests/howell.hpp"
 
 #include <array>

@@ -1,7 +1,7 @@
 // Environment-load benchmark: time per orbit position for a 5k-triangle satellite over
 // 360 positions, nadir (planet rays reused) and inertial (planet rays cast per position),
 // and what the reuse and the sun-facing culling save. Writes Markdown.
-#include "geometry/primitives.hpp"
+#include "geometry/scene/primitives.hpp"
 #include "orbits/loads.hpp"
 
 #include <sys/resource.h>

@@ -7,7 +7,7 @@
 //     bench_solver_satellites OUT.md DECAY.csv RESULT.h5 [RESULT.h5 ...]
 #include "bench/band_methods.hpp"
 #include "cases/output/hdf5_reader.hpp"
-#include "solver/policy.hpp"
+#include "solver/radiative/policy.hpp"
 
 #include <Eigen/Sparse>
 

@@ -3,7 +3,7 @@
 // between neighbouring cells and to space), orbit loads over 40 positions. Times steady
 // states per position and a one-orbit BDF2 transient with chord steps on a cached LU
 // against a new LU every Newton iteration, in the same run; writes a Markdown table.
-#include "solver/thermal.hpp"
+#include "solver/thermal/temperatures.hpp"
 #include "solver/units.hpp"
 
 #include <chrono>

@@ -2,10 +2,10 @@
 // analytic cases (RQMC, plain MC, the exact method), and the paper's room against the
 // View3D figures quoted in issue 3. Writes Markdown to the given file.
 #include "bench/bench_support.hpp"
-#include "geometry/exact_view_factors.hpp"
-#include "geometry/primitives.hpp"
+#include "geometry/exact/view_factors.hpp"
+#include "geometry/scene/primitives.hpp"
 #include "tests/room_scene.hpp"
-#include "geometry/view_factors.hpp"
+#include "geometry/rays/view_factors.hpp"
 
 #include <sys/resource.h>
 #include <chrono>

@@ -1,6 +1,6 @@
 #include "orbits/loads.hpp"
 
-#include "geometry/sun_grid.hpp"
+#include "geometry/irradiance/sun_grid.hpp"
 #include "solver/units.hpp"
 
 #include <algorithm>

@@ -1,7 +1,7 @@
 #pragma once
 // Environment irradiances per node and sweep position (W/m², averaged over each node):
 //  * direct solar: flux × sunlit fraction × lit projected area / A, the shadows of the
-//    whole spacecraft from one grid of rays along the Sun's direction (geometry/sun_grid)
+//    whole spacecraft from one grid of rays along the Sun's direction (geometry/irradiance/sun_grid)
 //    or, when shadow_samples is set, from each node's own shadow rays (litArea);
 //  * albedo: planet rays of each node (self-shadowed) into the cone the Earth subtends,
 //    each ray hitting the Earth at x carries a · S · max(0, ŝ·n(x)) (a Lambertian planet of
@@ -11,7 +11,7 @@
 // relative_error (the loads' share of the case's error budget) unless pinned.
 // Reuse: when the Earth is fixed in the body frame (nadir pointing on a circular orbit)
 // the planet rays are cast once and their hit points reused; only the Sun's part changes.
-#include "geometry/queries.hpp"
+#include "geometry/irradiance/queries.hpp"
 #include "orbits/sweep.hpp"
 
 #include <Eigen/Dense>

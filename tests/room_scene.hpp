@@ -1,8 +1,8 @@
 #pragma once
 // The paper's 5 × 3 × 2.5 m room, its six inner faces each split sub × sub, one node per
 // face (front sides inward): shared by the view-factor tests and benchmarks.
-#include "geometry/primitives.hpp"
-#include "geometry/scene.hpp"
+#include "geometry/scene/primitives.hpp"
+#include "geometry/scene/scene.hpp"
 
 namespace radnet::test {
 

@@ -1,5 +1,5 @@
 // IR band: radiative exchange factors and net power against closed forms.
-#include "solver/exchange.hpp"
+#include "solver/radiative/exchange.hpp"
 #include "test_support.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,11 +1,11 @@
 // Primitives, scene validation and mesh files.
-#include "geometry/coincidence.hpp"
-#include "geometry/mesh_io.hpp"
-#include "geometry/primitives.hpp"
-#include "geometry/ray_caster.hpp"
-#include "geometry/seams.hpp"
-#include "geometry/view_factors.hpp"
-#include "geometry/shell.hpp"
+#include "geometry/scene/coincidence.hpp"
+#include "geometry/scene/mesh_io.hpp"
+#include "geometry/scene/primitives.hpp"
+#include "geometry/rays/ray_caster.hpp"
+#include "geometry/scene/seams.hpp"
+#include "geometry/rays/view_factors.hpp"
+#include "geometry/scene/shell.hpp"
 
 #include "temp_dir.hpp"
 

@@ -1,7 +1,7 @@
 // Numerically hard networks (docs/design.md, "Numerics"): every path either answers correctly or
 // reports a status; none returns NaN.
-#include "solver/exchange.hpp"
-#include "solver/reference_solvers.hpp"
+#include "solver/radiative/exchange.hpp"
+#include "solver/radiative/reference_solvers.hpp"
 #include "test_support.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,6 +1,6 @@
 // Environment irradiances against closed forms: direct Sun with shadows and eclipses,
 // Earth IR and albedo of a nadir plate.
-#include "geometry/primitives.hpp"
+#include "geometry/scene/primitives.hpp"
 #include "orbits/loads.hpp"
 
 #include <catch2/catch.hpp>

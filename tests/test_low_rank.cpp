@@ -1,7 +1,7 @@
 // The production path: the k×k core C = Λ (I − Vᵀ S V Λ)⁻¹ against direct solves.
-#include "solver/eigenpairs.hpp"
-#include "solver/low_rank_solver.hpp"
-#include "solver/reference_solvers.hpp"
+#include "solver/radiative/eigenpairs.hpp"
+#include "solver/radiative/low_rank_solver.hpp"
+#include "solver/radiative/reference_solvers.hpp"
 #include "test_support.hpp"
 
 #include <catch2/catch.hpp>

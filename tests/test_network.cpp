@@ -1,5 +1,5 @@
 // Network validation and the reciprocity correction.
-#include "solver/network.hpp"
+#include "solver/radiative/network.hpp"
 #include "test_support.hpp"
 
 #include <catch2/catch.hpp>

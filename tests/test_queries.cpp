@@ -1,6 +1,6 @@
 // Ray-casting queries for the orbit stage: lit areas and planet rays.
-#include "geometry/primitives.hpp"
-#include "geometry/queries.hpp"
+#include "geometry/scene/primitives.hpp"
+#include "geometry/irradiance/queries.hpp"
 
 #include <catch2/catch.hpp>
 

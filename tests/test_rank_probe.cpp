@@ -1,10 +1,10 @@
-// The rank of the decomposition a posteriori (solver/rank_probe.hpp): the kept rank meets
+// The rank of the decomposition a posteriori (solver/radiative/rank_probe.hpp): the kept rank meets
 // its targets when checked independently (dense LU, fresh right-hand sides), half of it
 // does not, and it is far below what the a-priori bound keeps.
-#include "solver/exchange.hpp"
-#include "solver/low_rank_solver.hpp"
-#include "solver/policy.hpp"
-#include "solver/rank_probe.hpp"
+#include "solver/radiative/exchange.hpp"
+#include "solver/radiative/low_rank_solver.hpp"
+#include "solver/radiative/policy.hpp"
+#include "solver/radiative/rank_probe.hpp"
 #include "test_support.hpp"
 
 #include <catch2/catch.hpp>

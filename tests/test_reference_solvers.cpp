@@ -1,5 +1,5 @@
 // Every reference solver against dense LU on networks with concave nodes and ρ = 0 nodes.
-#include "solver/reference_solvers.hpp"
+#include "solver/radiative/reference_solvers.hpp"
 #include "test_support.hpp"
 
 #include <catch2/catch.hpp>

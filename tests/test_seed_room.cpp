@@ -1,7 +1,7 @@
 // The paper's own numbers (Ashdown 2001, §6–9) as the independent truth.
-#include "solver/eigenpairs.hpp"
-#include "solver/low_rank_solver.hpp"
-#include "solver/reference_solvers.hpp"
+#include "solver/radiative/eigenpairs.hpp"
+#include "solver/radiative/low_rank_solver.hpp"
+#include "solver/radiative/reference_solvers.hpp"
 #include "test_support.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,9 +1,9 @@
 // The shadow grid against closed forms: a meshed plate under a square occluder whose
 // shadow is the occluder translated along the Sun's direction; the grid's standard error
 // against the error it actually makes; and the per-node shadow rays as a second method.
-#include "geometry/primitives.hpp"
-#include "geometry/queries.hpp"
-#include "geometry/sun_grid.hpp"
+#include "geometry/scene/primitives.hpp"
+#include "geometry/irradiance/queries.hpp"
+#include "geometry/irradiance/sun_grid.hpp"
 
 #include <catch2/catch.hpp>
 

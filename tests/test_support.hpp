@@ -1,6 +1,6 @@
 #pragma once
 // Shared fixtures: the paper's room and seeded random networks.
-#include "solver/network.hpp"
+#include "solver/radiative/network.hpp"
 
 #include <Eigen/Dense>
 

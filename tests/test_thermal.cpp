@@ -1,6 +1,6 @@
 // Temperatures: steady states and transients against closed forms and a bisection.
-#include "solver/network.hpp"
-#include "solver/thermal.hpp"
+#include "solver/radiative/network.hpp"
+#include "solver/thermal/temperatures.hpp"
 #include "thermal_support.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,7 +1,7 @@
 // The thermal engineer's model in the solver: stiff networks, thermostats, schedules,
 // temperature tables, periodic transients and undetermined nodes, against closed forms
 // and conservation.
-#include "solver/thermal.hpp"
+#include "solver/thermal/temperatures.hpp"
 #include "solver/units.hpp"
 #include "thermal_support.hpp"
 

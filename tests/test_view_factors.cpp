@@ -2,10 +2,10 @@
 // Tolerance: "3σ" plus the stated bias of the facetted geometry where a curved surface is
 // involved. σ is estimated from 32 randomised-QMC replicas, so (F̂ − F)/σ follows Student's
 // t with 31 degrees of freedom; its 99.73 % quantile (the normal 3σ coverage) is 3.29.
-#include "geometry/exact_view_factors.hpp"
-#include "geometry/primitives.hpp"
+#include "geometry/exact/view_factors.hpp"
+#include "geometry/scene/primitives.hpp"
 #include "geometry/reciprocity.hpp"
-#include "geometry/view_factors.hpp"
+#include "geometry/rays/view_factors.hpp"
 #include "tests/howell.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,6 +1,6 @@
 #pragma once
 // A thermal network fixture for the solver's thermal tests: n free nodes, nothing linked.
-#include "solver/thermal.hpp"
+#include "solver/thermal/temperatures.hpp"
 
 #include <limits>
 #include <tuple>

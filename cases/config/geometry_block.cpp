@@ -3,7 +3,7 @@
 #include "cases/config/geometry_case.hpp"
 #include "cases/config/primitive_specs.hpp"
 #include "cases/config/work_estimate.hpp"
-#include "geometry/coincidence.hpp"
+#include "geometry/scene/coincidence.hpp"
 
 #include <cmath>
 #include <iomanip>
@@ -205,7 +205,7 @@ void checkSceneScale(const YamlDocument& doc, const YAML::Node& geom, const geom
 }
 
 // Coincident surfaces with a side facing the same way double every load and exchange of
-// their overlap (geometry/coincidence.hpp): refused, naming both.
+// their overlap (geometry/scene/coincidence.hpp): refused, naming both.
 void checkCoincidentSurfaces(const YamlDocument& doc, const YAML::Node& geom, const geometry::Scene& scene) {
   const std::vector<geometry::Coincidence> found = geometry::coincidentFaces(scene, 1);
   if (found.empty()) return;

@@ -8,9 +8,9 @@
 #include "cases/config/solver_block.hpp"
 #include "cases/config/thermal_settings.hpp"
 #include "cases/config/yaml_document.hpp"
-#include "geometry/scene.hpp"
-#include "geometry/seams.hpp"
-#include "solver/settings.hpp"
+#include "geometry/scene/scene.hpp"
+#include "geometry/scene/seams.hpp"
+#include "solver/radiative/settings.hpp"
 
 #include <map>
 #include <string>

@@ -4,8 +4,8 @@
 #include "cases/config/expectation.hpp"
 #include "cases/config/thermal_settings.hpp"
 #include "cases/config/yaml_document.hpp"
-#include "solver/network.hpp"
-#include "solver/settings.hpp"
+#include "solver/radiative/network.hpp"
+#include "solver/radiative/settings.hpp"
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>

@@ -1,6 +1,6 @@
 #include "cases/config/primitive_specs.hpp"
 
-#include "geometry/mesh_io.hpp"
+#include "geometry/scene/mesh_io.hpp"
 
 #include <unistd.h>
 #include <limits>

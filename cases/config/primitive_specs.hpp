@@ -4,7 +4,7 @@
 // block looks a primitive up here; adding a primitive is adding one row to the table
 // (docs/design.md, "Where to add things").
 #include "cases/config/yaml_document.hpp"
-#include "geometry/primitives.hpp"
+#include "geometry/scene/primitives.hpp"
 
 #include <filesystem>
 #include <functional>

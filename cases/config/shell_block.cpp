@@ -1,7 +1,7 @@
 // Shells: the capacitance and conductors a primitive's `shell: {material, thickness}` gives
 // its nodes (docs/case-files.md, "Shells").
 #include "cases/config/geometry_case.hpp"
-#include "geometry/shell.hpp"
+#include "geometry/scene/shell.hpp"
 
 #include <cmath>
 #include <map>

@@ -2,9 +2,9 @@
 // The `solver:` block of a case: the network solve (rank, tolerance, refinement,
 // eigensolver; both case forms) and, for geometry cases, how view factors are computed.
 #include "cases/config/yaml_document.hpp"
-#include "geometry/exact_view_factors.hpp"
-#include "geometry/view_factors.hpp"
-#include "solver/settings.hpp"
+#include "geometry/exact/view_factors.hpp"
+#include "geometry/rays/view_factors.hpp"
+#include "solver/radiative/settings.hpp"
 
 namespace radnet::cases {
 

@@ -4,7 +4,7 @@
 // time table), boundary temperatures, conductors (constant or tables), user radiative
 // couplings and MLI, thermostat heaters, space temperature, and steady state or a transient.
 #include "cases/config/yaml_document.hpp"
-#include "solver/thermal.hpp"
+#include "solver/thermal/temperatures.hpp"
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>

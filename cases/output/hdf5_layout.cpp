@@ -87,7 +87,7 @@ void writeGeometry(Hdf5Writer& h5, const geometry::Scene& scene, const geometry:
   h5.writeIntegers("/geometry/triangle_node", triangle_node, "1");
   h5.writeIntegers("/geometry/triangle_front_node", scene.frontNodes(), "1");
   h5.writeIntegers("/geometry/triangle_back_node", scene.backNodes(), "1");
-  // Seams closed between curved primitives (geometry/seams.hpp): what it cost the areas.
+  // Seams closed between curved primitives (geometry/scene/seams.hpp): what it cost the areas.
   h5.attribute("/geometry", "seam_vertices_moved", static_cast<long long>(seams.vertices_moved));
   h5.attribute("/geometry", "seam_largest_move_m", seams.largest_move_m);
   h5.attribute("/geometry", "seam_largest_area_change", seams.largest_area_change);

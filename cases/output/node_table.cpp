@@ -1,6 +1,6 @@
 #include "cases/output/node_table.hpp"
 
-#include "geometry/scene.hpp"
+#include "geometry/scene/scene.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -12,7 +12,7 @@
 // geometry and static fields (node, area, the temperature envelope).
 #include "cases/output/hdf5_writer.hpp"
 #include "cases/pipeline/results.hpp"
-#include "geometry/scene.hpp"
+#include "geometry/scene/scene.hpp"
 
 #include <string>
 #include <vector>

@@ -5,7 +5,7 @@
 #include "cases/config/geometry_case.hpp"
 #include "cases/pipeline/case_merge.hpp"
 #include "cases/pipeline/results.hpp"
-#include "geometry/ray_caster.hpp"
+#include "geometry/rays/ray_caster.hpp"
 
 #include <iosfwd>
 #include <memory>

@@ -7,9 +7,9 @@
 #include "cases/config/case_file.hpp"
 #include "cases/pipeline/packing.hpp"
 #include "cases/pipeline/stages.hpp"
-#include "geometry/view_factors.hpp"
+#include "geometry/rays/view_factors.hpp"
 #include "orbits/loads.hpp"
-#include "solver/eigenpairs.hpp"
+#include "solver/radiative/eigenpairs.hpp"
 
 #include <Eigen/Dense>
 

@@ -7,9 +7,9 @@
 #include "cases/pipeline/optical_uncertainty.hpp"
 #include "cases/pipeline/progress.hpp"
 #include "cases/pipeline/radiative_network.hpp"
-#include "geometry/exact_view_factors.hpp"
-#include "geometry/view_factors.hpp"
-#include "solver/policy.hpp"
+#include "geometry/exact/view_factors.hpp"
+#include "geometry/rays/view_factors.hpp"
+#include "solver/radiative/policy.hpp"
 
 #include <ostream>
 

@@ -5,7 +5,7 @@
 #include "cases/pipeline/case_merge.hpp"
 #include "cases/pipeline/distributed.hpp"
 #include "cases/pipeline/progress.hpp"
-#include "solver/uncertainty.hpp"
+#include "solver/radiative/uncertainty.hpp"
 
 #include <ostream>
 

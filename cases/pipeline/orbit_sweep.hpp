@@ -3,8 +3,8 @@
 // of all cases solved together, one solar and one IR band solve through the eigenpairs.
 #include "cases/config/orbit_settings.hpp"
 #include "cases/pipeline/results.hpp"
-#include "geometry/ray_caster.hpp"
-#include "solver/settings.hpp"
+#include "geometry/rays/ray_caster.hpp"
+#include "solver/radiative/settings.hpp"
 
 #include <iosfwd>
 

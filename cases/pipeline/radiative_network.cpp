@@ -2,7 +2,7 @@
 
 #include "cases/config/errors.hpp"
 #include "cases/config/error_budget.hpp"
-#include "solver/policy.hpp"
+#include "solver/radiative/policy.hpp"
 
 #include <sstream>
 

@@ -1,8 +1,8 @@
 #pragma once
 // The stages both case forms share once they have a network: the one eigendecomposition
-// of G and the exchange factors, by the solver policy (solver/policy.hpp).
+// of G and the exchange factors, by the solver policy (solver/radiative/policy.hpp).
 #include "cases/pipeline/results.hpp"
-#include "solver/settings.hpp"
+#include "solver/radiative/settings.hpp"
 
 #include <iosfwd>
 

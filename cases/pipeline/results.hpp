@@ -6,13 +6,13 @@
 #include "geometry/reciprocity.hpp"
 #include "orbits/loads.hpp"
 #include "orbits/sweep.hpp"
-#include "solver/eigenpairs.hpp"
-#include "solver/exchange.hpp"
-#include "solver/low_rank_solver.hpp"
-#include "solver/network.hpp"
-#include "solver/settings.hpp"
-#include "solver/thermal.hpp"
-#include "solver/uncertainty.hpp"
+#include "solver/radiative/eigenpairs.hpp"
+#include "solver/radiative/exchange.hpp"
+#include "solver/radiative/low_rank_solver.hpp"
+#include "solver/radiative/network.hpp"
+#include "solver/radiative/settings.hpp"
+#include "solver/thermal/temperatures.hpp"
+#include "solver/radiative/uncertainty.hpp"
 
 #include <Eigen/Dense>
 

@@ -1,7 +1,8 @@
 #include "cases/pipeline/thermal_run.hpp"
 
 #include "cases/config/errors.hpp"
-#include "solver/uncertainty.hpp"
+#include "solver/radiative/uncertainty.hpp"
+#include "solver/thermal/uncertainty.hpp"
 #include "solver/units.hpp"
 
 #include <array>

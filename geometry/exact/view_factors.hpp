@@ -1,0 +1,77 @@
+#pragma once
+// Deterministic view factors (docs/geometry.md, "Deterministic view factors"): every pair
+// of patches is culled (behind either plane), clipped where one straddles the other's
+// plane, and shaft-tested against the occluders. Unoccluded pairs get the exact
+// polygon-to-polygon factor (double contour integral, polygon_factor.hpp); pairs with
+// blockers the adaptive emitter quadrature of exact point visibility (occluded_factor.hpp).
+// Each pair is computed once and credited both ways, so A F is symmetric by
+// construction; each carries an error estimate.
+#include "geometry/reciprocity.hpp"
+#include "geometry/scene/scene.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace radnet::geometry {
+
+/// Method auto's default for ExactOptions::max_blockers: beyond this many blockers an
+/// occluded pair's quadrature costs more than casting its rows (bench_view_factors).
+constexpr int kAutoMaxBlockers = 8;
+/// Method auto's default for ExactOptions::max_patches: a node of more flat patches than
+/// this (a finely facetted curved surface) has its row cast as rays from the start.
+constexpr int kAutoMaxPatches = 64;
+/// One ray of the Monte Carlo method on one core, s (bench_view_factors: about 1.1 M rays
+/// per second per core on scenes of 1k–100k triangles): what method auto weighs against.
+constexpr double kSecondsPerRay = 1e-6;
+
+struct ExactOptions {
+  /// Target absolute error of every F_ij (view-factor units).
+  double tolerance = 1e-6;
+  int max_depth = 8;  ///< deepest 4-way split of an emitter triangle of an occluded pair
+  /// Pairs with more blockers than this are left to sampling (`auto`): their nodes'
+  /// rows come out empty and are listed in sampled_rows. −1: no limit (`exact`).
+  int max_blockers = -1;
+  /// Nodes of more patches than this are left to sampling from the start, and pairs
+  /// between two such rows are not integrated at all. −1: no limit.
+  int max_patches = -1;
+  /// What casting one row costs, s (auto): rows whose pairs are predicted to cost more
+  /// are cast instead. 0: never for cost.
+  double row_sampling_seconds = 0.0;
+  int threads = 0;    ///< 0: OpenMP's default
+  /// Called as emitting patches finish (one thread at a time): (done, total).
+  std::function<void(int, int)> progress;
+  /// The pair integrals shared out over `parts` processes (MPI ranks, docs/mpi.md): this
+  /// one integrates the emitting patches k (in plan order) with k % parts == part, and
+  /// `gather` returns every process's packed values concatenated in process order. Each
+  /// pair's value does not depend on who integrates it: the result is the same bit for bit.
+  int part = 0, parts = 1;
+  std::function<std::vector<double>(const std::vector<double>&)> gather;
+
+  static ExactOptions withTolerance(double t) {
+    ExactOptions o;
+    o.tolerance = t;
+    return o;
+  }
+};
+
+struct ExactResult : ViewFactorEstimate {
+  int patches = 0;
+  std::int64_t pairs_culled = 0;      ///< behind a plane, or neither row integrated
+  std::int64_t pairs_hidden = 0;      ///< one occluder hides all of one from all of the other
+  std::int64_t pairs_unoccluded = 0;  ///< exact contour integral
+  std::int64_t pairs_occluded = 0;    ///< quadrature with exact point visibility
+  /// Per node: 1 when its row is left to ray casting (empty here, space and blocked 0).
+  std::vector<char> sampled_rows;
+  long long evaluations = 0;          ///< integrand evaluations (outer contour points, visibility points)
+  double seconds = 0.0;
+};
+
+/// All rows; standard_error holds the error estimates. Deterministic for any thread count.
+ExactResult exactViewFactors(const Scene& scene, const ExactOptions& options);
+
+/// The estimate with the rows marked in `rows` taken from `sampled` (F, σ, space, blocked).
+ViewFactorEstimate withSampledRows(const ViewFactorEstimate& exact, const ViewFactorEstimate& sampled,
+                                   const std::vector<char>& rows);
+
+}  // namespace radnet::geometry

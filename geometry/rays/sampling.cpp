@@ -1,0 +1,127 @@
+#include "geometry/rays/sampling.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace radnet::geometry {
+namespace {
+
+// Direction numbers v_k = m_k 2^(32−k), k = 1…32, of the first four Sobol dimensions.
+// Dimension 1 is van der Corput; 2–4 from Joe & Kuo (new-joe-kuo-6.21201):
+// (s, a, m) = (1, 0, {1}), (2, 1, {1, 3}), (3, 1, {1, 3, 1}).
+std::array<std::array<std::uint32_t, 32>, 4> makeDirections() {
+  std::array<std::array<std::uint32_t, 32>, 4> v{};
+  for (int k = 0; k < 32; ++k) v[0][k] = 1u << (31 - k);
+  struct Poly {
+    int s;
+    unsigned a;
+    std::array<unsigned, 3> m;
+  };
+  const Poly polys[3] = {{1, 0, {1, 0, 0}}, {2, 1, {1, 3, 0}}, {3, 1, {1, 3, 1}}};
+  for (int d = 0; d < 3; ++d) {
+    const Poly& p = polys[d];
+    std::array<std::uint32_t, 32> m{};
+    for (int k = 0; k < p.s; ++k) m[k] = p.m[k];
+    for (int k = p.s; k < 32; ++k) {
+      std::uint32_t mk = m[k - p.s] ^ (m[k - p.s] << p.s);
+      for (int j = 1; j < p.s; ++j)
+        if ((p.a >> (p.s - 1 - j)) & 1u) mk ^= m[k - j] << j;
+      m[k] = mk;
+    }
+    for (int k = 0; k < 32; ++k) v[d + 1][k] = m[k] << (31 - k);
+  }
+  return v;
+}
+
+const std::array<std::array<std::uint32_t, 32>, 4>& directions() {
+  static const auto v = makeDirections();
+  return v;
+}
+
+constexpr double kTwoPow32 = 4294967296.0;
+
+}  // namespace
+
+std::uint64_t mixSeed(std::uint64_t seed, std::uint64_t a, std::uint64_t b) {
+  std::uint64_t z = seed + 0x9E3779B97F4A7C15ull * (a + 1) + 0xBF58476D1CE4E5B9ull * (b + 1);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+Sobol4::Sobol4(std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  for (auto& s : shift_) s = static_cast<std::uint32_t>(rng() >> 32);
+}
+
+void Sobol4::seek(std::uint32_t index) {
+  index_ = index;
+  const std::uint32_t gray = index ^ (index >> 1);
+  const auto& v = directions();
+  for (int d = 0; d < 4; ++d) {
+    std::uint32_t x = 0;
+    for (int k = 0; k < 32 && (gray >> k); ++k)
+      if ((gray >> k) & 1u) x ^= v[d][k];
+    state_[d] = x;
+  }
+}
+
+std::array<double, 4> Sobol4::next() {
+  std::array<double, 4> out;
+  for (int d = 0; d < 4; ++d) out[d] = double(state_[d] ^ shift_[d]) / kTwoPow32;
+  // Gray code: point i+1 differs from point i in the direction number of the lowest zero bit of i.
+  const int c = __builtin_ctz(~index_);
+  const auto& v = directions();
+  if (c < 32)
+    for (int d = 0; d < 4; ++d) state_[d] ^= v[d][c];
+  ++index_;
+  return out;
+}
+
+std::array<double, 4> Random4::next() {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  return {u(rng_), u(rng_), u(rng_), u(rng_)};
+}
+
+NodeSampler::NodeSampler(const Scene& scene, int node) : scene_(scene) {
+  const Node& n = scene.nodes()[static_cast<size_t>(node)];
+  faces_ = n.faces;
+  side_ = n.side;
+  double acc = 0.0;
+  for (int f : faces_) {
+    acc += scene.faces()[static_cast<size_t>(f)].area_m2;
+    cdf_.push_back(acc);
+  }
+  for (double& c : cdf_) c /= acc;
+  cdf_.back() = 1.0;
+}
+
+NodeSampler::Ray NodeSampler::mapPoint(double u0, double u1) const {
+  const size_t k = static_cast<size_t>(std::upper_bound(cdf_.begin(), cdf_.end(), u0) - cdf_.begin());
+  const size_t idx = std::min(k, faces_.size() - 1);
+  const double lo = idx == 0 ? 0.0 : cdf_[idx - 1];
+  const double width = cdf_[idx] - lo;
+  const double s = width > 0 ? std::clamp((u0 - lo) / width, 0.0, 1.0) : 0.5;  // reuse u0 within the triangle
+  const Face& f = scene_.faces()[static_cast<size_t>(faces_[idx])];
+  // Uniform point on a triangle: (1 − √s) v0 + √s (1 − t) v1 + √s t v2.
+  const double r = std::sqrt(s);
+  Ray ray;
+  ray.point = (1.0 - r) * f.v[0] + r * (1.0 - u1) * f.v[1] + r * u1 * f.v[2];
+  ray.normal = side_ * f.normal;
+  ray.face = faces_[idx];
+  return ray;
+}
+
+NodeSampler::Ray NodeSampler::map(const std::array<double, 4>& u) const {
+  Ray ray = mapPoint(u[0], u[1]);
+  // Cosine-weighted hemisphere about the side normal (Malley).
+  const Vec3& n = ray.normal;
+  const Vec3 t0 = (std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
+  const Vec3 t1 = n.cross(t0);
+  const double r = std::sqrt(u[2]), phi = 2.0 * M_PI * u[3];
+  const double z = std::sqrt(std::max(0.0, 1.0 - u[2]));
+  ray.direction = (r * std::cos(phi)) * t0 + (r * std::sin(phi)) * t1 + z * n;
+  return ray;
+}
+
+}  // namespace radnet::geometry

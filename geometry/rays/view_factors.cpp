@@ -1,0 +1,166 @@
+#include "geometry/rays/view_factors.hpp"
+
+#include "geometry/rays/sampling.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace radnet::geometry {
+namespace {
+
+constexpr int kSpace = -1;
+constexpr int kBlocked = -2;
+
+// Tallies of one replica: target (node index, kSpace or kBlocked) → rays.
+using Tally = std::map<int, std::int64_t>;
+
+int classify(const Scene& scene, const Hit& hit) {
+  if (hit.face < 0) return kSpace;
+  const Face& f = scene.faces()[static_cast<size_t>(hit.face)];
+  const int node = hit.front ? f.front_node : f.back_node;
+  return node >= 0 ? node : kBlocked;
+}
+
+// Mean and standard error of the mean over replicas of the fractions c_r / n_per_replica.
+std::pair<double, double> replicaStats(const std::vector<Tally>& tallies, int target, double per_replica) {
+  const double r = static_cast<double>(tallies.size());
+  double sum = 0.0, sum2 = 0.0;
+  for (const Tally& t : tallies) {
+    auto it = t.find(target);
+    const double p = it == t.end() ? 0.0 : double(it->second) / per_replica;
+    sum += p;
+    sum2 += p * p;
+  }
+  const double mean = sum / r;
+  const double var = std::max(0.0, (sum2 - r * mean * mean) / (r - 1.0));
+  return {mean, std::sqrt(var / r)};
+}
+
+// Every target any replica hit, in increasing order (space and blocked first).
+std::set<int> targetsOf(const std::vector<Tally>& tallies) {
+  std::set<int> targets;
+  for (const Tally& t : tallies)
+    for (const auto& kv : t) targets.insert(kv.first);
+  return targets;
+}
+
+// One node's row: rays from `node` until the fixed count or the target error.
+void computeViewFactorRow(const RayCaster& caster, int node, const ViewFactorOptions& opt,
+                          std::vector<std::pair<int, double>>& row, std::vector<std::pair<int, double>>& row_error,
+                          double space[2], double blocked[2], std::int64_t& rays) {
+  const Scene& scene = caster.scene();
+  const NodeSampler sampler(scene, node);
+  const int replicas = opt.replicas;
+  std::vector<Tally> tallies(static_cast<size_t>(replicas));
+  std::vector<Sobol4> sobol;
+  std::vector<Random4> random;
+  for (int r = 0; r < replicas; ++r) {
+    const std::uint64_t s = mixSeed(opt.seed, static_cast<std::uint64_t>(node), static_cast<std::uint64_t>(r));
+    if (opt.sampling == Sampling::Sobol)
+      sobol.emplace_back(s);
+    else
+      random.emplace_back(s);
+  }
+  const std::int64_t cap = std::max<std::int64_t>(1, opt.rays_per_node / replicas);
+  std::int64_t per_replica =
+      opt.target_error > 0 ? std::min(cap, std::max<std::int64_t>(1, opt.min_rays_per_node / replicas)) : cap;
+  std::int64_t done = 0;
+  for (;;) {
+    for (int r = 0; r < replicas; ++r) {
+      Tally& tally = tallies[static_cast<size_t>(r)];
+      if (opt.sampling == Sampling::Sobol) sobol[static_cast<size_t>(r)].seek(static_cast<std::uint32_t>(done));
+      for (std::int64_t i = done; i < per_replica; ++i) {
+        const auto u = opt.sampling == Sampling::Sobol ? sobol[static_cast<size_t>(r)].next()
+                                                       : random[static_cast<size_t>(r)].next();
+        const NodeSampler::Ray ray = sampler.map(u);
+        const Hit hit = caster.firstHit(caster.offsetOrigin(ray.point, ray.normal), ray.direction, ray.face);
+        ++tally[classify(scene, hit)];
+      }
+    }
+    done = per_replica;
+    if (opt.target_error <= 0 || per_replica >= cap) break;
+    double worst = 0.0;
+    for (int target : targetsOf(tallies))
+      worst = std::max(worst, replicaStats(tallies, target, double(per_replica)).second);
+    if (worst <= opt.target_error) break;
+    per_replica = std::min(cap, 2 * per_replica);
+  }
+  rays = per_replica * replicas;
+  row.clear();
+  row_error.clear();
+  space[0] = space[1] = blocked[0] = blocked[1] = 0.0;
+  for (int target : targetsOf(tallies)) {
+    const auto [mean, err] = replicaStats(tallies, target, double(per_replica));
+    if (target == kSpace) {
+      space[0] = mean;
+      space[1] = err;
+    } else if (target == kBlocked) {
+      blocked[0] = mean;
+      blocked[1] = err;
+    } else {
+      row.emplace_back(target, mean);
+      row_error.emplace_back(target, err);
+    }
+  }
+}
+
+}  // namespace
+
+ViewFactorResult computeViewFactors(const RayCaster& caster, const ViewFactorOptions& opt) {
+  if (opt.replicas < 2) throw std::invalid_argument("view factors need at least 2 replicas for an error estimate");
+  if (opt.rays_per_node < opt.replicas) throw std::invalid_argument("rays per node must be at least the replica count");
+  if (!(opt.target_error >= 0)) throw std::invalid_argument("target error must be >= 0");
+  const Scene& scene = caster.scene();
+  const int n = static_cast<int>(scene.nodes().size());
+  if (!opt.cast_rows.empty() && opt.cast_rows.size() != static_cast<size_t>(n))
+    throw std::invalid_argument("cast_rows must have one entry per node");
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<std::vector<std::pair<int, double>>> rows(static_cast<size_t>(n)), errors(static_cast<size_t>(n));
+  ViewFactorResult res;
+  res.space = res.space_error = res.blocked = res.blocked_error = Eigen::VectorXd::Zero(n);
+  res.rays.assign(static_cast<size_t>(n), 0);
+  int finished = 0;
+#ifdef _OPENMP
+  const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+#endif
+  for (int i = 0; i < n; ++i) {
+    double space[2] = {0, 0}, blocked[2] = {0, 0};
+    if (opt.cast_rows.empty() || opt.cast_rows[static_cast<size_t>(i)])
+      computeViewFactorRow(caster, i, opt, rows[static_cast<size_t>(i)], errors[static_cast<size_t>(i)], space, blocked,
+                         res.rays[static_cast<size_t>(i)]);
+    res.space[i] = space[0];
+    res.space_error[i] = space[1];
+    res.blocked[i] = blocked[0];
+    res.blocked_error[i] = blocked[1];
+#ifdef _OPENMP
+#pragma omp critical(radnet_vf_progress)
+#endif
+    {
+      ++finished;
+      if (opt.progress) opt.progress(finished, n);
+    }
+  }
+  std::vector<Eigen::Triplet<double>> f, e;
+  for (int i = 0; i < n; ++i) {
+    for (const auto& [j, v] : rows[static_cast<size_t>(i)]) f.emplace_back(i, j, v);
+    for (const auto& [j, v] : errors[static_cast<size_t>(i)]) e.emplace_back(i, j, v);
+    res.total_rays += res.rays[static_cast<size_t>(i)];
+  }
+  res.view_factors.resize(n, n);
+  res.view_factors.setFromTriplets(f.begin(), f.end());
+  res.standard_error.resize(n, n);
+  res.standard_error.setFromTriplets(e.begin(), e.end());
+  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+}  // namespace radnet::geometry

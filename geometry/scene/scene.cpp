@@ -1,0 +1,247 @@
+#include "geometry/scene/scene.hpp"
+
+#include "geometry/scene/vertex_welder.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+namespace radnet::geometry {
+
+namespace {
+
+// The soup's triangles as faces (normal, area), after checking every vertex is finite,
+// every index valid and no triangle degenerate; slivers add one warning.
+std::vector<Face> checkedFaces(const TriangleSoup& soup, const std::string& label, std::vector<std::string>& warnings) {
+  for (size_t i = 0; i < soup.vertices.size(); ++i)
+    if (!soup.vertices[i].allFinite()) {
+      std::ostringstream s;
+      s << label << ": vertex " << i << " has a non-finite coordinate";
+      throw GeometryError(s.str());
+    }
+  // Reference length for the degeneracy test: the surface's own bounding box.
+  Vec3 lo = soup.vertices.front(), hi = lo;
+  for (const auto& v : soup.vertices) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  const double size = (hi - lo).norm();
+  std::vector<Face> added;
+  int slivers = 0, first_sliver = -1;
+  for (size_t t = 0; t < soup.triangles.size(); ++t) {
+    const auto& tri = soup.triangles[t];
+    Face f;
+    for (int k = 0; k < 3; ++k) {
+      const int idx = tri[static_cast<size_t>(k)];
+      if (idx < 0 || idx >= static_cast<int>(soup.vertices.size())) {
+        std::ostringstream s;
+        s << label << ": triangle " << t << " refers to vertex " << idx << " of " << soup.vertices.size();
+        throw GeometryError(s.str());
+      }
+      f.v[static_cast<size_t>(k)] = soup.vertices[static_cast<size_t>(idx)];
+    }
+    const Vec3 cross = (f.v[1] - f.v[0]).cross(f.v[2] - f.v[0]);
+    const double twice_area = cross.norm();
+    // Degenerate: area below what double rounding of the coordinates can resolve.
+    if (!(twice_area > 1e-12 * size * size)) {
+      std::ostringstream s;
+      s << label << ": triangle " << t << " (vertices " << tri[0] << ", " << tri[1] << ", " << tri[2]
+        << ") is degenerate (area " << 0.5 * twice_area << " m²)";
+      throw GeometryError(s.str());
+    }
+    const double longest2 =
+        std::max({(f.v[1] - f.v[0]).squaredNorm(), (f.v[2] - f.v[1]).squaredNorm(), (f.v[0] - f.v[2]).squaredNorm()});
+    if (longest2 / twice_area > 1e4 && slivers++ == 0) first_sliver = static_cast<int>(t);
+    f.normal = cross / twice_area;
+    f.area_m2 = 0.5 * twice_area;
+    added.push_back(f);
+  }
+  if (slivers > 0) {
+    std::ostringstream s;
+    s << label << ": " << slivers << " sliver triangle(s) (aspect ratio > 1e4), first: triangle " << first_sliver;
+    warnings.push_back(s.str());
+  }
+  return added;
+}
+
+// A closed shell (every edge, welded within 1e-9 of its size, shared by exactly two of its
+// triangles) encloses Σ v0·(v1 × v2)/6; negative: its fronts face inward.
+bool closedInwardShell(const TriangleSoup& soup, double& volume) {
+  Eigen::AlignedBox3d box;
+  for (const Vec3& v : soup.vertices) box.extend(v);
+  VertexWelder welder(1e-9 * std::max(box.diagonal().norm(), 1e-300));
+  std::vector<int> id;
+  for (const Vec3& v : soup.vertices) id.push_back(welder.id(v));
+  std::map<std::pair<int, int>, int> edges;
+  volume = 0.0;
+  for (const auto& t : soup.triangles) {
+    const Vec3 &a = soup.vertices[static_cast<size_t>(t[0])], &b = soup.vertices[static_cast<size_t>(t[1])],
+               &c = soup.vertices[static_cast<size_t>(t[2])];
+    volume += a.dot(b.cross(c)) / 6.0;
+    for (int k = 0; k < 3; ++k) {
+      const int u = id[static_cast<size_t>(t[static_cast<size_t>(k)])];
+      const int v = id[static_cast<size_t>(t[static_cast<size_t>((k + 1) % 3)])];
+      ++edges[{std::min(u, v), std::max(u, v)}];
+    }
+  }
+  for (const auto& [edge, count] : edges)
+    if (count != 2) return false;
+  return volume < 0;
+}
+
+}  // namespace
+
+int Scene::nodeIndex(const std::string& name) const {
+  for (size_t i = 0; i < nodes_.size(); ++i)
+    if (nodes_[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+int Scene::nodeFor(const std::string& name, int side, const std::string& label) {
+  if (name.empty()) return -1;
+  const int existing = nodeIndex(name);
+  if (existing >= 0) {
+    if (nodes_[static_cast<size_t>(existing)].side != side)
+      throw GeometryError(label + ": node '" + name + "' is used for a front side and for a back side; a node " +
+                          "collects sides of one kind");
+    return existing;
+  }
+  nodes_.push_back(Node{name, 0.0, {}, side});
+  return static_cast<int>(nodes_.size() - 1);
+}
+
+void Scene::addSurface(const std::string& surface, const std::string& label, const TriangleSoup& soup,
+                       const std::string& front_node, const std::string& back_node) {
+  if (soup.triangles.empty()) throw GeometryError(label + ": no triangles");
+  if (!front_node.empty() && front_node == back_node)
+    throw GeometryError(label + ": front and back sides cannot be the same node '" + front_node + "'");
+  std::vector<Face> added = checkedFaces(soup, label, warnings_);
+  double volume = 0.0;
+  if (!front_node.empty() && closedInwardShell(soup, volume)) {
+    std::ostringstream w;
+    w << label << ": a closed shell whose front sides face inward (it encloses " << -volume
+      << " m³ with its triangles wound the other way), so front node '" << front_node
+      << "' sees only the inside. For a solid, reverse the triangles' winding in the file; for a cavity, name the node as "
+         "the back side to say so";
+    warnings_.push_back(w.str());
+  }
+  const int surface_id = static_cast<int>(surfaces_.size());
+  surfaces_.push_back(surface);
+  const int front = nodeFor(front_node, +1, label);
+  const int back = nodeFor(back_node, -1, label);
+  // Surfaces keep their own vertices in the mesh: panels of different surfaces may touch
+  // without forming a manifold, and each surface stays one connected piece.
+  std::vector<Mesh::Vertex_index> vids;
+  for (const auto& v : soup.vertices) vids.push_back(mesh_.add_vertex(Point3(v.x(), v.y(), v.z())));
+  const bool has_nominal = soup.nominal.size() == soup.vertices.size();
+  for (size_t k = 0; k < soup.vertices.size(); ++k) {
+    nominal_.push_back(has_nominal ? soup.nominal[k] : soup.vertices[k]);
+    vertex_surface_.push_back(surface_id);
+  }
+  // Looked up by name each time: a stored handle would dangle when the scene is copied.
+  auto face_id = mesh_.add_property_map<Mesh::Face_index, int>("f:radnet_face", -1).first;
+  for (size_t t = 0; t < added.size(); ++t) {
+    Face& f = added[t];
+    f.front_node = front;
+    f.back_node = back;
+    f.surface = surface_id;
+    const int id = static_cast<int>(faces_.size());
+    const auto& tri = soup.triangles[t];
+    const Mesh::Face_index fi = mesh_.add_face(vids[static_cast<size_t>(tri[0])], vids[static_cast<size_t>(tri[1])],
+                                               vids[static_cast<size_t>(tri[2])]);
+    if (fi == Mesh::null_face()) {
+      std::ostringstream s;
+      s << label << ": triangle " << t
+        << " does not fit its neighbours (orientation inconsistent with an adjacent triangle, or a non-manifold edge)";
+      throw GeometryError(s.str());
+    }
+    face_id[fi] = id;
+    if (front >= 0) {
+      nodes_[static_cast<size_t>(front)].faces.push_back(id);
+      nodes_[static_cast<size_t>(front)].area_m2 += f.area_m2;
+    }
+    if (back >= 0) {
+      nodes_[static_cast<size_t>(back)].faces.push_back(id);
+      nodes_[static_cast<size_t>(back)].area_m2 += f.area_m2;
+    }
+    faces_.push_back(f);
+  }
+}
+
+void Scene::validate() const {
+  if (nodes_.empty()) throw GeometryError("the scene has no thermal nodes");
+  for (const auto& n : nodes_)
+    if (!(n.area_m2 > 0)) throw GeometryError("node '" + n.name + "' has zero area");
+}
+
+Eigen::MatrixXd Scene::vertexMatrix() const {
+  Eigen::MatrixXd v(static_cast<Eigen::Index>(mesh_.number_of_vertices()), 3);
+  for (auto vi : mesh_.vertices()) {
+    const Point3& p = mesh_.point(vi);
+    v.row(static_cast<Eigen::Index>(vi.idx())) << p.x(), p.y(), p.z();
+  }
+  return v;
+}
+
+Eigen::MatrixXi Scene::triangleMatrix() const {
+  Eigen::MatrixXi t(static_cast<Eigen::Index>(faces_.size()), 3);
+  const auto face_id = mesh_.property_map<Mesh::Face_index, int>("f:radnet_face").first;
+  for (auto fi : mesh_.faces()) {
+    int k = 0;
+    const int id = face_id[fi];
+    for (auto vi : CGAL::vertices_around_face(mesh_.halfedge(fi), mesh_)) t(id, k++) = static_cast<int>(vi.idx());
+  }
+  return t;
+}
+
+Eigen::VectorXi Scene::frontNodes() const {
+  Eigen::VectorXi out(static_cast<Eigen::Index>(faces_.size()));
+  for (size_t i = 0; i < faces_.size(); ++i) out[static_cast<Eigen::Index>(i)] = faces_[i].front_node;
+  return out;
+}
+
+Eigen::VectorXi Scene::backNodes() const {
+  Eigen::VectorXi out(static_cast<Eigen::Index>(faces_.size()));
+  for (size_t i = 0; i < faces_.size(); ++i) out[static_cast<Eigen::Index>(i)] = faces_[i].back_node;
+  return out;
+}
+
+void Scene::moveVertices(const std::vector<std::pair<int, Vec3>>& moves) {
+  if (moves.empty()) return;
+  for (const auto& [v, p] : moves) mesh_.point(Mesh::Vertex_index(static_cast<Mesh::size_type>(v))) = Point3(p.x(), p.y(), p.z());
+  const Eigen::MatrixXi tri = triangleMatrix();
+  for (auto& n : nodes_) n.area_m2 = 0.0;
+  for (size_t i = 0; i < faces_.size(); ++i) {
+    Face& f = faces_[i];
+    for (int k = 0; k < 3; ++k) {
+      const Point3& p = mesh_.point(Mesh::Vertex_index(static_cast<Mesh::size_type>(tri(static_cast<Eigen::Index>(i), k))));
+      f.v[static_cast<size_t>(k)] = Vec3(p.x(), p.y(), p.z());
+    }
+    const Vec3 cross = (f.v[1] - f.v[0]).cross(f.v[2] - f.v[0]);
+    const double twice_area = cross.norm();
+    if (!(twice_area > 0) || cross.dot(f.normal) <= 0) {
+      std::ostringstream s;
+      s << "surface '" << surfaces_[static_cast<size_t>(f.surface)] << "': triangle " << i
+        << " degenerates or flips where its seam with another surface is closed";
+      throw GeometryError(s.str());
+    }
+    f.normal = cross / twice_area;
+    f.area_m2 = 0.5 * twice_area;
+    if (f.front_node >= 0) nodes_[static_cast<size_t>(f.front_node)].area_m2 += f.area_m2;
+    if (f.back_node >= 0) nodes_[static_cast<size_t>(f.back_node)].area_m2 += f.area_m2;
+  }
+}
+
+double Scene::extent() const {
+  if (faces_.empty()) return 0.0;
+  Vec3 lo = faces_.front().v[0], hi = lo;
+  for (const auto& f : faces_)
+    for (const auto& v : f.v) {
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
+    }
+  return (hi - lo).maxCoeff();
+}
+
+}  // namespace radnet::geometry

@@ -1,0 +1,205 @@
+#include "solver/radiative/network.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <unordered_set>
+
+namespace radnet::solver {
+namespace {
+
+std::string nodeLabel(const std::vector<std::string>& names, int i) {
+  std::ostringstream s;
+  s << "node " << i << " '" << names[static_cast<size_t>(i)] << "'";
+  return s.str();
+}
+
+void checkShape(Eigen::Index rows, Eigen::Index cols, int n) {
+  if (rows != n || cols != n) {
+    std::ostringstream s;
+    s << "view-factor matrix is " << rows << "×" << cols << "; expected " << n << "×" << n;
+    throw NetworkError(s.str());
+  }
+}
+
+void checkEntry(const std::vector<std::string>& names, int i, int j, double f) {
+  if (!std::isfinite(f) || f < 0.0) {
+    std::ostringstream s;
+    s << "view factor F[" << i << "][" << j << "] from " << nodeLabel(names, i) << " to " << nodeLabel(names, j)
+      << " is " << f << "; expected a finite value in [0, 1]";
+    throw NetworkError(s.str());
+  }
+}
+
+}  // namespace
+
+void checkRange(const Network& net, const Eigen::VectorXd& values, const char* what, double lo, double hi) {
+  if (values.size() != net.size()) {
+    std::ostringstream s;
+    s << what << " has " << values.size() << " entries; expected one per node (" << net.size() << ")";
+    throw NetworkError(s.str());
+  }
+  for (int i = 0; i < net.size(); ++i) {
+    const double v = values[i];
+    if (!(std::isfinite(v) && v >= lo && v <= hi)) {  // written so that NaN fails too
+      std::ostringstream s;
+      s << what << " of " << nodeLabel(net.names(), i) << " is " << v << "; expected a value in [" << lo << ", " << hi
+        << "]";
+      throw NetworkError(s.str());
+    }
+  }
+}
+
+void Network::validateCommon(const NetworkTolerances& tol) {
+  const int n = size();
+  if (n == 0) throw NetworkError("the network has no nodes");
+  if (!(std::isfinite(tol.row_sum) && tol.row_sum >= 0) || !(std::isfinite(tol.reciprocity) && tol.reciprocity >= 0))
+    throw NetworkError("network tolerances must be finite and >= 0");
+  if (area_.size() != n) {
+    std::ostringstream s;
+    s << "areas have " << area_.size() << " entries; expected " << n << " (one per node)";
+    throw NetworkError(s.str());
+  }
+  std::unordered_set<std::string> seen;
+  for (int i = 0; i < n; ++i) {
+    if (names_[static_cast<size_t>(i)].empty()) {
+      throw NetworkError("node " + std::to_string(i) + " has an empty name");
+    }
+    if (!seen.insert(names_[static_cast<size_t>(i)]).second) {
+      throw NetworkError("node name '" + names_[static_cast<size_t>(i)] + "' is used twice");
+    }
+    if (!(std::isfinite(area_[i]) && area_[i] > 0.0)) {
+      std::ostringstream s;
+      s << "area of " << nodeLabel(names_, i) << " is " << area_[i] << " m²; expected a finite value > 0";
+      throw NetworkError(s.str());
+    }
+  }
+  if (blocked_.size() == 0) blocked_ = Eigen::VectorXd::Zero(n);
+  if (blocked_.size() != n) throw NetworkError("blocked fractions need one entry per node");
+  for (int i = 0; i < n; ++i) {
+    if (!(std::isfinite(blocked_[i]) && blocked_[i] >= 0.0 && blocked_[i] <= 1.0)) {
+      std::ostringstream s;
+      s << "blocked fraction of " << nodeLabel(names_, i) << " is " << blocked_[i] << "; expected [0, 1]";
+      throw NetworkError(s.str());
+    }
+  }
+}
+
+namespace {
+
+void checkRowSums(const std::vector<std::string>& names, const Eigen::VectorXd& row_sums,
+                  const Eigen::VectorXd& blocked, double tol) {
+  for (int i = 0; i < row_sums.size(); ++i) {
+    const double total = row_sums[i] + blocked[i];
+    if (total > 1.0 + tol) {
+      std::ostringstream s;
+      s << "view factors from " << nodeLabel(names, i) << " sum to " << total
+        << " (including the blocked fraction); expected at most 1 (+ tolerance " << tol << ")";
+      throw NetworkError(s.str());
+    }
+  }
+}
+
+// Records the largest view-factor change ½|g_ij − g_ji| / min(A_i, A_j) of the pair (i, j).
+void noteDefect(ReciprocityReport& rep, const Eigen::VectorXd& area, int i, int j, double gij, double gji) {
+  const double change = 0.5 * std::abs(gij - gji) / std::min(area[i], area[j]);
+  if (change > rep.max_view_factor_change) {
+    rep.max_view_factor_change = change;
+    rep.worst_from = i;
+    rep.worst_to = j;
+  }
+}
+
+}  // namespace
+
+void Network::finish(const Eigen::VectorXd& row_sums_after, const NetworkTolerances& tol) {
+  if (reciprocity_.max_view_factor_change > tol.reciprocity) {
+    const int i = reciprocity_.worst_from, j = reciprocity_.worst_to;
+    std::ostringstream s;
+    s << "reciprocity A_i F_ij = A_j F_ji is violated between " << nodeLabel(names_, i) << " and "
+      << nodeLabel(names_, j) << ": making it hold moves a view factor by " << reciprocity_.max_view_factor_change
+      << "; expected at most " << tol.reciprocity;
+    throw NetworkError(s.str());
+  }
+  const int n = size();
+  f_space_.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const double rest = 1.0 - row_sums_after[i] - blocked_[i];
+    reciprocity_.max_row_overshoot = std::max(reciprocity_.max_row_overshoot, -rest);
+    f_space_[i] = std::max(0.0, rest);
+  }
+}
+
+Network::Network(std::vector<std::string> names, Eigen::VectorXd area_m2, const Eigen::MatrixXd& view_factors,
+                 Eigen::VectorXd blocked, NetworkTolerances tol)
+    : names_(std::move(names)), area_(std::move(area_m2)), blocked_(std::move(blocked)) {
+  validateCommon(tol);
+  const int n = size();
+  checkShape(view_factors.rows(), view_factors.cols(), n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) checkEntry(names_, i, j, view_factors(i, j));
+  checkRowSums(names_, view_factors.rowwise().sum(), blocked_, tol.row_sum);
+
+  const Eigen::MatrixXd af = area_.asDiagonal() * view_factors;
+  for (int j = 0; j < n; ++j)
+    for (int i = j + 1; i < n; ++i) noteDefect(reciprocity_, area_, i, j, af(i, j), af(j, i));
+  g_dense_ = 0.5 * (af + af.transpose());
+  finish(g_dense_.rowwise().sum().cwiseQuotient(area_), tol);
+}
+
+Network::Network(std::vector<std::string> names, Eigen::VectorXd area_m2,
+                 const Eigen::SparseMatrix<double>& view_factors, Eigen::VectorXd blocked, NetworkTolerances tol)
+    : names_(std::move(names)), area_(std::move(area_m2)), blocked_(std::move(blocked)), sparse_(true) {
+  validateCommon(tol);
+  const int n = size();
+  checkShape(view_factors.rows(), view_factors.cols(), n);
+  Eigen::VectorXd row_sums = Eigen::VectorXd::Zero(n);
+  for (int k = 0; k < view_factors.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(view_factors, k); it; ++it) {
+      checkEntry(names_, static_cast<int>(it.row()), static_cast<int>(it.col()), it.value());
+      row_sums[it.row()] += it.value();
+    }
+  checkRowSums(names_, row_sums, blocked_, tol.row_sum);
+
+  const Eigen::SparseMatrix<double> af = area_.asDiagonal() * view_factors;
+  const Eigen::SparseMatrix<double> aft = af.transpose();
+  g_sparse_ = 0.5 * (af + aft);
+  const Eigen::SparseMatrix<double> diff = af - aft;  // entries of the lower triangle suffice
+  for (int k = 0; k < diff.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(diff, k); it; ++it) {
+      const int i = static_cast<int>(it.row()), j = static_cast<int>(it.col());
+      if (i > j) noteDefect(reciprocity_, area_, i, j, it.value(), 0.0);
+    }
+  Eigen::VectorXd g_rows = g_sparse_ * Eigen::VectorXd::Ones(n);
+  finish(g_rows.cwiseQuotient(area_), tol);
+}
+
+Eigen::MatrixXd Network::denseConductance() const {
+  if (!sparse_) return g_dense_;
+  return Eigen::MatrixXd(g_sparse_);
+}
+
+Eigen::MatrixXd Network::applyConductance(const Eigen::Ref<const Eigen::MatrixXd>& x) const {
+  if (sparse_) return g_sparse_ * x;
+  return g_dense_ * x;
+}
+
+Eigen::MatrixXd Network::viewFactors() const { return area_.cwiseInverse().asDiagonal() * denseConductance(); }
+
+double Network::spectralBound() const {
+  if (sparse_) {
+    Eigen::VectorXd rows = Eigen::VectorXd::Zero(size());
+    for (int k = 0; k < g_sparse_.outerSize(); ++k)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(g_sparse_, k); it; ++it)
+        rows[it.row()] += std::abs(it.value());
+    return rows.maxCoeff();
+  }
+  return g_dense_.cwiseAbs().rowwise().sum().maxCoeff();
+}
+
+int Network::indexOf(const std::string& name) const {
+  auto it = std::find(names_.begin(), names_.end(), name);
+  return it == names_.end() ? -1 : static_cast<int>(it - names_.begin());
+}
+
+}  // namespace radnet::solver

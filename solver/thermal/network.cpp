@@ -1,0 +1,269 @@
+#include "solver/thermal/network.hpp"
+
+#include "solver/units.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+
+namespace radnet::solver {
+namespace {
+
+using units::kStefanBoltzmann;
+
+// The segment k of a table with temperature_k[k] ≤ t < temperature_k[k + 1]; −1 below the
+// first point, size − 1 at or above the last.
+long segment(const TemperatureTable& table, double t) {
+  const auto& x = table.temperature_k;
+  return static_cast<long>(std::upper_bound(x.begin(), x.end(), t) - x.begin()) - 1;
+}
+
+bool finitePositive(double x) { return std::isfinite(x) && x > 0; }
+
+void validateHeater(const Heater& h, Eigen::Index n) {
+  const std::string what = "heater '" + h.name + "'";
+  if (h.node < 0 || h.node >= n || h.sensor < 0 || h.sensor >= n)
+    throw std::invalid_argument(what + ": node or sensor index out of range");
+  if (!(finitePositive(h.power_w) && finitePositive(h.on_below_k) && std::isfinite(h.off_above_k)))
+    throw std::invalid_argument(what + ": power and set points must be finite and > 0");
+  if (!(h.off_above_k > h.on_below_k))
+    throw std::invalid_argument(what + ": off_above must lie above on_below (a thermostat needs a dead band)");
+}
+
+void validateSchedule(const DissipationSchedule& s, Eigen::Index n) {
+  if (s.node < 0 || s.node >= n) throw std::invalid_argument("dissipation schedule: node index out of range");
+  if (!std::isfinite(s.sunlit_w) || !std::isfinite(s.eclipse_w))
+    throw std::invalid_argument("dissipation schedule: powers must be finite");
+  if (s.kind != DissipationSchedule::Kind::Table) return;
+  if (s.times_s.empty() || s.times_s.size() != s.power_w.size() || s.times_s.front() != 0.0)
+    throw std::invalid_argument("dissipation table: one power per time, the first at 0 s");
+  for (size_t k = 0; k < s.times_s.size(); ++k)
+    if (!std::isfinite(s.power_w[k]) || !std::isfinite(s.times_s[k]) || (k > 0 && !(s.times_s[k] > s.times_s[k - 1])))
+      throw std::invalid_argument("dissipation table: times must increase and powers be finite");
+}
+
+// Union–find over the nodes, joined where a link carries heat.
+struct Groups {
+  std::vector<int> parent;
+  explicit Groups(Eigen::Index n) : parent(static_cast<size_t>(n)) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int i) {
+    while (parent[static_cast<size_t>(i)] != i) i = parent[static_cast<size_t>(i)] = parent[static_cast<size_t>(parent[static_cast<size_t>(i)])];
+    return i;
+  }
+  void join(int i, int j) { parent[static_cast<size_t>(find(i))] = find(j); }
+};
+
+}  // namespace
+
+double TemperatureTable::at(double t) const {
+  const long k = segment(*this, t), last = static_cast<long>(value.size()) - 1;
+  if (k < 0) return value.front();
+  if (k >= last) return value.back();
+  const size_t a = static_cast<size_t>(k);
+  const double w = (t - temperature_k[a]) / (temperature_k[a + 1] - temperature_k[a]);
+  return (1 - w) * value[a] + w * value[a + 1];
+}
+
+double TemperatureTable::slope(double t) const {
+  const long k = segment(*this, t), last = static_cast<long>(value.size()) - 1;
+  if (k < 0 || k >= last) return 0.0;
+  const size_t a = static_cast<size_t>(k);
+  return (value[a + 1] - value[a]) / (temperature_k[a + 1] - temperature_k[a]);
+}
+
+void TemperatureTable::validate(const std::string& what) const {
+  if (temperature_k.empty() || temperature_k.size() != value.size())
+    throw std::invalid_argument(what + ": a table needs at least one [temperature, value] point");
+  for (size_t k = 0; k < value.size(); ++k) {
+    if (!finitePositive(temperature_k[k]) || !(std::isfinite(value[k]) && value[k] >= 0))
+      throw std::invalid_argument(what + ": table temperatures must be finite and > 0 K, values finite and >= 0");
+    if (k > 0 && !(temperature_k[k] > temperature_k[k - 1]))
+      throw std::invalid_argument(what + ": table temperatures must increase");
+  }
+}
+
+double DissipationSchedule::at(double t, double sunlit_fraction, double period) const {
+  if (kind == Kind::Illumination) return eclipse_w + sunlit_fraction * (sunlit_w - eclipse_w);
+  const double tau = period > 0 ? t - period * std::floor(t / period) : t;
+  const auto it = std::upper_bound(times_s.begin(), times_s.end(), tau);
+  return it == times_s.begin() ? power_w.front() : power_w[static_cast<size_t>(it - times_s.begin()) - 1];
+}
+
+bool ThermalNetwork::isFixed(Eigen::Index i) const { return !std::isnan(fixed_temperature[i]); }
+
+void ThermalNetwork::validate() const {
+  const Eigen::Index n = gr.rows();
+  if (gr.cols() != n || gr_space.size() != n || capacitance.size() != n || dissipation.size() != n ||
+      fixed_temperature.size() != n || conductors.rows() != n || conductors.cols() != n)
+    throw std::invalid_argument("thermal network: every per-node array needs " + std::to_string(n) + " entries");
+  if (!(std::isfinite(space_temperature) && space_temperature >= 0))
+    throw std::invalid_argument("space temperature must be finite and >= 0 K");
+  if ((capacitance.array() < 0).any() || !capacitance.allFinite())
+    throw std::invalid_argument("capacitances must be finite and >= 0 J/K");
+  if (!gr.allFinite() || !gr_space.allFinite() || !dissipation.allFinite())
+    throw std::invalid_argument("exchange factors and dissipations must be finite");
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (isFixed(i) && !finitePositive(fixed_temperature[i]))
+      throw std::invalid_argument("fixed temperatures must be finite and > 0 K");
+  for (const auto& [i, table] : capacitance_tables) {
+    if (i < 0 || i >= n) throw std::invalid_argument("capacitance table: node index out of range");
+    table.validate("capacitance table");
+  }
+  for (const TabledConductor& c : tabled_conductors) {
+    if (c.i < 0 || c.i >= n || c.j < 0 || c.j >= n || c.i == c.j)
+      throw std::invalid_argument("tabulated conductor: needs two different nodes");
+    c.conductance.validate("tabulated conductor");
+  }
+  for (const DissipationSchedule& s : schedules) validateSchedule(s, n);
+  for (const Heater& h : heaters) {
+    validateHeater(h, n);
+    if (isFixed(h.node) || isFixed(h.sensor))
+      throw std::invalid_argument("heater '" + h.name + "': its node and sensor must not be boundary nodes");
+  }
+}
+
+Eigen::VectorXd capacitanceAt(const ThermalNetwork& net, const Eigen::VectorXd& t) {
+  Eigen::VectorXd c = net.capacitance;
+  for (const auto& [i, table] : net.capacitance_tables) c[i] = table.at(t[i]);
+  return c;
+}
+
+Eigen::VectorXd capacitanceSlope(const ThermalNetwork& net, const Eigen::VectorXd& t) {
+  Eigen::VectorXd s = Eigen::VectorXd::Zero(t.size());
+  for (const auto& [i, table] : net.capacitance_tables) s[i] = table.slope(t[i]);
+  return s;
+}
+
+Eigen::VectorXd dissipationAt(const ThermalNetwork& net, double t_s, double sunlit_fraction, double period_s) {
+  Eigen::VectorXd q = net.dissipation;
+  for (const DissipationSchedule& s : net.schedules) q[s.node] += s.at(t_s, sunlit_fraction, period_s);
+  return q;
+}
+
+Eigen::VectorXd conductedHeat(const ThermalNetwork& net, const Eigen::VectorXd& t) {
+  // Σ_j K_ij (T_j − T_i) term by term: the round-off is then relative to each difference,
+  // not to K T (a 1e6 W/K joint at 300 K would otherwise lose 1e-7 W to cancellation).
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(t.size());
+  for (int k = 0; k < net.conductors.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it)
+      g[it.row()] += it.value() * (t[it.col()] - t[it.row()]);
+  for (const TabledConductor& c : net.tabled_conductors) {
+    const double q = c.conductance.at(0.5 * (t[c.i] + t[c.j])) * (t[c.j] - t[c.i]);
+    g[c.i] += q;
+    g[c.j] -= q;
+  }
+  return g;
+}
+
+Eigen::VectorXd netHeat(const ThermalNetwork& net, const Eigen::VectorXd& t, const Eigen::VectorXd& q,
+                        const Eigen::VectorXd* gr_row_sum) {
+  const Eigen::VectorXd t4 = t.array().square().square();
+  const Eigen::VectorXd gr_row = gr_row_sum ? *gr_row_sum : Eigen::VectorXd(net.gr.rowwise().sum());
+  return q + conductedHeat(net, t) + kStefanBoltzmann * (net.gr * t4 - gr_row.cwiseProduct(t4)) -
+         kStefanBoltzmann * net.gr_space.cwiseProduct((t4.array() - std::pow(net.space_temperature, 4)).matrix());
+}
+
+Eigen::MatrixXd netHeatJacobian(const ThermalNetwork& net, const Eigen::VectorXd& t) {
+  Eigen::MatrixXd j = net.gr;
+  j.diagonal() -= net.gr.rowwise().sum() + net.gr_space;
+  j = kStefanBoltzmann * j * (4.0 * t.array().cube()).matrix().asDiagonal();
+  for (int k = 0; k < net.conductors.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it) {
+      j(it.row(), it.col()) += it.value();
+      j(it.row(), it.row()) -= it.value();
+    }
+  for (const TabledConductor& c : net.tabled_conductors) {
+    // q = K(T̄)(T_j − T_i) into i: ∂q/∂T_i = −K + ½ K' (T_j − T_i), ∂q/∂T_j = K + ½ K' (T_j − T_i).
+    const double mean = 0.5 * (t[c.i] + t[c.j]), k = c.conductance.at(mean);
+    const double d = 0.5 * c.conductance.slope(mean) * (t[c.j] - t[c.i]);
+    j(c.i, c.i) += -k + d;
+    j(c.i, c.j) += k + d;
+    j(c.j, c.i) -= -k + d;
+    j(c.j, c.j) -= k + d;
+  }
+  return j;
+}
+
+Eigen::VectorXd balanceScale(const ThermalNetwork& net, const Eigen::VectorXd& t, const Eigen::VectorXd& q) {
+  // What flows, term by term as the heat flows report it: applied powers, the net exchange
+  // with space σ GR_space |T⁴ − T_space⁴| and with each node σ GR_ij |T_j⁴ − T_i⁴|, and each
+  // conductor's |K (T_j − T_i)|. (Gross emission would hide an imbalance of a node near the
+  // space temperature; its round-off is in balanceRoundOff instead.)
+  const Eigen::ArrayXd t4 = t.array().square().square();
+  Eigen::VectorXd s = q.cwiseAbs() + kStefanBoltzmann * net.gr_space.cwiseProduct(
+                                                            (t4 - std::pow(net.space_temperature, 4)).abs().matrix());
+  const Eigen::Index n = t.size();
+  for (Eigen::Index j = 0; j < n; ++j)  // column by column (GR is symmetric)
+    s += kStefanBoltzmann * net.gr.col(j).cwiseProduct((t4 - t4[j]).abs().matrix());
+  for (int k = 0; k < net.conductors.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it)
+      s[it.row()] += std::abs(it.value() * (t[it.col()] - t[it.row()]));
+  for (const TabledConductor& c : net.tabled_conductors) {
+    const double flow = std::abs(c.conductance.at(0.5 * (t[c.i] + t[c.j])) * (t[c.j] - t[c.i]));
+    s[c.i] += flow;
+    s[c.j] += flow;
+  }
+  return s;
+}
+
+Eigen::VectorXd balanceRoundOff(const ThermalNetwork& net, const Eigen::VectorXd& t) {
+  // A difference of nearly equal numbers is known to ε of the numbers: each conductor's
+  // T_j − T_i to ε (|T_i| + |T_j|), each radiative exchange T_j⁴ − T_i⁴ to ε (T_i⁴ + T_j⁴),
+  // the exchange with space to ε (T⁴ + T_space⁴). 16 ε allows for the sums.
+  constexpr double kRoundOff = 16 * std::numeric_limits<double>::epsilon();
+  const Eigen::VectorXd t4 = t.array().square().square();
+  const Eigen::VectorXd gr_row = net.gr.rowwise().sum();
+  Eigen::VectorXd noise =
+      kRoundOff * kStefanBoltzmann *
+      (gr_row.cwiseProduct(t4) + net.gr * t4 +
+       net.gr_space.cwiseProduct((t4.array() + std::pow(net.space_temperature, 4)).matrix()));
+  for (int k = 0; k < net.conductors.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it)
+      noise[it.row()] += kRoundOff * std::abs(it.value()) * (std::abs(t[it.row()]) + std::abs(t[it.col()]));
+  for (const TabledConductor& c : net.tabled_conductors) {
+    const double e = kRoundOff * c.conductance.at(0.5 * (t[c.i] + t[c.j])) * (std::abs(t[c.i]) + std::abs(t[c.j]));
+    noise[c.i] += e;
+    noise[c.j] += e;
+  }
+  return noise;
+}
+
+std::vector<int> undeterminedNodes(const ThermalNetwork& net, bool transient) {
+  const Eigen::Index n = net.size();
+  // Links compared in W/K: GR linearised at 300 K (4σT³ ≈ 6.1 W/(m² K)); a link below 1e-14
+  // of the network's strongest node coupling is round-off (a 1e-6 W/K strap beside a 1e6 W/K
+  // joint is 1e-12 of it, and counts).
+  const double w_gr = 4 * kStefanBoltzmann * std::pow(300.0, 3);
+  Eigen::VectorXd coupling = w_gr * (net.gr.cwiseAbs().rowwise().sum() + net.gr_space.cwiseAbs());
+  coupling += net.conductors.cwiseAbs() * Eigen::VectorXd::Ones(n);
+  for (const TabledConductor& c : net.tabled_conductors) {
+    const double k = *std::max_element(c.conductance.value.begin(), c.conductance.value.end());
+    coupling[c.i] += k;
+    coupling[c.j] += k;
+  }
+  const double floor = 1e-14 * (n > 0 ? coupling.maxCoeff() : 0.0);
+  Groups groups(n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = i + 1; j < n; ++j)
+      if (w_gr * std::abs(net.gr(i, j)) > floor) groups.join(static_cast<int>(i), static_cast<int>(j));
+  for (int k = 0; k < net.conductors.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it)
+      if (std::abs(it.value()) > floor) groups.join(static_cast<int>(it.row()), static_cast<int>(it.col()));
+  for (const TabledConductor& c : net.tabled_conductors)
+    if (*std::max_element(c.conductance.value.begin(), c.conductance.value.end()) > floor) groups.join(c.i, c.j);
+  // A group is determined by a sink (space, a boundary node) or, in a transient, by its heat capacity.
+  std::vector<char> determined(static_cast<size_t>(n), 0);
+  Eigen::VectorXd c = net.capacitance;
+  for (const auto& [i, table] : net.capacitance_tables) c[i] = *std::max_element(table.value.begin(), table.value.end());
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (w_gr * net.gr_space[i] > floor || net.isFixed(i) || (transient && c[i] > 0))
+      determined[static_cast<size_t>(groups.find(static_cast<int>(i)))] = 1;
+  std::vector<int> out;
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (!determined[static_cast<size_t>(groups.find(static_cast<int>(i)))]) out.push_back(static_cast<int>(i));
+  return out;
+}
+
+}  // namespace radnet::solver

@@ -1,0 +1,145 @@
+// Steady states per position, with thermostat heaters held at their set point where needed.
+#include "solver/thermal/temperatures.hpp"
+#include "solver/thermal/newton.hpp"
+#include "solver/units.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace radnet::solver {
+namespace {
+
+using units::kStefanBoltzmann;
+
+// What a heater does in a steady state: nothing (its sensor is warm enough), hold its sensor
+// at on_below with part of its power, or give all of it (the sensor still below on_below).
+enum class HeaterMode { Off, Controlled, Saturated };
+
+// Each node alone in radiative equilibrium with what it receives (floored at space).
+Eigen::VectorXd startingGuess(const ThermalNetwork& net, const Eigen::VectorXd& q) {
+  const Eigen::VectorXd emit = net.gr.rowwise().sum() + net.gr_space;
+  Eigen::VectorXd t(q.size());
+  for (Eigen::Index i = 0; i < t.size(); ++i) {
+    t[i] = emit[i] > 0 ? std::pow(std::max(0.0, q[i]) / (kStefanBoltzmann * emit[i]) + std::pow(net.space_temperature, 4), 0.25)
+                       : 293.15;
+    t[i] = std::max(t[i], std::max(net.space_temperature, 1.0));
+    if (net.isFixed(i)) t[i] = net.fixed_temperature[i];
+  }
+  return t;
+}
+
+// One position: Newton for the temperatures and the controlled heaters' powers, then the
+// heaters' modes corrected until they agree with the answer (an active-set loop: at most a
+// few rounds, since each heater moves at most Off → Controlled → Saturated and back).
+detail::NewtonOutcome solvePosition(const ThermalNetwork& net, const Eigen::VectorXd& q, std::vector<HeaterMode>& mode,
+                                    Eigen::VectorXd& t, Eigen::VectorXd& power, const ThermalOptions& opt,
+                                    detail::JacobianCache& cache) {
+  const size_t H = net.heaters.size();
+  constexpr double kSettle = 1e-6;  // K: a sensor this close to on_below is at it
+  detail::NewtonOutcome total;
+  for (size_t round = 0; round < 2 * H + 3; ++round) {
+    detail::ImplicitSystem sys{net, q, {}, 1.0, false, {}, &cache};
+    Eigen::VectorXd u;
+    std::vector<double> u0;
+    for (size_t k = 0; k < H; ++k) {
+      if (mode[k] == HeaterMode::Saturated) sys.q[net.heaters[k].node] += net.heaters[k].power_w;
+      if (mode[k] == HeaterMode::Controlled) {
+        sys.controlled.push_back(static_cast<int>(k));
+        u0.push_back(std::clamp(power[static_cast<Eigen::Index>(k)], 0.0, net.heaters[k].power_w));
+      }
+    }
+    u = Eigen::Map<Eigen::VectorXd>(u0.data(), static_cast<Eigen::Index>(u0.size()));
+    detail::NewtonOutcome step = detail::solveImplicit(sys, t, u, opt);
+    if (step.status != Status::Converged) {  // restart from the node-by-node guess before giving up
+      t = startingGuess(net, sys.q);
+      step = detail::solveImplicit(sys, t, u, opt);
+    }
+    total.iterations += step.iterations;
+    total.factorisations += step.factorisations;
+    total.residual_w = step.residual_w;
+    if (step.status != Status::Converged) {
+      step.iterations = total.iterations;
+      step.factorisations = total.factorisations;
+      return step;
+    }
+    bool changed = false;
+    for (size_t k = 0, c = 0; k < H; ++k) {
+      const Heater& h = net.heaters[k];
+      const double ts = t[h.sensor];
+      HeaterMode next = mode[k];
+      if (mode[k] == HeaterMode::Controlled) {
+        const double uk = u[static_cast<Eigen::Index>(c++)];
+        next = uk < 0 ? HeaterMode::Off : uk > h.power_w ? HeaterMode::Saturated : HeaterMode::Controlled;
+        power[static_cast<Eigen::Index>(k)] = std::clamp(uk, 0.0, h.power_w);
+      } else if (mode[k] == HeaterMode::Off) {
+        if (ts < h.on_below_k - kSettle) next = HeaterMode::Controlled;
+        power[static_cast<Eigen::Index>(k)] = 0.0;
+      } else {
+        if (ts > h.on_below_k + kSettle) next = HeaterMode::Controlled;
+        power[static_cast<Eigen::Index>(k)] = h.power_w;
+      }
+      changed |= next != mode[k];
+      mode[k] = next;
+    }
+    if (!changed) return total;
+  }
+  total.status = Status::NotConverged;
+  total.message = "the heaters' set-point control did not settle";
+  return total;
+}
+
+}  // namespace
+
+ThermalResult steadyStates(const ThermalNetwork& net, const ThermalForcing& forcing, const ThermalOptions& opt) {
+  net.validate();
+  const Eigen::Index n = net.size(), P = forcing.q_env.cols();
+  const Eigen::Index H = static_cast<Eigen::Index>(net.heaters.size());
+  if (forcing.q_env.rows() != n || P == 0 || static_cast<Eigen::Index>(forcing.times_s.size()) != P ||
+      !(forcing.sunlit_fraction.empty() || static_cast<Eigen::Index>(forcing.sunlit_fraction.size()) == P))
+    throw std::invalid_argument("steady states: one load column, time and sunlit fraction per position");
+  ThermalResult res;
+  res.temperature.resize(n, P);
+  res.temperature_rate = res.rate_roundoff = Eigen::MatrixXd::Zero(n, P);
+  res.dissipation.resize(n, P);
+  res.heater_power.resize(H, P);
+  std::vector<HeaterMode> mode(static_cast<size_t>(H), HeaterMode::Off);
+  Eigen::VectorXd power = Eigen::VectorXd::Zero(H);
+  Eigen::VectorXd t;
+  detail::JacobianCache cache;  // one factorisation serves many positions
+  for (Eigen::Index p = 0; p < P; ++p) {
+    const size_t ps = static_cast<size_t>(p);
+    const double sunlit = forcing.sunlit_fraction.empty() ? 1.0 : forcing.sunlit_fraction[ps];
+    res.dissipation.col(p) = dissipationAt(net, forcing.times_s[ps], sunlit, forcing.schedule_period_s);
+    const Eigen::VectorXd q = forcing.q_env.col(p) + res.dissipation.col(p);
+    if (p == 0) t = startingGuess(net, q);
+    const detail::NewtonOutcome s = solvePosition(net, q, mode, t, power, opt, cache);
+    res.newton_iterations += s.iterations;
+    res.factorisations += s.factorisations;
+    if (s.status != Status::Converged) {
+      res.status = s.status;
+      res.message = s.message + " (steady state at position " + std::to_string(p) + ")";
+      return res;
+    }
+    res.max_residual_w = std::max(res.max_residual_w, s.residual_w);
+    res.temperature.col(p) = t;
+    res.heater_power.col(p) = power;
+  }
+  res.heater_duty = Eigen::VectorXd::Zero(H);
+  for (Eigen::Index k = 0; k < H; ++k)
+    res.heater_duty[k] = res.heater_power.row(k).mean() / net.heaters[static_cast<size_t>(k)].power_w;
+  if (!res.temperature.allFinite()) {
+    res.status = Status::NonFinite;
+    res.message = "steady temperatures are not finite";
+  }
+  return res;
+}
+
+ThermalResult steadyStates(const ThermalNetwork& net, const Eigen::MatrixXd& q_env, const ThermalOptions& opt) {
+  ThermalForcing forcing;
+  forcing.q_env = q_env;
+  for (Eigen::Index p = 0; p < q_env.cols(); ++p) forcing.times_s.push_back(static_cast<double>(p));
+  return steadyStates(net, forcing, opt);
+}
+
+}  // namespace radnet::solver

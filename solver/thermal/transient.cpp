@@ -1,0 +1,372 @@
+// Transients: variable-step BDF2 through the forcing's sample times, heater switching and
+// dissipation-table steps located inside the step, orbit after orbit.
+#include "solver/thermal/temperatures.hpp"
+#include "solver/thermal/newton.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <tuple>
+
+namespace radnet::solver {
+namespace {
+
+// The state between steps: the last two temperatures, the last step, the clock, which
+// heaters are on, and what the last step applied.
+struct TransientState {
+  Eigen::VectorXd t_now, t_prev, rate;  // K, K, K/s
+  Eigen::VectorXd rate_roundoff;        // K/s: how well `rate` is known in floating point
+  double clock = 0.0, h_prev = 0.0;     // s
+  std::vector<char> heater_on;
+  Eigen::VectorXd dissipation;  // W, applied during the last step
+  Eigen::VectorXd on_time;      // s each heater has been on since the window began
+  double window_start = 0.0;    // s
+};
+
+// Variable-step BDF2: y⁺ − a y + b y⁻ = h β f(y⁺), as (a, b, β) for the step ratio
+// w = h / h_prev; the first step after a start or a discontinuity (h_prev = 0) is backward
+// Euler (1, 0, 1).
+std::tuple<double, double, double> bdf2Coefficients(double h, double h_prev) {
+  if (!(h_prev > 0)) return {1.0, 0.0, 1.0};
+  const double w = h / h_prev;
+  return {(1 + w) * (1 + w) / (1 + 2 * w), w * w / (1 + 2 * w), (1 + w) / (1 + 2 * w)};
+}
+
+// The next step (s) towards a target `remaining` seconds away: the first is max_step/64
+// (backward Euler's local error is O(h²)), then each at most doubles (BDF2 stays zero-stable
+// for ratios below 1 + √2) up to max_step; no sliver of a last step.
+double nextStep(double h_prev, double max_step, double remaining) {
+  double h = h_prev > 0 ? std::min(max_step, 2.0 * h_prev) : max_step / 64.0;
+  if (h >= remaining)
+    h = remaining;
+  else if (remaining - h < 0.25 * h)
+    h = 0.5 * remaining;
+  return h;
+}
+
+class Integrator {
+ public:
+  Integrator(const ThermalNetwork& net, const ThermalForcing& f, const ThermalOptions& opt, ThermalResult& res)
+      : net_(net), f_(f), opt_(opt), res_(res) {}
+
+  TransientState start(const Eigen::VectorXd& initial) const;
+  // Marches to `target`, landing on every dissipation-table entry on the way. False when a
+  // step failed (recorded in the result).
+  bool marchTo(double target, TransientState& s);
+  // One pass through the sample times of the period starting at `start`, recording there.
+  bool marchPeriod(double start, TransientState& s);
+
+ private:
+  Eigen::VectorXd applied(const TransientState& s, double h, Eigen::VectorXd& dissipation) const;
+  bool step(const TransientState& s, double h, Eigen::VectorXd& t_new, Eigen::VectorXd& dissipation);
+  void accept(TransientState& s, double h, const Eigen::VectorXd& t_new, const Eigen::VectorXd& dissipation) const;
+  int crossing(const TransientState& s, const Eigen::VectorXd& t_new, double& theta) const;
+  bool switchInside(TransientState& s, double h, int k);
+  void switchHeater(TransientState& s, int k);
+  void switchCrossed(TransientState& s);
+  std::vector<double> tableEntries(double from, double to) const;
+
+  const ThermalNetwork& net_;
+  const ThermalForcing& f_;
+  const ThermalOptions& opt_;
+  ThermalResult& res_;
+  detail::JacobianCache cache_;  // one factorisation serves many steps (the chord method)
+};
+
+// Applied powers during the step (clock, clock + h]: loads and the sunlit fraction at its
+// end (implicit), dissipation tables at its middle (a step never straddles a table entry:
+// at an output time on an entry, the step's value is the one before it), heaters as they are.
+Eigen::VectorXd Integrator::applied(const TransientState& s, double h, Eigen::VectorXd& dissipation) const {
+  dissipation = dissipationAt(net_, s.clock + 0.5 * h, f_.sunlitAt(s.clock + h), f_.schedule_period_s);
+  Eigen::VectorXd q = f_.loadAt(s.clock + h) + dissipation;
+  for (size_t k = 0; k < net_.heaters.size(); ++k)
+    if (s.heater_on[k]) q[net_.heaters[k].node] += net_.heaters[k].power_w;
+  return q;
+}
+
+bool Integrator::step(const TransientState& s, double h, Eigen::VectorXd& t_new, Eigen::VectorXd& dissipation) {
+  const auto [a, b, beta] = bdf2Coefficients(h, s.h_prev);
+  const detail::ImplicitSystem sys{net_,      applied(s, h, dissipation), a * s.t_now - b * s.t_prev, h * beta, true,
+                                   {},        &cache_};
+  t_new = s.t_now + h * s.rate;  // the explicit prediction, when it stays physical
+  if (!(t_new.array() > 0).all()) t_new = s.t_now;
+  Eigen::VectorXd none;
+  const detail::NewtonOutcome out = detail::solveImplicit(sys, t_new, none, opt_);
+  res_.newton_iterations += out.iterations;
+  res_.factorisations += out.factorisations;
+  if (out.status != Status::Converged) {
+    res_.status = out.status;
+    res_.message = out.message + " (transient step at t = " + std::to_string(s.clock + h) + " s)";
+    return false;
+  }
+  res_.max_residual_w = std::max(res_.max_residual_w, out.residual_w);
+  return true;
+}
+
+void Integrator::accept(TransientState& s, double h, const Eigen::VectorXd& t_new,
+                        const Eigen::VectorXd& dissipation) const {
+  const auto [a, b, beta] = bdf2Coefficients(h, s.h_prev);
+  const Eigen::VectorXd history = a * s.t_now - b * s.t_prev;
+  s.rate = (t_new - history) / (h * beta);  // the BDF2 derivative at the new time
+  s.rate_roundoff = 16 * std::numeric_limits<double>::epsilon() * (t_new.cwiseAbs() + history.cwiseAbs()) / (h * beta);
+  for (size_t k = 0; k < net_.heaters.size(); ++k)
+    if (s.heater_on[k]) s.on_time[static_cast<Eigen::Index>(k)] += h;
+  s.t_prev = s.t_now;
+  s.t_now = t_new;
+  s.clock += h;
+  s.h_prev = h;
+  s.dissipation = dissipation;
+}
+
+// The heater whose sensor crossed its switching temperature first during the step to
+// t_new, with θ (0 … 1) the linear estimate of where; −1 when none did.
+int Integrator::crossing(const TransientState& s, const Eigen::VectorXd& t_new, double& theta) const {
+  int first = -1;
+  theta = 2.0;
+  for (size_t k = 0; k < net_.heaters.size(); ++k) {
+    const Heater& h = net_.heaters[k];
+    const double threshold = s.heater_on[k] ? h.off_above_k : h.on_below_k;
+    const double g0 = s.t_now[h.sensor] - threshold, g1 = t_new[h.sensor] - threshold;
+    if (!(s.heater_on[k] ? g1 > 0 : g1 < 0)) continue;
+    const double th = g0 != g1 ? std::clamp(g0 / (g0 - g1), 0.0, 1.0) : 1.0;
+    if (th < theta) {
+      theta = th;
+      first = static_cast<int>(k);
+    }
+  }
+  return first;
+}
+
+void Integrator::switchHeater(TransientState& s, int k) {
+  s.heater_on[static_cast<size_t>(k)] = !s.heater_on[static_cast<size_t>(k)];
+  s.h_prev = 0.0;  // the forcing jumps: restart BDF2 from backward Euler
+  ++res_.heater_switches;
+}
+
+// Heaters whose sensor is already past their switching temperature (at the start, or
+// within the switching tolerance after a located switch of another heater) switch now.
+void Integrator::switchCrossed(TransientState& s) {
+  for (size_t k = 0; k < net_.heaters.size(); ++k) {
+    const Heater& h = net_.heaters[k];
+    const double ts = s.t_now[h.sensor];
+    if (s.heater_on[k] ? ts > h.off_above_k : ts < h.on_below_k) switchHeater(s, static_cast<int>(k));
+  }
+}
+
+// Heater k's sensor crosses its threshold inside the step of h: find the time by the
+// Illinois variant of regula falsi on the step length, re-solving the step each time, to
+// switch_tolerance_k; take the step to there and switch.
+bool Integrator::switchInside(TransientState& s, double h, int k) {
+  const Heater& heater = net_.heaters[static_cast<size_t>(k)];
+  const bool on = s.heater_on[static_cast<size_t>(k)];
+  const double threshold = on ? heater.off_above_k : heater.on_below_k;
+  const double tol = std::min(opt_.switch_tolerance_k, 0.1 * (heater.off_above_k - heater.on_below_k));
+  auto crossed = [&](double g) { return on ? g > 0 : g < 0; };
+  double lo = 0.0, hi = 1.0, g_lo = s.t_now[heater.sensor] - threshold;
+  Eigen::VectorXd t_new, dissipation, t_hi, d_hi;
+  if (!step(s, h, t_hi, d_hi)) return false;
+  double g_hi = t_hi[heater.sensor] - threshold;
+  int side = 0;
+  for (int it = 0; it < 40 && std::abs(g_hi) > tol; ++it) {
+    const double theta = std::clamp((lo * g_hi - hi * g_lo) / (g_hi - g_lo), lo + 1e-6 * (hi - lo), hi - 1e-6 * (hi - lo));
+    if (!step(s, theta * h, t_new, dissipation)) return false;
+    const double g = t_new[heater.sensor] - threshold;
+    if (crossed(g)) {
+      hi = theta, g_hi = g, t_hi = t_new, d_hi = dissipation;
+      if (side == +1) g_lo *= 0.5;
+      side = +1;
+    } else {
+      lo = theta, g_lo = g;
+      if (side == -1) g_hi *= 0.5;
+      side = -1;
+      if (std::abs(g) <= tol) {  // close enough on the near side: switch here
+        hi = theta, t_hi = t_new, d_hi = dissipation;
+        break;
+      }
+    }
+  }
+  accept(s, hi * h, t_hi, d_hi);
+  switchHeater(s, k);
+  return true;
+}
+
+std::vector<double> Integrator::tableEntries(double from, double to) const {
+  std::vector<double> out;
+  const double period = f_.schedule_period_s;
+  for (const DissipationSchedule& sch : net_.schedules) {
+    if (sch.kind != DissipationSchedule::Kind::Table) continue;
+    const double first = period > 0 ? period * std::floor(from / period) : 0.0;
+    for (double base = first; base <= to; base += period) {
+      for (double e : sch.times_s)
+        if (base + e > from && base + e <= to) out.push_back(base + e);
+      if (!(period > 0)) break;
+    }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+bool Integrator::marchTo(double target, TransientState& s) {
+  std::vector<double> stops = tableEntries(s.clock, target);
+  const bool target_is_entry = !stops.empty() && stops.back() == target;
+  if (!target_is_entry) stops.push_back(target);
+  for (size_t k = 0; k < stops.size(); ++k) {
+    const double stop = stops[k];
+    while (stop - s.clock > 1e-9 * std::max(1.0, std::abs(stop))) {
+      switchCrossed(s);
+      const double h = nextStep(s.h_prev, opt_.max_step_s, stop - s.clock);
+      Eigen::VectorXd t_new, dissipation;
+      if (!step(s, h, t_new, dissipation)) return false;
+      double theta = 0.0;
+      const int heater = crossing(s, t_new, theta);
+      if (heater < 0) {
+        accept(s, h, t_new, dissipation);
+      } else if (!switchInside(s, h, heater)) {
+        return false;
+      }
+    }
+    // The dissipation steps here: restart BDF2, whose two-step history would otherwise
+    // carry the jump of dT/dt into an O(h) error.
+    if (k + 1 < stops.size() || target_is_entry) s.h_prev = 0.0;
+  }
+  return true;
+}
+
+bool Integrator::marchPeriod(double start, TransientState& s) {
+  const Eigen::Index P = static_cast<Eigen::Index>(f_.times_s.size());
+  const Eigen::Index n = net_.size(), H = static_cast<Eigen::Index>(net_.heaters.size());
+  res_.temperature.resize(n, P);
+  res_.temperature_rate.resize(n, P);
+  res_.rate_roundoff.resize(n, P);
+  res_.dissipation.resize(n, P);
+  res_.heater_power.resize(H, P);
+  s.on_time.setZero();
+  s.window_start = s.clock;
+  for (Eigen::Index p = 0; p < P; ++p) {
+    if (!marchTo(start + f_.times_s[static_cast<size_t>(p)], s)) return false;
+    res_.temperature.col(p) = s.t_now;
+    res_.temperature_rate.col(p) = s.rate;
+    res_.rate_roundoff.col(p) = s.rate_roundoff;
+    res_.dissipation.col(p) = s.dissipation;
+    for (Eigen::Index k = 0; k < H; ++k)
+      res_.heater_power(k, p) = s.heater_on[static_cast<size_t>(k)] ? net_.heaters[static_cast<size_t>(k)].power_w : 0.0;
+  }
+  const double window = s.clock - s.window_start;
+  res_.heater_duty = window > 0 ? Eigen::VectorXd(s.on_time / window) : Eigen::VectorXd(res_.heater_power.rowwise().mean());
+  if (window <= 0)
+    for (Eigen::Index k = 0; k < H; ++k) res_.heater_duty[k] /= net_.heaters[static_cast<size_t>(k)].power_w;
+  return true;
+}
+
+// The starting state: boundary nodes at their temperature, heaters on where their sensor
+// starts below on_below, and the arithmetic (zero-capacitance) nodes in balance with the
+// others, so that the first output balances and BDF2 starts from a consistent state.
+TransientState Integrator::start(const Eigen::VectorXd& initial) const {
+  const Eigen::Index n = net_.size();
+  TransientState s;
+  s.t_now = s.t_prev = initial;
+  s.rate = s.rate_roundoff = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (net_.isFixed(i)) s.t_now[i] = net_.fixed_temperature[i];
+  for (const Heater& h : net_.heaters) s.heater_on.push_back(s.t_now[h.sensor] < h.on_below_k);
+  s.on_time = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(net_.heaters.size()));
+  Eigen::VectorXd dissipation;
+  const Eigen::VectorXd q = applied(s, 0.0, dissipation);
+  s.dissipation = dissipation;
+  const Eigen::VectorXd c = capacitanceAt(net_, s.t_now);
+  ThermalNetwork held = net_;  // capacitive nodes held at their initial temperature
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (c[i] > 0) held.fixed_temperature[i] = s.t_now[i];
+  Eigen::VectorXd t = s.t_now, none;
+  if ((c.array() == 0).any() &&
+      detail::solveImplicit({held, q, {}, 1.0, false, {}, nullptr}, t, none, opt_).status == Status::Converged)
+    s.t_now = t;
+  const Eigen::VectorXd g = netHeat(net_, s.t_now, q);
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (c[i] > 0 && !net_.isFixed(i)) s.rate[i] = g[i] / c[i];
+  s.t_prev = s.t_now;
+  return s;
+}
+
+void checkInputs(const ThermalNetwork& net, const ThermalForcing& f, const Eigen::VectorXd& initial,
+                 const ThermalOptions& opt) {
+  net.validate();
+  const size_t P = f.times_s.size();
+  if (P == 0 || static_cast<Eigen::Index>(P) != f.q_env.cols() || f.q_env.rows() != net.size() ||
+      !(f.sunlit_fraction.empty() || f.sunlit_fraction.size() == P))
+    throw std::invalid_argument("transient: one load column and sunlit fraction per time");
+  if (!(f.load_period_s >= 0 && opt.max_step_s > 0)) throw std::invalid_argument("transient: step must be > 0");
+  if (f.load_period_s > 0 && !(f.times_s.back() <= f.load_period_s))
+    throw std::invalid_argument("transient: sample times must lie within one load period");
+  if (initial.size() != net.size() || !(initial.array() > 0).all() || !initial.allFinite())
+    throw std::invalid_argument("transient: initial temperatures must be finite and > 0 K");
+}
+
+void checkFinite(ThermalResult& res) {
+  if (res.status == Status::Converged && !res.temperature.allFinite()) {
+    res.status = Status::NonFinite;
+    res.message = "transient temperatures are not finite";
+  }
+}
+
+}  // namespace
+
+ThermalResult transient(const ThermalNetwork& net, const ThermalForcing& forcing, double orbits,
+                        const Eigen::VectorXd& initial, const ThermalOptions& opt) {
+  checkInputs(net, forcing, initial, opt);
+  if (!(orbits > 0 && std::isfinite(orbits))) throw std::invalid_argument("transient: orbits must be > 0");
+  ThermalResult res;
+  Integrator integrator(net, forcing, opt, res);
+  TransientState state = integrator.start(initial);
+  const int count = forcing.load_period_s > 0 ? static_cast<int>(std::ceil(orbits)) : 1;
+  for (int k = 0; k < count; ++k) {
+    if (!integrator.marchPeriod(k * forcing.load_period_s, state)) return res;
+    res.orbits = k + 1;
+  }
+  checkFinite(res);
+  return res;
+}
+
+ThermalResult transient(const ThermalNetwork& net, const std::vector<double>& times, const Eigen::MatrixXd& q_env,
+                        double period, double orbits, const Eigen::VectorXd& initial, const ThermalOptions& opt) {
+  if (!(period > 0)) throw std::invalid_argument("transient: the period must be > 0 s");
+  return transient(net, ThermalForcing{times, q_env, {}, period, period}, orbits, initial, opt);
+}
+
+ThermalResult periodicTransient(const ThermalNetwork& net, const ThermalForcing& forcing,
+                                const Eigen::VectorXd& initial, const PeriodicOptions& periodic,
+                                const ThermalOptions& opt) {
+  checkInputs(net, forcing, initial, opt);
+  if (!(forcing.load_period_s > 0)) throw std::invalid_argument("periodic transient: needs a load period");
+  if (!(periodic.tolerance_k > 0) || periodic.max_orbits < 2)
+    throw std::invalid_argument("periodic transient: tolerance must be > 0 K and max_orbits at least 2");
+  ThermalResult res;
+  Integrator integrator(net, forcing, opt, res);
+  TransientState state = integrator.start(initial);
+  Eigen::MatrixXd previous;
+  for (int orbit = 0; orbit < periodic.max_orbits; ++orbit) {
+    if (!integrator.marchPeriod(orbit * forcing.load_period_s, state)) return res;
+    res.orbits = orbit + 1;
+    if (orbit > 0) {
+      // The largest change of any node's temperature history from one orbit to the next.
+      res.periodic_residual_k = (res.temperature - previous).cwiseAbs().maxCoeff();
+      if (res.periodic_residual_k <= periodic.tolerance_k) break;
+    }
+    previous = res.temperature;
+  }
+  if (res.status == Status::Converged && !(res.periodic_residual_k <= periodic.tolerance_k)) {
+    res.status = Status::NotConverged;
+    res.message = "the transient did not become periodic in " + std::to_string(res.orbits) +
+                  " orbits: the last orbit still changed a temperature by " +
+                  std::to_string(res.periodic_residual_k) + " K (periodic_tolerance " +
+                  std::to_string(periodic.tolerance_k) + " K); raise max_orbits or check for a slow time constant" +
+                  (res.heater_switches > 0 ? ", or a thermostat whose on/off cycle does not repeat with the orbit "
+                                             "(a periodic_tolerance above its dead band)"
+                                           : "");
+  }
+  checkFinite(res);
+  return res;
+}
+
+}  // namespace radnet::solver
