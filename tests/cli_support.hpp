@@ -87,6 +87,24 @@ inline H5Data readDataset(hid_t file, const std::string& name) {
   return d;
 }
 
+/// /nodes/name (variable-length strings), in node order.
+inline std::vector<std::string> readNodeNames(hid_t file) {
+  const hid_t ds = H5Dopen2(file, "/nodes/name", H5P_DEFAULT);
+  const hid_t space = H5Dget_space(ds);
+  hsize_t n = 0;
+  H5Sget_simple_extent_dims(space, &n, nullptr);
+  std::vector<char*> raw(n);
+  const hid_t type = H5Dget_type(ds);
+  H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, raw.data());
+  std::vector<std::string> names;
+  for (hsize_t k = 0; k < n; ++k) names.emplace_back(raw[k] ? raw[k] : "");
+  H5Dvlen_reclaim(type, space, H5P_DEFAULT, raw.data());
+  H5Tclose(type);
+  H5Sclose(space);
+  H5Dclose(ds);
+  return names;
+}
+
 inline double readDoubleAttribute(hid_t file, const char* object, const char* name) {
   double value = -1.0;
   const hid_t attr = H5Aopen_by_name(file, object, name, H5P_DEFAULT, H5P_DEFAULT);

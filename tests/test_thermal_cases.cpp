@@ -5,6 +5,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+
 #include <cmath>
 #include <string>
 #include <vector>
@@ -24,24 +26,12 @@ hid_t runAndOpen(const TempDir& dir, const std::string& yaml) {
   return file;
 }
 
-// Index of `name` in /nodes/name (variable-length strings).
+// Index of `name` in /nodes/name.
 int nodeIndex(hid_t file, const std::string& name) {
-  const hid_t ds = H5Dopen2(file, "/nodes/name", H5P_DEFAULT);
-  const hid_t space = H5Dget_space(ds);
-  hsize_t n = 0;
-  H5Sget_simple_extent_dims(space, &n, nullptr);
-  std::vector<char*> names(n);
-  const hid_t type = H5Dget_type(ds);
-  H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, names.data());
-  int found = -1;
-  for (hsize_t k = 0; k < n; ++k)
-    if (names[k] && name == names[k]) found = static_cast<int>(k);
-  H5Dvlen_reclaim(type, space, H5P_DEFAULT, names.data());
-  H5Tclose(type);
-  H5Sclose(space);
-  H5Dclose(ds);
-  REQUIRE(found >= 0);
-  return found;
+  const std::vector<std::string> names = readNodeNames(file);
+  const auto it = std::find(names.begin(), names.end(), name);
+  REQUIRE(it != names.end());
+  return static_cast<int>(it - names.begin());
 }
 
 const char* kStrip = R"(

@@ -90,6 +90,32 @@ void checkPrimitiveName(const YamlDocument& doc, const YAML::Node& p, const std:
                                       "exactly as that node's primitive");
 }
 
+// Where a surface goes: its name, its node's name and the file it came from ("" for a primitive).
+struct SurfacePlace {
+  const std::string& surface;
+  const std::string& node;
+  const std::string& mesh_file;
+};
+
+// Adds one surface with the materials of its sides ("" = inactive): node `node` for the front,
+// `node`.back for the back; a node may not change material between surfaces.
+void addSides(const YamlDocument& doc, const YAML::Node& entry, const std::string& what, const std::string& kind,
+              const SurfacePlace& at, const geometry::TriangleSoup& soup, const std::string& front,
+              const std::string& back, GeometryContext& ctx) {
+  GeometryCase& c = ctx.c;
+  const std::string label = kind + " '" + at.surface + "'" + (at.mesh_file.empty() ? "" : " from " + at.mesh_file);
+  const std::string fn = front.empty() ? "" : at.node, bn = back.empty() ? "" : at.node + ".back";
+  for (const auto& [nn, mat] : {std::pair{fn, front}, std::pair{bn, back}}) {
+    if (nn.empty()) continue;
+    auto [it, fresh] = ctx.node_material.emplace(nn, mat);
+    if (!fresh && it->second != mat)
+      throw geometry::GeometryError("node '" + nn + "' would have two materials ('" + it->second + "' and '" + mat +
+                                    "')");
+  }
+  checkSceneMemory(doc, entry, what, static_cast<double>(c.scene.faces().size() + soup.triangles.size()));
+  c.scene.addSurface(at.surface, label, soup, fn, bn);
+}
+
 // One `- <primitive>: {...}` entry: keys checked against its spec, sides' materials, then
 // its builder adds the surfaces to the scene.
 void parsePrimitive(const YamlDocument& doc, const YAML::Node& entry, const std::string& where, GeometryContext& ctx) {
@@ -116,18 +142,14 @@ void parsePrimitive(const YamlDocument& doc, const YAML::Node& entry, const std:
   const int first_face = static_cast<int>(c.scene.faces().size());
   auto add = [&](const std::string& surface, const std::string& node, const geometry::TriangleSoup& soup,
                  const std::string& mesh_file) {
-    const std::string label =
-        std::string(spec.kind) + " '" + surface + "'" + (mesh_file.empty() ? "" : " from " + mesh_file);
-    const std::string fn = front.empty() ? "" : node, bn = back.empty() ? "" : node + ".back";
-    for (const auto& [nn, mat] : {std::pair{fn, front}, std::pair{bn, back}}) {
-      if (nn.empty()) continue;
-      auto [it, fresh] = ctx.node_material.emplace(nn, mat);
-      if (!fresh && it->second != mat)
-        throw geometry::GeometryError("node '" + nn + "' would have two materials ('" + it->second + "' and '" + mat +
-                                      "')");
-    }
-    checkSceneMemory(doc, entry, what, static_cast<double>(c.scene.faces().size() + soup.triangles.size()));
-    c.scene.addSurface(surface, label, soup, fn, bn);
+    addSides(doc, entry, what, std::string(spec.kind), {surface, node, mesh_file}, soup, front, back, ctx);
+  };
+  auto add_with_sides = [&](const std::string& surface, const std::string& node, const geometry::TriangleSoup& soup,
+                            const std::string& mesh_file, const YAML::Node& sides, const std::string& sides_what) {
+    doc.expectMap(sides, sides_what, {"front", "back"});
+    addSides(doc, entry, what, std::string(spec.kind), {surface, node, mesh_file}, soup,
+             materialOf(doc, sides["front"], sides_what + ".front", ctx),
+             materialOf(doc, sides["back"], sides_what + ".back", ctx), ctx);
   };
   try {
     const auto subdivisions = parseCounts(doc, p["subdivisions"], what + ".subdivisions", spec.default_subdivisions);
@@ -139,7 +161,12 @@ void parsePrimitive(const YamlDocument& doc, const YAML::Node& entry, const std:
                                (front.empty() ? 0 : 1) + (back.empty() ? 0 : 1),
                                c.scene.nodes().size(),
                                std::filesystem::path(doc.file()).parent_path(),
-                               add};
+                               add,
+                               !front.empty(),
+                               [&](const std::string& kind, const std::string& place) {
+                                 c.scene.noteDefect(kind, place);
+                               },
+                               add_with_sides};
     spec.build(input);
     if (shell) {
       shell->first_face = first_face;
@@ -209,13 +236,20 @@ void checkSceneScale(const YamlDocument& doc, const YAML::Node& geom, const geom
 void checkCoincidentSurfaces(const YamlDocument& doc, const YAML::Node& geom, const geometry::Scene& scene) {
   const std::vector<geometry::Coincidence> found = geometry::coincidentFaces(scene, 1);
   if (found.empty()) return;
-  const auto surface = [&](int face) {
-    return scene.surfaceNames()[static_cast<size_t>(scene.faces()[static_cast<size_t>(face)].surface)];
+  // A triangle as the user can find it: its number within its surface and the surface's label
+  // (which names the mesh file).
+  const auto triangle = [&](int face) {
+    const int s = scene.faces()[static_cast<size_t>(face)].surface;
+    return "triangle " + std::to_string(face - scene.surfaceFirstFace(s)) + " of " + scene.surfaceLabel(s);
   };
-  const std::string a = surface(found[0].face_a), b = surface(found[0].face_b);
-  throw doc.error(geom, "geometry: " + (a == b ? "surface '" + a + "' holds two coincident triangles"
-                                               : "surfaces '" + a + "' and '" + b + "' coincide") +
-                            " (at least " + squareMetres(found[0].overlap_m2) + " of overlap in one plane, a side of each facing the same way): rays cannot tell them "
+  const int sa = scene.faces()[static_cast<size_t>(found[0].face_a)].surface;
+  const int sb = scene.faces()[static_cast<size_t>(found[0].face_b)].surface;
+  const std::string a = scene.surfaceNames()[static_cast<size_t>(sa)], b = scene.surfaceNames()[static_cast<size_t>(sb)];
+  throw doc.error(geom, "geometry: " + (sa == sb ? "surface '" + a + "' holds two coincident triangles"
+                                                 : "surfaces '" + a + "' and '" + b + "' coincide") +
+                            " (" + triangle(found[0].face_a) + " and " + triangle(found[0].face_b) + " overlap by " +
+                            squareMetres(found[0].overlap_m2) +
+                            " in one plane, a side of each facing the same way): rays cannot tell them "
                             "apart, so both would take the full sun there; offset one (a radiator on a box face: "
                             "make it the face's material, or lift it by its thickness)");
 }

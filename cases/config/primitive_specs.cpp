@@ -1,6 +1,6 @@
 #include "cases/config/primitive_specs.hpp"
 
-#include "geometry/scene/mesh_io.hpp"
+#include "cases/config/mesh_block.hpp"
 
 #include <unistd.h>
 #include <limits>
@@ -119,25 +119,6 @@ void buildBox(const PrimitiveInput& in) {
            mode == "single" ? in.name : in.name + "." + geometry::kBoxFaceNames[f], faces[static_cast<size_t>(f)], "");
 }
 
-void buildMesh(const PrimitiveInput& in) {
-  const YAML::Node fnode = in.doc.required(in.params, "file", in.what);
-  std::filesystem::path path = in.doc.string(fnode, in.what + ".file");
-  if (path.is_relative()) path = in.folder / path;
-  const double scale = in.params["scale"] ? in.doc.number(in.params["scale"], in.what + ".scale",
-                                                          std::numeric_limits<double>::min(), kBig)
-                                          : 1.0;
-  try {
-    if (in.params["groups"] && in.doc.boolean(in.params["groups"], in.what + ".groups")) {
-      for (const auto& g : geometry::readObjGroups(path.string(), scale))
-        in.add(in.name + "." + g.name, in.name + "." + g.name, g.soup, path.string());
-    } else {
-      in.add(in.name, in.name, geometry::readMesh(path.string(), scale), path.string());
-    }
-  } catch (const geometry::GeometryError& e) {
-    throw in.doc.error(fnode, in.what + ".file: " + e.what());
-  }
-}
-
 }  // namespace
 
 const std::vector<PrimitiveSpec>& primitiveSpecs() {
@@ -150,7 +131,8 @@ const std::vector<PrimitiveSpec>& primitiveSpecs() {
       {"cone", {"base", "axis", "base_radius", "top_radius", "angles", "reference"}, {1, 32}, buildCone},
       {"sphere", {"center", "radius", "axis", "polar", "angles", "reference"}, {12, 24}, buildSphere},
       {"box", {"origin", "size", "nodes"}, {1, 1}, buildBox},
-      {"mesh", {"file", "scale", "groups"}, {1, 1}, buildMesh},
+      {"mesh", {"file", "scale", "groups", "nodes", "feature_angle", "rotation", "position", "flip", "properties"}, {1, 1},
+       buildMesh},
   };
   return specs;
 }

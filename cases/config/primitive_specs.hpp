@@ -29,6 +29,15 @@ struct PrimitiveInput {
   std::function<void(const std::string& surface, const std::string& node, const geometry::TriangleSoup& soup,
                      const std::string& mesh_file)>
       add;
+  bool front_active = true;  ///< the front side names a material
+  /// Records a defect of the input that was repaired or accepted (Scene::noteDefect): one
+  /// warning per `kind` for the whole case.
+  std::function<void(const std::string& kind, const std::string& where)> note;
+  /// As `add`, the sides' materials from a `{front, back}` mapping of the case (a mesh's
+  /// `properties:` entry, `sides_what` naming it for messages) instead of the primitive's own.
+  std::function<void(const std::string& surface, const std::string& node, const geometry::TriangleSoup& soup,
+                     const std::string& mesh_file, const YAML::Node& sides, const std::string& sides_what)>
+      add_with_sides;
 };
 
 struct PrimitiveSpec {

@@ -14,10 +14,20 @@ struct Coincidence {
   double overlap_m2 = 0.0;       ///< area of their overlap
 };
 
-/// Pairs of faces whose planes agree to 1e-9 of the scene's extent, whose overlap exceeds
-/// 1e-6 of the smaller face and that have an active side facing the same way; at most
-/// `max_pairs`. Sorted sweeps within each plane: O(m log m) for m faces of a plane, plus the
-/// pairs whose bounding boxes overlap.
+/// Two faces are in one plane when every corner of each lies within this fraction of the
+/// scene's extent of the other's plane (measured from the other's corner, so a model far
+/// from the origin is judged as one at it).
+inline constexpr double kCoincidencePlaneTolerance = 1e-9;
+/// ... and they coincide when their overlap exceeds this share of the smaller face (and the
+/// strip that round-off can open along their edges, `tol` × perimeter).
+inline constexpr double kCoincidenceMinShare = 1e-6;
+
+/// Pairs of coplanar faces (kCoincidencePlaneTolerance) whose overlap exceeds
+/// kCoincidenceMinShare of the smaller face and that have an active side facing the same way;
+/// at most `max_pairs`. Each plane's faces are projected into one frame the plane shares, so
+/// neighbours that share an edge or meet at a T-junction overlap by nothing. Sorted sweeps
+/// within each plane: O(m log m) for m faces of a plane, plus the pairs whose bounding boxes
+/// overlap.
 std::vector<Coincidence> coincidentFaces(const Scene& scene, size_t max_pairs = 16);
 
 }  // namespace radnet::geometry

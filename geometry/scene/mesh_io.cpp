@@ -19,13 +19,18 @@ std::string lowerExtension(const std::string& path) {
   return ext;
 }
 
-void addPolygon(TriangleSoup& soup, const std::vector<int>& poly, const std::string& path, size_t index) {
+// A polygon fanned into triangles, each remembering the polygon (the file's face `element`).
+void addPolygon(TriangleSoup& soup, const std::vector<int>& poly, const std::string& path, size_t index,
+                int element) {
   if (poly.size() < 3) {
     std::ostringstream s;
     s << path << ": polygon " << index << " has " << poly.size() << " corners; expected at least 3";
     throw GeometryError(s.str());
   }
-  for (size_t k = 1; k + 1 < poly.size(); ++k) soup.triangles.push_back({poly[0], poly[k], poly[k + 1]});
+  for (size_t k = 1; k + 1 < poly.size(); ++k) {
+    soup.triangles.push_back({poly[0], poly[k], poly[k + 1]});
+    soup.element.push_back(element);
+  }
 }
 
 void checkScale(double scale, const std::string& path) {
@@ -62,7 +67,7 @@ TriangleSoup readMesh(const std::string& path, double scale) {
       }
       poly.push_back(static_cast<int>(v));
     }
-    addPolygon(soup, poly, path, i);
+    addPolygon(soup, poly, path, i, static_cast<int>(i));
   }
   return soup;
 }
@@ -89,13 +94,13 @@ std::vector<int> objFace(std::istringstream& ls, size_t vertex_count, const std:
 }
 
 // One group's polygons as a soup that keeps only the vertices it uses, renumbered.
-MeshGroup objGroup(const std::string& name, const std::vector<std::vector<int>>& polys,
+MeshGroup objGroup(const std::string& name, const std::vector<std::pair<int, std::vector<int>>>& polys,
                    const std::vector<Vec3>& vertices, const std::string& path) {
   MeshGroup g{name, {}};
   std::vector<int> remap(vertices.size(), -1);
   for (size_t i = 0; i < polys.size(); ++i) {
     std::vector<int> poly;
-    for (int v : polys[i]) {
+    for (int v : polys[i].second) {
       if (v < 0 || v >= static_cast<int>(vertices.size())) {
         std::ostringstream s;
         s << path << ": group '" << name << "' face " << i << " refers to a missing vertex";
@@ -107,7 +112,7 @@ MeshGroup objGroup(const std::string& name, const std::vector<std::vector<int>>&
       }
       poly.push_back(remap[static_cast<size_t>(v)]);
     }
-    addPolygon(g.soup, poly, path + " group '" + name + "'", i);
+    addPolygon(g.soup, poly, path + " group '" + name + "'", i, polys[i].first);
   }
   return g;
 }
@@ -120,9 +125,10 @@ std::vector<MeshGroup> readObjGroups(const std::string& path, double scale) {
   std::ifstream in(path);
   if (!in) throw GeometryError(path + ": mesh file not found or unreadable");
   std::vector<Vec3> vertices;
-  std::vector<std::pair<std::string, std::vector<std::vector<int>>>> groups;
+  std::vector<std::pair<std::string, std::vector<std::pair<int, std::vector<int>>>>> groups;
   std::string line, current = "default";
   size_t line_no = 0;
+  int faces = 0;  // the file's face count so far: each face's element number
   while (std::getline(in, line)) {
     ++line_no;
     std::istringstream ls(line);
@@ -143,13 +149,81 @@ std::vector<MeshGroup> readObjGroups(const std::string& path, double scale) {
         groups.push_back({current, {}});
         it = groups.end() - 1;
       }
-      it->second.push_back(std::move(poly));
+      it->second.push_back({faces++, std::move(poly)});
     }
   }
   std::vector<MeshGroup> out;
   for (const auto& [name, polys] : groups) out.push_back(objGroup(name, polys, vertices, path));
   if (out.empty()) throw GeometryError(path + ": the mesh has no faces");
   return out;
+}
+
+namespace {
+
+std::string stlError(const std::string& path, size_t line_no, const std::string& what) {
+  return path + ":" + std::to_string(line_no) + ": " + what;
+}
+
+// The next "vertex x y z" of an ASCII STL facet.
+Vec3 stlVertex(std::istream& in, const std::string& path, size_t& line_no, double scale) {
+  std::string line, tag;
+  while (std::getline(in, line)) {
+    ++line_no;
+    std::istringstream ls(line);
+    if (!(ls >> tag)) continue;
+    double x, y, z;
+    if (tag != "vertex" || !(ls >> x >> y >> z)) break;
+    return scale * Vec3(x, y, z);
+  }
+  throw GeometryError(stlError(path, line_no, "expected 'vertex x y z' of a facet"));
+}
+
+}  // namespace
+
+std::vector<MeshGroup> readStlSolids(const std::string& path, double scale) {
+  checkScale(scale, path);
+  checkMeshFile(path);
+  std::ifstream in(path);
+  if (!in) throw GeometryError(path + ": mesh file not found or unreadable");
+  std::vector<MeshGroup> out;
+  std::string line, tag;
+  size_t line_no = 0;
+  int faces = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    std::istringstream ls(line);
+    if (!(ls >> tag)) continue;
+    if (tag == "solid") {
+      std::string name;
+      std::getline(ls >> std::ws, name);
+      while (!name.empty() && std::isspace(static_cast<unsigned char>(name.back()))) name.pop_back();
+      out.push_back({name.empty() ? "solid" + std::to_string(out.size()) : name, {}});
+    } else if (tag == "facet") {
+      if (out.empty()) throw GeometryError(stlError(path, line_no, "a facet before any 'solid'"));
+      TriangleSoup& soup = out.back().soup;
+      const int base = static_cast<int>(soup.vertices.size());
+      std::getline(in, line), ++line_no;  // "outer loop"
+      for (int k = 0; k < 3; ++k) soup.vertices.push_back(stlVertex(in, path, line_no, scale));
+      soup.triangles.push_back({base, base + 1, base + 2});
+      soup.element.push_back(faces++);
+    } else if (tag != "endloop" && tag != "endfacet" && tag != "endsolid") {
+      throw GeometryError(stlError(path, line_no, "'" + tag.substr(0, 40) +
+                                                      "' is no ASCII STL statement; a binary STL holds one solid "
+                                                      "and no names (use nodes: components or faces)"));
+    }
+  }
+  out.erase(std::remove_if(out.begin(), out.end(), [](const MeshGroup& g) { return g.soup.triangles.empty(); }),
+            out.end());
+  if (out.empty()) throw GeometryError(path + ": the mesh has no faces");
+  return out;
+}
+
+std::vector<MeshGroup> readMeshGroups(const std::string& path, double scale) {
+  const std::string ext = lowerExtension(path);
+  if (ext == ".obj") return readObjGroups(path, scale);
+  if (ext == ".stl") return readStlSolids(path, scale);
+  throw GeometryError(path + ": a " + ext + " file has no groups (OBJ 'g'/'o' groups and ASCII STL 'solid' names "
+                                            "have); use nodes: components, faces or elements");
 }
 
 }  // namespace radnet::geometry

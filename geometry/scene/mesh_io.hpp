@@ -1,6 +1,7 @@
 #pragma once
 // Triangle meshes from files: OFF, OBJ, STL and PLY through CGAL's polygon-soup readers,
-// with a unit scale; OBJ groups (`g` / `o`) can become one node each.
+// with a unit scale; OBJ groups (`g` / `o`) and ASCII STL solids can become one node each.
+// Each triangle remembers the file's face it came from (TriangleSoup::element).
 #include "geometry/scene/scene.hpp"
 
 #include <string>
@@ -20,5 +21,13 @@ struct MeshGroup {
 
 /// An OBJ file split by its `g`/`o` statements (faces before any, in a group named "default").
 std::vector<MeshGroup> readObjGroups(const std::string& path, double scale);
+
+/// An ASCII STL file split by its `solid <name>` blocks (unnamed: "solid<k>"); a binary STL
+/// is refused (it has one solid and no names). Every facet keeps its own three vertices.
+std::vector<MeshGroup> readStlSolids(const std::string& path, double scale);
+
+/// The groups of an OBJ or ASCII STL file; other formats have none.
+/// @throws GeometryError naming the file (and line) and what was expected
+std::vector<MeshGroup> readMeshGroups(const std::string& path, double scale);
 
 }  // namespace radnet::geometry

@@ -1,7 +1,5 @@
 #include "geometry/scene/scene.hpp"
 
-#include "geometry/scene/vertex_welder.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -12,8 +10,8 @@ namespace radnet::geometry {
 namespace {
 
 // The soup's triangles as faces (normal, area), after checking every vertex is finite,
-// every index valid and no triangle degenerate; slivers add one warning.
-std::vector<Face> checkedFaces(const TriangleSoup& soup, const std::string& label, std::vector<std::string>& warnings) {
+// every index valid and no triangle degenerate; slivers are counted (and the first named).
+std::vector<Face> checkedFaces(const TriangleSoup& soup, const std::string& label, int& slivers, int& first_sliver) {
   for (size_t i = 0; i < soup.vertices.size(); ++i)
     if (!soup.vertices[i].allFinite()) {
       std::ostringstream s;
@@ -28,7 +26,7 @@ std::vector<Face> checkedFaces(const TriangleSoup& soup, const std::string& labe
   }
   const double size = (hi - lo).norm();
   std::vector<Face> added;
-  int slivers = 0, first_sliver = -1;
+  slivers = 0, first_sliver = -1;
   for (size_t t = 0; t < soup.triangles.size(); ++t) {
     const auto& tri = soup.triangles[t];
     Face f;
@@ -57,37 +55,7 @@ std::vector<Face> checkedFaces(const TriangleSoup& soup, const std::string& labe
     f.area_m2 = 0.5 * twice_area;
     added.push_back(f);
   }
-  if (slivers > 0) {
-    std::ostringstream s;
-    s << label << ": " << slivers << " sliver triangle(s) (aspect ratio > 1e4), first: triangle " << first_sliver;
-    warnings.push_back(s.str());
-  }
   return added;
-}
-
-// A closed shell (every edge, welded within 1e-9 of its size, shared by exactly two of its
-// triangles) encloses Σ v0·(v1 × v2)/6; negative: its fronts face inward.
-bool closedInwardShell(const TriangleSoup& soup, double& volume) {
-  Eigen::AlignedBox3d box;
-  for (const Vec3& v : soup.vertices) box.extend(v);
-  VertexWelder welder(1e-9 * std::max(box.diagonal().norm(), 1e-300));
-  std::vector<int> id;
-  for (const Vec3& v : soup.vertices) id.push_back(welder.id(v));
-  std::map<std::pair<int, int>, int> edges;
-  volume = 0.0;
-  for (const auto& t : soup.triangles) {
-    const Vec3 &a = soup.vertices[static_cast<size_t>(t[0])], &b = soup.vertices[static_cast<size_t>(t[1])],
-               &c = soup.vertices[static_cast<size_t>(t[2])];
-    volume += a.dot(b.cross(c)) / 6.0;
-    for (int k = 0; k < 3; ++k) {
-      const int u = id[static_cast<size_t>(t[static_cast<size_t>(k)])];
-      const int v = id[static_cast<size_t>(t[static_cast<size_t>((k + 1) % 3)])];
-      ++edges[{std::min(u, v), std::max(u, v)}];
-    }
-  }
-  for (const auto& [edge, count] : edges)
-    if (count != 2) return false;
-  return volume < 0;
 }
 
 }  // namespace
@@ -116,18 +84,15 @@ void Scene::addSurface(const std::string& surface, const std::string& label, con
   if (soup.triangles.empty()) throw GeometryError(label + ": no triangles");
   if (!front_node.empty() && front_node == back_node)
     throw GeometryError(label + ": front and back sides cannot be the same node '" + front_node + "'");
-  std::vector<Face> added = checkedFaces(soup, label, warnings_);
-  double volume = 0.0;
-  if (!front_node.empty() && closedInwardShell(soup, volume)) {
-    std::ostringstream w;
-    w << label << ": a closed shell whose front sides face inward (it encloses " << -volume
-      << " m³ with its triangles wound the other way), so front node '" << front_node
-      << "' sees only the inside. For a solid, reverse the triangles' winding in the file; for a cavity, name the node as "
-         "the back side to say so";
-    warnings_.push_back(w.str());
-  }
+  int slivers = 0, first_sliver = -1;
+  std::vector<Face> added = checkedFaces(soup, label, slivers, first_sliver);
+  if (slivers > 0)
+    noteDefect("sliver triangles (aspect ratio above 1e4), kept",
+               label + ": " + std::to_string(slivers) + ", first triangle " + std::to_string(first_sliver));
   const int surface_id = static_cast<int>(surfaces_.size());
   surfaces_.push_back(surface);
+  labels_.push_back(label);
+  first_face_.push_back(static_cast<int>(faces_.size()));
   const int front = nodeFor(front_node, +1, label);
   const int back = nodeFor(back_node, -1, label);
   // Surfaces keep their own vertices in the mesh: panels of different surfaces may touch
@@ -141,6 +106,7 @@ void Scene::addSurface(const std::string& surface, const std::string& label, con
   }
   // Looked up by name each time: a stored handle would dangle when the scene is copied.
   auto face_id = mesh_.add_property_map<Mesh::Face_index, int>("f:radnet_face", -1).first;
+  int misfits = 0, first_misfit = -1;
   for (size_t t = 0; t < added.size(); ++t) {
     Face& f = added[t];
     f.front_node = front;
@@ -148,13 +114,21 @@ void Scene::addSurface(const std::string& surface, const std::string& label, con
     f.surface = surface_id;
     const int id = static_cast<int>(faces_.size());
     const auto& tri = soup.triangles[t];
-    const Mesh::Face_index fi = mesh_.add_face(vids[static_cast<size_t>(tri[0])], vids[static_cast<size_t>(tri[1])],
+    Mesh::Face_index fi = mesh_.add_face(vids[static_cast<size_t>(tri[0])], vids[static_cast<size_t>(tri[1])],
                                                vids[static_cast<size_t>(tri[2])]);
     if (fi == Mesh::null_face()) {
-      std::ostringstream s;
-      s << label << ": triangle " << t
-        << " does not fit its neighbours (orientation inconsistent with an adjacent triangle, or a non-manifold edge)";
-      throw GeometryError(s.str());
+      // An edge of a third triangle, or one wound against its neighbour: the triangle keeps
+      // vertices of its own (rays see it as written) and the defect is reported.
+      if (misfits++ == 0) first_misfit = static_cast<int>(t);
+      std::array<Mesh::Vertex_index, 3> own;
+      for (int k = 0; k < 3; ++k) {
+        own[static_cast<size_t>(k)] = mesh_.add_vertex(Point3(f.v[static_cast<size_t>(k)].x(), f.v[static_cast<size_t>(k)].y(),
+                                                               f.v[static_cast<size_t>(k)].z()));
+        const size_t from = static_cast<size_t>(tri[static_cast<size_t>(k)]);
+        nominal_.push_back(has_nominal ? soup.nominal[from] : soup.vertices[from]);
+        vertex_surface_.push_back(surface_id);
+      }
+      fi = mesh_.add_face(own[0], own[1], own[2]);
     }
     face_id[fi] = id;
     if (front >= 0) {
@@ -167,6 +141,28 @@ void Scene::addSurface(const std::string& surface, const std::string& label, con
     }
     faces_.push_back(f);
   }
+  if (misfits > 0)
+    noteDefect("triangles that do not fit their neighbours (on an edge of three or more triangles, or wound against "
+               "a neighbour), kept with their sides as written: check the winding",
+               label + ": " + std::to_string(misfits) + ", first triangle " + std::to_string(first_misfit));
+}
+
+void Scene::noteDefect(const std::string& kind, const std::string& where) {
+  auto it = std::find_if(defects_.begin(), defects_.end(), [&](const auto& d) { return d.first == kind; });
+  if (it == defects_.end()) it = defects_.insert(defects_.end(), {kind, {}});
+  it->second.push_back(where);
+}
+
+std::vector<std::string> Scene::warnings() const {
+  constexpr size_t kNamedPlaces = 8;  // beyond these, a count: a 500-part assembly stays one line
+  std::vector<std::string> out;
+  for (const auto& [kind, places] : defects_) {
+    std::string line = kind + ": ";
+    for (size_t k = 0; k < places.size() && k < kNamedPlaces; ++k) line += (k ? "; " : "") + places[k];
+    if (places.size() > kNamedPlaces) line += "; and " + std::to_string(places.size() - kNamedPlaces) + " more surfaces";
+    out.push_back(line);
+  }
+  return out;
 }
 
 void Scene::validate() const {

@@ -33,6 +33,9 @@ struct TriangleSoup {
   /// it off (geometry/scene/primitives.hpp); empty: the vertices themselves. Two surfaces whose
   /// nominal vertices coincide meet there by design (geometry/scene/seams.hpp).
   std::vector<Vec3> nominal;
+  /// The file's face (polygon, FE element) each triangle came from, 0-based; empty: each
+  /// triangle is its own face. Meshes split per element and messages use it.
+  std::vector<int> element;
 };
 
 /// A thermal node: a set of triangle sides.
@@ -58,8 +61,10 @@ class Scene {
   /// Adds the triangles of one surface. Sides name a node ("" = inactive side; both
   /// inactive: an occluder that blocks rays and belongs to no node); a node
   /// named again on another surface collects those triangles too (it must be the same side
-  /// kind or the message says so). Degenerate triangles are rejected naming the triangle;
-  /// slivers (aspect ratio > 1e4) are accepted and listed in warnings().
+  /// kind or the message says so). Degenerate triangles are rejected naming the triangle
+  /// (meshes from files are cleaned first: geometry/scene/mesh_repair.hpp); slivers (aspect
+  /// ratio > 1e4) and triangles that do not fit their neighbours (an edge of three or more
+  /// triangles, or wound against a neighbour: kept with their own vertices) are noted as defects.
   /// @param label  how messages name the surface (e.g. "mesh 'antenna' (parts/a.stl)")
   void addSurface(const std::string& surface, const std::string& label, const TriangleSoup& soup,
                   const std::string& front_node, const std::string& back_node);
@@ -70,7 +75,15 @@ class Scene {
   const std::vector<Face>& faces() const { return faces_; }
   const std::vector<Node>& nodes() const { return nodes_; }
   const std::vector<std::string>& surfaceNames() const { return surfaces_; }
-  const std::vector<std::string>& warnings() const { return warnings_; }
+  /// What was accepted but looks wrong: one line per kind of defect (over every surface that
+  /// has it, so a six-part assembly gets one line, not six), then the other warnings.
+  std::vector<std::string> warnings() const;
+  /// Records one surface's instance of a kind of defect. @param kind the sentence that heads
+  /// the kind's line; @param where the surface and what was found there
+  void noteDefect(const std::string& kind, const std::string& where);
+  /// How messages name surface s (e.g. "mesh 'antenna' from parts/a.stl"), and its first face.
+  const std::string& surfaceLabel(int s) const { return labels_[static_cast<size_t>(s)]; }
+  int surfaceFirstFace(int s) const { return first_face_[static_cast<size_t>(s)]; }
   const Mesh& mesh() const { return mesh_; }
   int nodeIndex(const std::string& name) const;
 
@@ -100,7 +113,9 @@ class Scene {
   std::vector<Face> faces_;
   std::vector<Node> nodes_;
   std::vector<std::string> surfaces_;
-  std::vector<std::string> warnings_;
+  std::vector<std::pair<std::string, std::vector<std::string>>> defects_;  ///< kind → where, in order met
+  std::vector<std::string> labels_;  ///< per surface
+  std::vector<int> first_face_;      ///< per surface
   std::vector<Vec3> nominal_;        ///< per mesh vertex
   std::vector<int> vertex_surface_;  ///< per mesh vertex
 };

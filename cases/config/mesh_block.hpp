@@ -1,0 +1,11 @@
+#pragma once
+// The `mesh` primitive's builder (its row is in primitive_specs.cpp).
+#include "cases/config/primitive_specs.hpp"
+
+namespace radnet::cases {
+
+/// Keys: file, scale, rotation {axis, angle}, position, flip, nodes (single, groups,
+/// components, faces, elements; `groups: true` is nodes: groups), feature_angle.
+void buildMesh(const PrimitiveInput& in);
+
+}  // namespace radnet::cases
