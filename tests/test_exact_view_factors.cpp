@@ -13,6 +13,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+
 #include <cmath>
 
 using namespace radnet::geometry;
@@ -166,6 +168,28 @@ TEST_CASE("exact method: bit-identical for any thread count; auto leaves crowded
   const ViewFactorEstimate merged = withSampledRows(a, sampled, {0, 1});
   CHECK(merged.view_factors.coeff(0, 1) == a.view_factors.coeff(0, 1));
   CHECK(merged.view_factors.coeff(1, 0) == 2.0 * a.view_factors.coeff(1, 0));
+}
+
+TEST_CASE("auto: a patch whose pairs cost more than casting its row stops planning there (bounded on clutter)") {
+  // Two walls of 12 × 12 separate cells facing each other: each cell a node, each its own patch.
+  Scene s;
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < 12; ++j) {
+      const std::string a = "a" + std::to_string(i * 12 + j), b = "b" + std::to_string(i * 12 + j);
+      s.addSurface(a, a, rectangle(Vec3(i, j, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 1, 1), a, "");
+      s.addSurface(b, b, rectangle(Vec3(i, j, 3), Vec3(0, 1, 0), Vec3(1, 0, 0), 1, 1), b, "");
+    }
+  ExactOptions plenty = ExactOptions::withTolerance(1e-6);
+  plenty.max_blockers = 8;
+  plenty.row_sampling_seconds = 10.0;  // casting a row dear: every pair is planned, every row exact
+  const ExactResult all = exactViewFactors(s, plenty);
+  CHECK(all.pairs_planned > 288 * 144);  // each of the 288 patches against the 144 it faces, at least
+  CHECK(std::count(all.sampled_rows.begin(), all.sampled_rows.end(), 1) == 0);
+  ExactOptions cheap = plenty;
+  cheap.row_sampling_seconds = 1e-9;  // a row cheaper than any pair: each patch stops at its first pair
+  const ExactResult bounded = exactViewFactors(s, cheap);
+  CHECK(bounded.pairs_planned <= 288 * 3);  // culled pairs (its own wall) cost nothing: it stops at the first that costs
+  CHECK(std::count(bounded.sampled_rows.begin(), bounded.sampled_rows.end(), 1) == 288);
 }
 
 TEST_CASE("exact method: shared out in two parts (as over MPI ranks) gives one process's result bit for bit") {

@@ -103,6 +103,8 @@ class PairSolver {
   PairKind classify(size_t a, size_t b) {
     a_ = a;
     b_ = b;
+    candidates_.clear();
+    blockers_.clear();
     const Patch &p = s_.patches[a], &q = s_.patches[b];
     if (s_.sampled[a] && s_.sampled[b]) return PairKind::Culled;  // neither row is integrated
     if (allBehind(s_.points[b], p, s_.tol) || allBehind(s_.points[a], q, s_.tol)) return PairKind::Culled;
@@ -123,6 +125,7 @@ class PairSolver {
     return PairKind::Occluded;
   }
   size_t blockers() const { return blockers_.size(); }
+  size_t candidates() const { return candidates_.size(); }
 
   FactorEstimate integrate(PairKind kind) {
     const Patch &p = s_.patches[a_], &q = s_.patches[b_];
@@ -205,14 +208,26 @@ bool visitedFrom(const ExactScene& scene, int a, int b) {
 
 // Method auto's plan: rows whose pairs would cost more to integrate than to cast, or that
 // have a pair of more than max_blockers blockers, are marked for sampling.
-void planRows(ExactScene& scene, const ExactOptions& opt, std::vector<char>& rows, int threads) {
+// Planning a pair costs too: its occluder candidates are each tested against the pair's
+// hull (about 50 ns a candidate on bench_exact_view_factors' scenes), and on a cluttered CAD
+// assembly a pair's box holds thousands of them (a 37,706-triangle frame planned for more
+// than 10 minutes before this bound). Integers, so that sums do not depend on the threads.
+std::int64_t planMicroseconds(size_t candidates) { return static_cast<std::int64_t>(candidates / 20); }
+
+// Which rows auto leaves to rays: a node with a pair of too many blockers, or whose pairs
+// would cost more than casting its row. A patch stops planning as soon as its own pairs
+// (planned and predicted) cost more than casting its whole row: the row is cast then, and
+// each patch's planning stays bounded by that cost.
+std::int64_t planRows(ExactScene& scene, const ExactOptions& opt, std::vector<char>& rows, int threads) {
   const int np = static_cast<int>(scene.patches.size());
   const std::vector<int> exact = exactPatches(scene);
   const size_t n = rows.size();
+  const double limit_us = opt.row_sampling_seconds * 1e6;
   std::vector<std::int64_t> cost(n, 0);
   std::vector<char> crowded(n, 0);
+  std::int64_t planned = 0;
 #ifdef _OPENMP
-#pragma omp parallel num_threads(threads)
+#pragma omp parallel num_threads(threads) reduction(+ : planned)
 #endif
   {
     PairSolver solver(scene, opt);
@@ -221,18 +236,27 @@ void planRows(ExactScene& scene, const ExactOptions& opt, std::vector<char>& row
 #ifdef _OPENMP
 #pragma omp for schedule(dynamic, 16)
 #endif
-    for (size_t k = 0; k < exact.size(); ++k)
+    for (size_t k = 0; k < exact.size(); ++k) {
+      const int a = exact[k];
+      const int node_a = scene.patches[static_cast<size_t>(a)].node;
+      std::int64_t patch_us = 0;
       for (int b = 0; b < np; ++b) {
-        const int a = exact[k];
         if (!visitedFrom(scene, a, b)) continue;
         const PairKind kind = solver.classify(static_cast<size_t>(a), static_cast<size_t>(b));
+        ++planned;
         const std::int64_t us = pairMicroseconds(kind, solver.blockers());
-        for (int node : {scene.patches[static_cast<size_t>(a)].node, scene.patches[static_cast<size_t>(b)].node}) {
+        patch_us += us + planMicroseconds(solver.candidates());
+        for (int node : {node_a, scene.patches[static_cast<size_t>(b)].node}) {
           if (node < 0) continue;
           my_cost[static_cast<size_t>(node)] += us;
           if (kind == PairKind::Sampled) my_crowded[static_cast<size_t>(node)] = 1;
         }
+        if (node_a >= 0 && limit_us > 0 && double(patch_us) > limit_us) {
+          my_crowded[static_cast<size_t>(node_a)] = 1;
+          break;
+        }
       }
+    }
 #ifdef _OPENMP
 #pragma omp critical(radnet_exact_plan)
 #endif
@@ -241,10 +265,10 @@ void planRows(ExactScene& scene, const ExactOptions& opt, std::vector<char>& row
       crowded[i] = crowded[i] || my_crowded[i];
     }
   }
-  const double limit_us = opt.row_sampling_seconds * 1e6;
   for (size_t i = 0; i < n; ++i)
     rows[i] = rows[i] || crowded[i] || (opt.row_sampling_seconds > 0 && double(cost[i]) > limit_us);
   scene.markSampled(rows);
+  return planned;
 }
 
 struct PairCounts {
@@ -355,7 +379,8 @@ ExactResult exactViewFactors(const Scene& scene, const ExactOptions& opt) {
   const size_t n = scene.nodes().size();
   ExactResult res;
   res.sampled_rows = shared.presample(n, opt.max_patches);
-  if (opt.max_blockers >= 0 || opt.row_sampling_seconds > 0) planRows(shared, opt, res.sampled_rows, threads);
+  if (opt.max_blockers >= 0 || opt.row_sampling_seconds > 0)
+    res.pairs_planned = planRows(shared, opt, res.sampled_rows, threads);
   std::vector<std::vector<PairValue>> values(shared.patches.size());
   const PairCounts counts = integratePairs(shared, opt, threads, values);
   Eigen::VectorXd area(static_cast<Eigen::Index>(n));

@@ -61,6 +61,7 @@ struct ExactResult : ViewFactorEstimate {
   std::int64_t pairs_hidden = 0;      ///< one occluder hides all of one from all of the other
   std::int64_t pairs_unoccluded = 0;  ///< exact contour integral
   std::int64_t pairs_occluded = 0;    ///< quadrature with exact point visibility
+  std::int64_t pairs_planned = 0;     ///< pairs classified while auto chose the rows (a patch stops at its row's cost)
   /// Per node: 1 when its row is left to ray casting (empty here, space and blocked 0).
   std::vector<char> sampled_rows;
   long long evaluations = 0;          ///< integrand evaluations (outer contour points, visibility points)

@@ -3,7 +3,10 @@
 // built once, eagerly, so that concurrent queries from many threads are safe.
 #include "geometry/scene/scene.hpp"
 
+#include <array>
 #include <memory>
+#include <utility>
+#include <vector>
 
 namespace radnet::geometry {
 
@@ -15,6 +18,12 @@ struct Hit {
 
 class RayCaster {
  public:
+  /// Triangles longer than this many times the scene's median longest edge enter the tree in
+  /// pieces (the hit is still reported on the whole face): see ray_caster.cpp.
+  static constexpr double kSplitLength = 2.0;
+  static constexpr int kSplitDepth = 8;  ///< at most 2^8 pieces a triangle
+  using TreeInput = std::vector<std::pair<std::array<Vec3, 3>, int>>;
+
   explicit RayCaster(const Scene& scene);
   ~RayCaster();
   RayCaster(const RayCaster&) = delete;
