@@ -501,3 +501,26 @@ TEST_CASE("Gmsh: a box in MSH 2.2 and 4.1, ASCII and binary, gives the box primi
   CHECK(h.exit_code == 2);
   CHECK_THAT(h.err, Contains("huge.msh:5: nodes: 900000000000 stated"));
 }
+
+TEST_CASE("a node that falls below 10 K is warned by name; a boundary node is not") {
+  TempDir dir;
+  // Three plates facing +x: `lit` dissipates 10 W and sees only the inactive back of `dark`,
+  // which has nothing and no conductor, so in steady state it sits at the 3 K of space;
+  // `sky` is held at 3 K.
+  dir.write("plates.obj", "v 0 0 0\nv 0 1 0\nv 0 1 1\nv 0 0 1\nv 2 0 0\nv 2 0 1\nv 2 1 1\nv 2 1 0\n"
+                          "v 5 0 0\nv 5 1 0\nv 5 1 1\nv 5 0 1\ng lit\nf 1 2 3 4\ng dark\nf 5 8 7 6\ng sky\nf 9 10 11 12\n");
+  dir.write("case.yaml", R"(
+name: dark
+materials: {white: {emissivity: 0.8, absorptivity: 0.3}}
+geometry:
+  - mesh: {name: p, file: plates.obj, nodes: groups, front: white}
+thermal:
+  nodes: {p.lit: {dissipation: 10.0}, p.sky: {temperature: 3.0}}
+)");
+  const Run r = runRadnet("run case.yaml -o out.h5", dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.err, Contains("node 'p.dark' falls to"));
+  CHECK(r.err.find("node 'p.lit' falls to") == std::string::npos);
+  CHECK(r.err.find("node 'p.sky' falls to") == std::string::npos);
+}

@@ -1,5 +1,7 @@
 #include "cases/pipeline/geometry_run.hpp"
 
+#include <cmath>
+
 #include "cases/cluster/cluster.hpp"
 #include "cases/config/error_budget.hpp"
 #include "cases/pipeline/design_run.hpp"
@@ -11,6 +13,7 @@
 #include "geometry/rays/view_factors.hpp"
 #include "solver/radiative/policy.hpp"
 
+#include <cmath>
 #include <ostream>
 
 namespace radnet::cases {
@@ -154,6 +157,35 @@ std::unique_ptr<solver::Network> buildNetwork(const GeometryCase& c, const Eigen
   return std::make_unique<solver::Network>(c.node_names, area, Eigen::MatrixXd(f), correction.blocked, tol);
 }
 
+// Nodes a thermal engineer must hear about by name: one that absorbs nothing at any position
+// although it sees space (its fronts face inward, or it hides inside a closed part), and one
+// whose temperature falls below kColdestLikelyK (nothing heats it). Boundary nodes (a fixed
+// temperature the user gave) are left out.
+constexpr double kSeesSpace = 1e-3;        // F_space above which a node sees the sky, –
+constexpr double kColdestLikelyK = 10.0;   // below this no spacecraft node is meant to be, K
+
+void suspiciousNodeWarnings(const GeometryCase& c, const GeometryRunResult& r, std::ostream& progress) {
+  if (r.sweep && r.radiative.network) {
+    const Eigen::VectorXd& f_space = r.radiative.network->spaceViewFactor();
+    const std::vector<std::string>& names = r.radiative.network->names();
+    for (Eigen::Index i = 0; i < r.sweep->absorbed_total.rows() && i < f_space.size(); ++i)
+      if (f_space[i] > kSeesSpace && std::max(c.absorptivity[i], c.emissivity[i]) > 0.0 &&
+          !(r.sweep->absorbed_total.row(i).maxCoeff() > 0.0))
+        progress << "radnet: warning: node '" << names[static_cast<size_t>(i)]
+                 << "' absorbs nothing at any position although it sees space (F_space = " << f_space[i]
+                 << "): unless it is meant to stay dark, do its fronts face inward (a mesh's `flip: true`)?\n";
+  }
+  if (!r.thermal || !c.thermal) return;
+  const Eigen::MatrixXd& t = r.thermal->temperature();
+  const Eigen::VectorXd& fixed = c.thermal->fixed_temperature;
+  for (Eigen::Index i = 0; i < t.rows(); ++i) {
+    const double lowest = t.row(i).minCoeff();
+    if (lowest < kColdestLikelyK && !(i < fixed.size() && std::isfinite(fixed[i])))
+      progress << "radnet: warning: node '" << r.thermal->node_names[static_cast<size_t>(i)] << "' falls to "
+               << lowest << " K: nothing heats it (no load reaches it, no conductor joins it?)\n";
+  }
+}
+
 }  // namespace
 
 GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std::ostream& progress) {
@@ -186,6 +218,7 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
   const DesignContext ctx{c, caster, r.radiative, r.solver, r.view_factor_stderr, r.lost_view_factor_stderr, area};
   std::vector<CaseRun> runs;
   runDesignCases(ctx, r, runs, show_progress, progress);
+  suspiciousNodeWarnings(c, r, progress);
   if (c.optical_uncertainty) {
     StageTimer t_opt(r.timings, Stage::OpticalUncertainty);
     r.optical_uncertainty = sampleOpticalUncertainty(ctx, runs, r.cases.band_cores, show_progress, progress);
