@@ -34,7 +34,9 @@ import numpy as np
 RUN_SEEDS = {"parallel-plates", "lumped-nodes", "infinite-parallel-plates", "two-sided-panel",
              "sunlit-plate-temperature", "parallel-plates-temperature", "perpendicular-squares",
              "mesh-plate-stl", "mesh-plate-off", "mesh-plate-ply", "mesh-plate-obj", "mesh-plate-binary-stl",
-             "mesh-plate-binary-off", "mesh-plate-binary-ply"}
+             "mesh-plate-binary-off", "mesh-plate-binary-ply", "mesh-plate-bdf", "mesh-plate-bdf-large",
+             "mesh-plate-bdf-free", "mesh-plate-msh", "mesh-plate-msh-22", "mesh-plate-binary-msh",
+             "mesh-plate-binary-msh-22"}
 INTERESTING_NUMBERS = ["0", "-0", "-1", "1", "0.5", "1e308", "-1e308", "1e-308", "4.9e-324", "2147483648",
                        "-2147483649", "9223372036854775808", "1e9", "1e15", "3", "100000000", "0x10", "1_000",
                        ".nan", ".inf", "-.inf", "nan", "1e", "--1", "1.5.2", "360", "-360", "90", "180", "1e-9"]
@@ -74,17 +76,70 @@ def plate_meshes():
     binary_ply = (b"ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
                   b"property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n" +
                   b"".join(struct.pack("<3f", *p) for p in v) + b"".join(struct.pack("<B3i", 3, *t) for t in tris))
-    return {"stl": stl.encode(), "off": off.encode(), "ply": ply.encode(), "obj": obj.encode(),
-            "binary-stl": bytes(binary), "binary-off": binary_off, "binary-ply": binary_ply}
+    out = {"stl": stl.encode(), "off": off.encode(), "ply": ply.encode(), "obj": obj.encode(),
+           "binary-stl": bytes(binary), "binary-off": binary_off, "binary-ply": binary_ply}
+    out.update(nastran_plates(v))
+    out.update(gmsh_plates(v))
+    return out
+
+
+def nastran_plates(v):
+    """The plate as NASTRAN bulk data: small field (a CQUAD4), large field (GRID* with `*`
+    continuations, in a CORD2R), free field (commas, two CTRIA3, short-form reals)."""
+    def small(*fields):
+        return "".join(str(f)[:8].ljust(8) for f in fields).rstrip() + "\n"
+    grids = "".join(small("GRID", k + 1, "", f"{x}.", f"{y}.", f"{z}.") for k, (x, y, z) in enumerate(v))
+    plate = "BEGIN BULK\n" + grids + small("CQUAD4", 10, 1, 1, 2, 3, 4) + small("PSHELL", 1, 1, "0.002") + \
+        small("MAT4", 1, "167.") + "ENDDATA\n"
+    large = small("CORD2R", 3, 0, "0.", "0.", "0.", "0.", "0.", "1.", "+C3") + small("+C3", "1.", "0.", "0.")
+    for k, (x, y, z) in enumerate(v):
+        large += f"GRID*   {k + 1:<16d}{3:<16d}{float(x):<16.6f}{float(y):<16.6f}*G{k}\n*G{k:<6d}{float(z):<16.6f}\n"
+    large += small("CTRIA3", 11, 2, 1, 2, 3) + small("CTRIA3", 12, 2, 1, 3, 4)
+    free = "".join(f"GRID,{k + 1},,{x}.0+0,{y}.,{z}.\n" for k, (x, y, z) in enumerate(v)) + \
+        "CTRIA3,21,7,1,2,3\nCTRIA3,22,7,1,3,4\nPSHELL,7,,1.-3\n"
+    return {"bdf": plate.encode(), "bdf-large": large.encode(), "bdf-free": free.encode()}
+
+
+def gmsh_plates(v):
+    """The plate as Gmsh MSH 2.2 and 4.1, ASCII and binary: one quadrangle in physical
+    surface 1 ("plate") and a line element that is read past."""
+    names = "$PhysicalNames\n1\n2 1 \"plate\"\n$EndPhysicalNames\n"
+    out = {}
+    for binary in (False, True):
+        fmt = (lambda version: f"$MeshFormat\n{version} {int(binary)} 8\n".encode() +
+               (struct.pack("<i", 1) + b"\n" if binary else b"") + b"$EndMeshFormat\n" + names.encode())
+        if binary:
+            nodes = b"$Nodes\n4\n" + b"".join(struct.pack("<i3d", k + 1, *map(float, p)) for k, p in enumerate(v))
+            elements = (b"\n$EndNodes\n$Elements\n2\n" + struct.pack("<3i", 1, 1, 2) + struct.pack("<5i", 1, 0, 9, 1, 2) +
+                        struct.pack("<3i", 3, 1, 2) + struct.pack("<7i", 2, 1, 9, 1, 2, 3, 4) + b"\n$EndElements\n")
+        else:
+            nodes = ("$Nodes\n4\n" + "".join(f"{k + 1} {x} {y} {z}\n" for k, (x, y, z) in enumerate(v))).encode()
+            elements = b"$EndNodes\n$Elements\n2\n1 1 2 0 9 1 2\n2 3 2 1 9 1 2 3 4\n$EndElements\n"
+        out[("binary-" if binary else "") + "msh-22"] = fmt("2.2") + nodes + elements
+        if binary:
+            q = lambda *a: struct.pack(f"<{len(a)}Q", *a)
+            i = lambda *a: struct.pack(f"<{len(a)}i", *a)
+            body = (b"$Entities\n" + q(0, 0, 1, 0) + i(9) + struct.pack("<6d", 0, 0, 0, 1, 1, 0) + q(1) + i(1) + q(0) +
+                    b"\n$EndEntities\n$Nodes\n" + q(1, 4, 1, 4) + i(2, 9, 0) + q(4) + q(1, 2, 3, 4) +
+                    b"".join(struct.pack("<3d", *map(float, p)) for p in v) + b"\n$EndNodes\n$Elements\n" +
+                    q(1, 1, 1, 1) + i(2, 9, 3) + q(1) + q(1, 1, 2, 3, 4) + b"\n$EndElements\n")
+        else:
+            body = ("$Entities\n0 0 1 0\n9 0 0 0 1 1 0 1 1 0\n$EndEntities\n$Nodes\n1 4 1 4\n2 9 0 4\n1\n2\n3\n4\n" +
+                    "".join(f"{x} {y} {z}\n" for x, y, z in v) +
+                    "$EndNodes\n$Elements\n1 1 1 1\n2 9 3 1\n1 1 2 3 4\n$EndElements\n").encode()
+        out[("binary-" if binary else "") + "msh"] = fmt("4.1") + body
+    return out
 
 
 def mesh_case(ext):
-    """A plate from a mesh file facing a plate from a rectangle, at 300 K and 200 K."""
+    """A plate from a mesh file facing a plate from a rectangle, at 300 K and 200 K (one node
+    `part` from any format: NASTRAN and Gmsh files are split by group unless told)."""
+    single = ", nodes: single" if ext in ("bdf", "msh") else ""
     return f"""name: mesh-plate
 materials:
   black: {{emissivity: 1.0, absorptivity: 1.0}}
 geometry:
-  - mesh: {{name: part, file: part.{ext}, scale: 1.0, front: black}}
+  - mesh: {{name: part, file: part.{ext}, scale: 1.0, front: black{single}}}
   - rectangle: {{name: facing, origin: [0, 1, 1], u: [1, 0, 0], v: [0, -1, 0], front: black, subdivisions: [2, 2]}}
 solver:
   view_factors: {{rays: 2000, seed: 1}}
@@ -107,7 +162,7 @@ def seeds(source):
                         side[f"{sub}/{f.name}"] = f.read_bytes()
             out.append((("bad-" if folder == "tests/data/bad" else "") + path.stem, path.read_bytes(), side))
     for fmt, data in plate_meshes().items():
-        ext = fmt.replace("binary-", "")
+        ext = fmt.replace("binary-", "").split("-")[0]
         out.append((f"mesh-plate-{fmt}", mesh_case(ext), {f"part.{ext}": data}))
     return out
 
@@ -180,6 +235,8 @@ def mutate_bytes(rng, data):
 
 def mutate_mesh(rng, name, data):
     if name.endswith((".off", ".ply")) and b"binary" in data[:64].lower():
+        return mutate_bytes(rng, data)
+    if name.endswith(".msh") and b" 1 8" in data[:40]:  # binary Gmsh: counts, tags and doubles
         return mutate_bytes(rng, data)
     if name.endswith(".stl") and not data.startswith(b"solid"):  # binary STL: counts and floats
         data = bytearray(data)
@@ -289,7 +346,7 @@ def judge(rc, err_text, located_as, run):
         problems.append(f"exit {rc}")
     # Located in the mutant's own folder: the case, an include or a mesh it names.
     if rc == 2 and not re.search(re.escape(located_as) + r"[^\s:]*:\d+:\d+:", err_text) and \
-            not re.search(re.escape(located_as) + r"[^\s:]*\.(yaml|yml|stl|off|ply|obj)\b", err_text, re.I):
+            not re.search(re.escape(located_as) + r"[^\s:]*\.(yaml|yml|stl|off|ply|obj|bdf|msh)\b", err_text, re.I):
         problems.append("exit 2 without file:line:column")
     if rc not in (0, None) and not err_text.strip():
         problems.append(f"exit {rc} with nothing said on stderr")
