@@ -5,6 +5,8 @@ JOBS ?= $(shell nproc)
 PACKAGES = cmake g++ make libeigen3-dev libspectra-dev libcgal-dev libgeographiclib-dev \
            libyaml-cpp-dev libhdf5-dev zlib1g-dev catch2 libcli11-dev libopenmpi-dev openmpi-bin \
            libopenblas-dev liblapacke-dev \
+           libocct-data-exchange-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev libocct-foundation-dev \
+           libocct-visualization-dev libocct-ocaf-dev libtbb-dev \
            python3-h5py python3-matplotlib python3-numpy
 # ParaView, only to test that what users open in it loads (pvbatch under Xvfb, Mesa's
 # software OpenGL); without recommends it is about 150 MB.

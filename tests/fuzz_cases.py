@@ -161,6 +161,10 @@ def seeds(source):
                     for f in sorted((path.parent / sub).iterdir()):
                         side[f"{sub}/{f.name}"] = f.read_bytes()
             out.append((("bad-" if folder == "tests/data/bad" else "") + path.stem, path.read_bytes(), side))
+    # A STEP solid (OpenCASCADE reads it in a child process: its crashes must become refusals).
+    step = (source / "tests/data/meshes/box.step").read_bytes()
+    out.append(("mesh-box-step", b"name: step-box\nmaterials: {black: {emissivity: 0.9, absorptivity: 0.9}}\n"
+                b"geometry:\n  - mesh: {name: part, file: part.step, front: black}\n", {"part.step": step}))
     for fmt, data in plate_meshes().items():
         ext = fmt.replace("binary-", "").split("-")[0]
         out.append((f"mesh-plate-{fmt}", mesh_case(ext), {f"part.{ext}": data}))
@@ -346,7 +350,7 @@ def judge(rc, err_text, located_as, run):
         problems.append(f"exit {rc}")
     # Located in the mutant's own folder: the case, an include or a mesh it names.
     if rc == 2 and not re.search(re.escape(located_as) + r"[^\s:]*:\d+:\d+:", err_text) and \
-            not re.search(re.escape(located_as) + r"[^\s:]*\.(yaml|yml|stl|off|ply|obj|bdf|msh)\b", err_text, re.I):
+            not re.search(re.escape(located_as) + r"[^\s:]*\.(yaml|yml|stl|off|ply|obj|bdf|msh|step)\b", err_text, re.I):
         problems.append("exit 2 without file:line:column")
     if rc not in (0, None) and not err_text.strip():
         problems.append(f"exit {rc} with nothing said on stderr")

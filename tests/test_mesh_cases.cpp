@@ -4,6 +4,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
@@ -523,4 +524,61 @@ thermal:
   CHECK_THAT(r.err, Contains("node 'p.dark' falls to"));
   CHECK(r.err.find("node 'p.lit' falls to") == std::string::npos);
   CHECK(r.err.find("node 'p.sky' falls to") == std::string::npos);
+}
+
+TEST_CASE("STEP: a box's CAD faces are its nodes with exact areas; a cylinder's within the tessellation's bound") {
+  TempDir dir;
+  const std::string head = "materials: {black: {emissivity: 0.9, absorptivity: 0.9}}\n"
+                           "solver: {view_factors: {method: exact}}\ngeometry:\n";
+  const std::string data = source("tests/data/meshes/");
+  dir.write("box.yaml", "name: b\n" + head + "  - mesh: {name: box, file: " + data + "box.step, front: black}\n");
+  const Run b = runRadnet("run box.yaml -o b.h5", dir);
+  INFO(b.err);
+  REQUIRE(b.exit_code == 0);
+  hid_t f = H5Fopen((dir.path / "b.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  std::vector<std::string> names = readNodeNames(f);
+  H5Data area = readDataset(f, "/nodes/area"), space = readDataset(f, "/network/space_view_factor");
+  H5Fclose(f);
+  REQUIRE(names.size() == 6);
+  std::vector<double> sorted = area.values;
+  std::sort(sorted.begin(), sorted.end());
+  const std::vector<double> faces = {0.02, 0.02, 0.03, 0.03, 0.06, 0.06};  // the file's mm, read as m
+  for (size_t k = 0; k < 6; ++k) {
+    CHECK(names[k] == "box." + std::to_string(k));
+    CHECK(sorted[k] == Approx(faces[k]).epsilon(1e-12));
+    CHECK(space.values[k] == Approx(1.0).margin(1e-9));  // a convex solid's outward faces see only space
+  }
+  // A cylinder (r = 50 mm, h = 120 mm) at a chord deflection d = 0.5 mm: the tessellation is
+  // inscribed, so each face is smaller than the true one, the wall by at most d/(3r) (its rim
+  // polygon's perimeter), a lid by at most (4/3) d/r (its polygon's area).
+  dir.write("can.yaml", "name: c\n" + head + "  - mesh: {name: can, file: " + data +
+                            "cylinder.step, front: black, mesh_size: 0.0005}\n");
+  const Run c = runRadnet("run can.yaml -o c.h5", dir);
+  INFO(c.err);
+  REQUIRE(c.exit_code == 0);
+  f = H5Fopen((dir.path / "c.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  area = readDataset(f, "/nodes/area");
+  H5Fclose(f);
+  REQUIRE(area.values.size() == 3);
+  const double r = 0.05, h = 0.12, d = 0.0005;
+  int walls = 0, lids = 0;
+  for (double a : area.values) {
+    if (a > 0.02) {
+      ++walls;
+      CHECK(a <= 2 * M_PI * r * h);
+      CHECK(a >= 2 * M_PI * r * h * (1 - d / (3 * r)));
+    } else {
+      ++lids;
+      CHECK(a <= M_PI * r * r);
+      CHECK(a >= M_PI * r * r * (1 - 4 * d / (3 * r)));
+    }
+  }
+  CHECK(walls == 1);
+  CHECK(lids == 2);
+  // Other formats take no mesh_size.
+  dir.write("plate.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n");
+  dir.write("bad.yaml", "name: x\n" + head + "  - mesh: {name: p, file: plate.obj, front: black, mesh_size: 0.1}\n");
+  const Run bad = runRadnet("validate bad.yaml", dir);
+  CHECK(bad.exit_code == 2);
+  CHECK_THAT(bad.err, Contains("bad.yaml:5:") && Contains("applies to STEP files only"));
 }

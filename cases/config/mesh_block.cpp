@@ -8,6 +8,7 @@
 #include "geometry/scene/mesh_partition.hpp"
 #include "geometry/scene/mesh_repair.hpp"
 #include "geometry/scene/nastran.hpp"
+#include "geometry/scene/step.hpp"
 #include "solver/units.hpp"
 
 #include <algorithm>
@@ -44,14 +45,16 @@ Eigen::Matrix3d rotation(const PrimitiveInput& in) {
   return Eigen::AngleAxisd(units::degToRad(angle), axis.normalized()).toRotationMatrix();
 }
 
-// The formats whose own unit is a group (NASTRAN PIDs, Gmsh physical surfaces), by extension.
-enum class Format { Plain, Nastran, Gmsh };
+// The formats whose own unit is a group (NASTRAN PIDs, Gmsh physical surfaces, STEP faces),
+// by extension.
+enum class Format { Plain, Nastran, Gmsh, Step };
 
 Format formatOf(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   if (ext == ".bdf" || ext == ".nas" || ext == ".dat" || ext == ".blk") return Format::Nastran;
   if (ext == ".msh") return Format::Gmsh;
+  if (ext == ".step" || ext == ".stp") return Format::Step;
   return Format::Plain;
 }
 
@@ -137,7 +140,12 @@ void noteSkipped(const PrimitiveInput& in, const std::string& kind, const std::s
 std::vector<geometry::MeshGroup> readParts(const PrimitiveInput& in, const std::string& path, double scale,
                                            MeshNodes mode, Format format) {
   std::vector<geometry::MeshGroup> groups;
-  if (format == Format::Nastran) {
+  if (format == Format::Step) {
+    const double size = in.params["mesh_size"] ? in.doc.number(in.params["mesh_size"], in.what + ".mesh_size (m)",
+                                                               1e-9, 1e3)
+                                               : 0.0;
+    groups = geometry::readStep(path, scale, size);
+  } else if (format == Format::Nastran) {
     geometry::NastranModel model = geometry::readNastran(path, scale);
     noteSkipped(in, "NASTRAN cards not read (radnet reads GRID, CORD2R, CTRIA3, CQUAD4, PSHELL, MAT4)", path,
                 model.skipped);
@@ -193,6 +201,9 @@ void buildMesh(const PrimitiveInput& in) {
   const bool flip = in.params["flip"] && in.doc.boolean(in.params["flip"], in.what + ".flip");
   const Format format = formatOf(path);
   const MeshNodes mode = nodeMode(in, format);
+  if (in.params["mesh_size"] && format != Format::Step)
+    throw in.doc.error(in.params["mesh_size"], in.what + ".mesh_size: applies to STEP files only (other meshes are "
+                                                         "used as their file has them)");
   if (in.params["feature_angle"] && mode != MeshNodes::Faces)
     throw in.doc.error(in.params["feature_angle"], in.what + ".feature_angle: applies to nodes: faces only");
   const double feature_angle = in.params["feature_angle"]
@@ -203,7 +214,7 @@ void buildMesh(const PrimitiveInput& in) {
     const std::map<std::string, YAML::Node> sides = properties(in, parts, format, mode);
     double extent = 0.0, shortest = std::numeric_limits<double>::infinity();
     for (geometry::MeshGroup& part : parts) {
-      // NASTRAN and Gmsh elements are named by their id alone (unique across groups).
+      // NASTRAN, Gmsh and STEP elements are named by their id alone (unique across groups).
       const bool by_id = format != Format::Plain && mode == MeshNodes::Elements;
       const std::string node = part.name.empty() || by_id ? in.name : in.name + "." + part.name;
       const std::string label = "mesh '" + (by_id ? in.name + "' group '" + part.name : node) + "' from " + path.string();

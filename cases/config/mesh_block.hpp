@@ -5,7 +5,8 @@
 namespace radnet::cases {
 
 /// Keys: file, scale, rotation {axis, angle}, position, flip, nodes (single, groups,
-/// components, faces, elements; `groups: true` is nodes: groups), feature_angle.
+/// components, faces, elements; `groups: true` is nodes: groups), feature_angle, properties
+/// (NASTRAN, by PID), mesh_size (STEP: the tessellation's chord deflection, m).
 void buildMesh(const PrimitiveInput& in);
 
 }  // namespace radnet::cases

@@ -131,7 +131,8 @@ const std::vector<PrimitiveSpec>& primitiveSpecs() {
       {"cone", {"base", "axis", "base_radius", "top_radius", "angles", "reference"}, {1, 32}, buildCone},
       {"sphere", {"center", "radius", "axis", "polar", "angles", "reference"}, {12, 24}, buildSphere},
       {"box", {"origin", "size", "nodes"}, {1, 1}, buildBox},
-      {"mesh", {"file", "scale", "groups", "nodes", "feature_angle", "rotation", "position", "flip", "properties"}, {1, 1},
+      {"mesh", {"file", "scale", "groups", "nodes", "feature_angle", "rotation", "position", "flip", "properties",
+                "mesh_size"}, {1, 1},
        buildMesh},
   };
   return specs;

@@ -43,7 +43,8 @@ TriangleSoup readMesh(const std::string& path, double scale) {
   checkScale(scale, path);
   const std::string ext = lowerExtension(path);
   if (ext != ".off" && ext != ".obj" && ext != ".stl" && ext != ".ply")
-    throw GeometryError(path + ": unknown mesh format '" + ext + "'; expected .off, .obj, .stl or .ply");
+    throw GeometryError(path + ": unknown mesh format '" + ext +
+                        "'; expected .off, .obj, .stl, .ply, NASTRAN .bdf/.nas/.dat/.blk, Gmsh .msh or STEP .step/.stp");
   checkMeshFile(path);
   std::vector<Point3> points;
   std::vector<std::vector<std::size_t>> polygons;
