@@ -79,6 +79,21 @@ int Scene::nodeFor(const std::string& name, int side, const std::string& label) 
   return static_cast<int>(nodes_.size() - 1);
 }
 
+Mesh::Face_index Scene::addLooseFace(const Face& f, const TriangleSoup& soup, const std::array<int, 3>& tri) {
+  // An edge of a third triangle, or one wound against its neighbour, which CGAL's
+  // Surface_mesh refuses: the triangle keeps vertices of its own (rays see it as written)
+  // and the caller reports the defect.
+  const bool has_nominal = soup.nominal.size() == soup.vertices.size();
+  std::array<Mesh::Vertex_index, 3> own;
+  for (size_t k = 0; k < 3; ++k) {
+    own[k] = mesh_.add_vertex(Point3(f.v[k].x(), f.v[k].y(), f.v[k].z()));
+    const size_t from = static_cast<size_t>(tri[k]);
+    nominal_.push_back(has_nominal ? soup.nominal[from] : soup.vertices[from]);
+    vertex_surface_.push_back(f.surface);
+  }
+  return mesh_.add_face(own[0], own[1], own[2]);
+}
+
 void Scene::addSurface(const std::string& surface, const std::string& label, const TriangleSoup& soup,
                        const std::string& front_node, const std::string& back_node) {
   if (soup.triangles.empty()) throw GeometryError(label + ": no triangles");
@@ -117,18 +132,8 @@ void Scene::addSurface(const std::string& surface, const std::string& label, con
     Mesh::Face_index fi = mesh_.add_face(vids[static_cast<size_t>(tri[0])], vids[static_cast<size_t>(tri[1])],
                                                vids[static_cast<size_t>(tri[2])]);
     if (fi == Mesh::null_face()) {
-      // An edge of a third triangle, or one wound against its neighbour: the triangle keeps
-      // vertices of its own (rays see it as written) and the defect is reported.
       if (misfits++ == 0) first_misfit = static_cast<int>(t);
-      std::array<Mesh::Vertex_index, 3> own;
-      for (int k = 0; k < 3; ++k) {
-        own[static_cast<size_t>(k)] = mesh_.add_vertex(Point3(f.v[static_cast<size_t>(k)].x(), f.v[static_cast<size_t>(k)].y(),
-                                                               f.v[static_cast<size_t>(k)].z()));
-        const size_t from = static_cast<size_t>(tri[static_cast<size_t>(k)]);
-        nominal_.push_back(has_nominal ? soup.nominal[from] : soup.vertices[from]);
-        vertex_surface_.push_back(surface_id);
-      }
-      fi = mesh_.add_face(own[0], own[1], own[2]);
+      fi = addLooseFace(f, soup, tri);
     }
     face_id[fi] = id;
     if (front >= 0) {

@@ -108,6 +108,8 @@ class Scene {
 
  private:
   int nodeFor(const std::string& name, int side, const std::string& label);
+  /// Adds face f (its surface set) with vertices of its own: one CGAL refused to join.
+  Mesh::Face_index addLooseFace(const Face& f, const TriangleSoup& soup, const std::array<int, 3>& tri);
 
   Mesh mesh_;
   std::vector<Face> faces_;
