@@ -575,6 +575,13 @@ TEST_CASE("STEP: a box's CAD faces are its nodes with exact areas; a cylinder's 
   }
   CHECK(walls == 1);
   CHECK(lids == 2);
+  // The habit of `scale: 0.001` on a CAD export in mm is warned: the file states its unit.
+  dir.write("scaled.yaml", "name: s\n" + head + "  - mesh: {name: box, file: " + data +
+                               "box.step, front: black, scale: 0.001}\n");
+  const Run scaled = runRadnet("validate scaled.yaml", dir);
+  CHECK(scaled.exit_code == 0);
+  CHECK_THAT(scaled.err, Contains("STEP files with a scale") && Contains("scale 0.001"));
+  CHECK(b.err.find("STEP files with a scale") == std::string::npos);
   // Other formats take no mesh_size.
   dir.write("plate.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n");
   dir.write("bad.yaml", "name: x\n" + head + "  - mesh: {name: p, file: plate.obj, front: black, mesh_size: 0.1}\n");

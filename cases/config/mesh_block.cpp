@@ -201,6 +201,12 @@ void buildMesh(const PrimitiveInput& in) {
   const bool flip = in.params["flip"] && in.doc.boolean(in.params["flip"], in.what + ".flip");
   const Format format = formatOf(path);
   const MeshNodes mode = nodeMode(in, format);
+  // A STEP file states its unit and is read in metres: the habit of `scale: 0.001` for a CAD
+  // export in mm would shrink it a thousandfold without a word.
+  if (format == Format::Step && scale != 1.0)
+    in.note("STEP files with a scale: a STEP file states its own unit and is read in metres already, so the "
+            "scale multiplies on top (drop it unless the part is to be resized)",
+            "mesh '" + in.name + "' from " + path.string() + ": scale " + number(scale));
   if (in.params["mesh_size"] && format != Format::Step)
     throw in.doc.error(in.params["mesh_size"], in.what + ".mesh_size: applies to STEP files only (other meshes are "
                                                          "used as their file has them)");
