@@ -43,7 +43,7 @@ LitSums litSums(const RayCaster& caster, const NodeSampler& sampler, const Vec3&
     const double cosine = p.normal.dot(d);
     if (cosine <= 0) continue;
     ++s.rays;
-    const bool sunlit = caster.firstHit(caster.offsetOrigin(p.point, p.normal), d, p.face).face < 0;
+    const bool sunlit = !caster.occluded(caster.offsetOrigin(p.point, p.normal), d, p.face);
     points.emplace_back(cosine, sunlit);
     s.weight += cosine;
     s.lit += sunlit ? cosine : 0.0;
@@ -135,7 +135,7 @@ PlanetRays castPlanetRays(const RayCaster& caster, const NodeSampler& sampler, i
       if (cosine <= 0) continue;  // behind the node's side
       Vec3 at;
       if (!raySphere(p.point, dir, center, radius, at)) continue;  // grazing: round-off at the limb
-      if (caster.firstHit(caster.offsetOrigin(p.point, p.normal), dir, p.face).face >= 0) continue;
+      if (caster.occluded(caster.offsetOrigin(p.point, p.normal), dir, p.face)) continue;
       const double w = solid_angle * cosine / M_PI;
       pr.hit_points.push_back(at);
       pr.weights.push_back(w);

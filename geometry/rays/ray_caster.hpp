@@ -1,12 +1,9 @@
 #pragma once
-// First-hit ray casting through a CGAL AABB tree over the scene's triangles. The tree is
-// built once, eagerly, so that concurrent queries from many threads are safe.
+// First-hit and any-hit ray casting through a bounding volume hierarchy over the scene's
+// triangles (rays/bvh.hpp). The hierarchy is built once, in the constructor, so concurrent
+// queries from many threads are safe.
+#include "geometry/rays/bvh.hpp"
 #include "geometry/scene/scene.hpp"
-
-#include <array>
-#include <memory>
-#include <utility>
-#include <vector>
 
 namespace radnet::geometry {
 
@@ -18,20 +15,16 @@ struct Hit {
 
 class RayCaster {
  public:
-  /// Triangles longer than this many times the scene's median longest edge enter the tree in
-  /// pieces (the hit is still reported on the whole face): see ray_caster.cpp.
-  static constexpr double kSplitLength = 2.0;
-  static constexpr int kSplitDepth = 8;  ///< at most 2^8 pieces a triangle
-  using TreeInput = std::vector<std::pair<std::array<Vec3, 3>, int>>;
-
   explicit RayCaster(const Scene& scene);
-  ~RayCaster();
   RayCaster(const RayCaster&) = delete;
   RayCaster& operator=(const RayCaster&) = delete;
 
   /// The first triangle hit by the ray origin + t dir, t > 0, ignoring face `skip`.
   /// @param dir unit direction
   Hit firstHit(const Vec3& origin, const Vec3& dir, int skip = -1) const;
+  /// Whether the ray origin + t dir, t > 0, hits any face but `skip` (shadow rays: stops at
+  /// the first triangle found, nearest or not).
+  bool occluded(const Vec3& origin, const Vec3& dir, int skip = -1) const;
 
   /// A ray origin on face `face`, offset to the side `side_normal` points to by a bound on
   /// the rounding error of the point (pbrt's approach), so the ray cannot re-hit its own face.
@@ -40,9 +33,8 @@ class RayCaster {
   const Scene& scene() const { return scene_; }
 
  private:
-  struct Tree;
   const Scene& scene_;
-  std::unique_ptr<Tree> tree_;
+  TriangleBvh bvh_;
   double offset_scale_ = 0.0;
 };
 

@@ -94,10 +94,20 @@ NodeSampler::NodeSampler(const Scene& scene, int node) : scene_(scene) {
   }
   for (double& c : cdf_) c /= acc;
   cdf_.back() = 1.0;
+  const size_t m = cdf_.size();
+  guide_.resize(m + 1);
+  for (size_t j = 0; j <= m; ++j)
+    guide_[j] = static_cast<std::int32_t>(std::upper_bound(cdf_.begin(), cdf_.end(), double(j) / double(m)) - cdf_.begin());
 }
 
 NodeSampler::Ray NodeSampler::mapPoint(double u0, double u1) const {
-  const size_t k = static_cast<size_t>(std::upper_bound(cdf_.begin(), cdf_.end(), u0) - cdf_.begin());
+  // u0 lies in [j/m, (j+1)/m] up to the rounding of u0·m, so the triangle std::upper_bound
+  // finds over all of cdf_ lies between guide_[j − 1] and guide_[j + 2].
+  const long m = static_cast<long>(cdf_.size());
+  const long j = std::clamp(static_cast<long>(u0 * static_cast<double>(m)), 0L, m - 1);
+  const auto from = cdf_.begin() + guide_[static_cast<size_t>(std::max(j - 1, 0L))];
+  const auto to = cdf_.begin() + guide_[static_cast<size_t>(std::min(j + 2, m))];
+  const size_t k = static_cast<size_t>(std::upper_bound(from, to, u0) - cdf_.begin());
   const size_t idx = std::min(k, faces_.size() - 1);
   const double lo = idx == 0 ? 0.0 : cdf_[idx - 1];
   const double width = cdf_[idx] - lo;

@@ -62,6 +62,9 @@ class NodeSampler {
   const Scene& scene_;
   std::vector<int> faces_;
   std::vector<double> cdf_;  ///< cumulative area fractions
+  /// guide_[j]: the first triangle whose cdf_ exceeds j / m, m = faces_.size() (Chen & Asau's
+  /// guide table: the triangle for u is searched among a few, not all; the same triangle).
+  std::vector<std::int32_t> guide_;
   double side_ = 1.0;
 };
 
