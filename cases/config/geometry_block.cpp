@@ -2,6 +2,7 @@
 #include "cases/config/expect_block.hpp"
 #include "cases/config/geometry_case.hpp"
 #include "cases/config/primitive_specs.hpp"
+#include "cases/config/shell_block.hpp"
 #include "cases/config/work_estimate.hpp"
 #include "geometry/scene/coincidence.hpp"
 
@@ -34,11 +35,32 @@ std::string materialOf(const YamlDocument& doc, const YAML::Node& node, const st
   return m;
 }
 
-// `shell: {material, thickness}` of a primitive whose faces are [first_face, end_face).
+// A thin shell: beyond 0.1 m the plate is no longer thin against any sensible node, and a
+// thickness of 2 is far likelier 2 mm than 2 m.
+double parseThickness(const YamlDocument& doc, const YAML::Node& thickness, const std::string& what) {
+  const double t = doc.number(thickness, what + ".thickness (m)", 1e-7, 1e3);
+  if (t > 0.1)
+    throw doc.error(thickness, what + ".thickness: " + std::to_string(t) +
+                                   " m is not a thin shell; thicknesses are in metres (2 mm is 0.002)");
+  return t;
+}
+
+// `shell: {material, thickness}` of a primitive whose faces are [first_face, end_face). A
+// mesh may leave either out for its file to give (shellFromFile; checked after the build).
 ShellSpec parseShell(const YamlDocument& doc, const YAML::Node& node, const std::string& what,
-                     const GeometryContext& ctx) {
+                     const GeometryContext& ctx, bool file_may_give) {
   doc.expectMap(node, what, {"material", "thickness"});
   ShellSpec shell;
+  shell.what = what;
+  const InputError where = doc.error(node, "");
+  shell.file = where.file();
+  shell.line = where.line();
+  shell.column = where.column();
+  if (file_may_give && !node["material"] && !node["thickness"]) return shell;
+  if (file_may_give && !node["material"]) {
+    shell.thickness_m = parseThickness(doc, doc.required(node, "thickness", what), what);
+    return shell;
+  }
   const YAML::Node mat = doc.required(node, "material", what);
   shell.material = doc.string(mat, what + ".material");
   const auto it = ctx.c.materials.find(shell.material);
@@ -50,18 +72,7 @@ ShellSpec parseShell(const YamlDocument& doc, const YAML::Node& node, const std:
   if (!it->second.has_bulk)
     throw doc.error(mat, what + ".material: '" + shell.material +
                              "' has no conductivity, density and specific_heat; a shell needs them");
-  // A thin shell: beyond 0.1 m the plate is no longer thin against any sensible node, and a
-  // thickness of 2 is far likelier 2 mm than 2 m.
-  const YAML::Node thickness = doc.required(node, "thickness", what);
-  shell.thickness_m = doc.number(thickness, what + ".thickness (m)", 1e-7, 1e3);
-  if (shell.thickness_m > 0.1)
-    throw doc.error(thickness, what + ".thickness: " + std::to_string(shell.thickness_m) +
-                                   " m is not a thin shell; thicknesses are in metres (2 mm is 0.002)");
-  shell.what = what;
-  const InputError where = doc.error(node, "");
-  shell.file = where.file();
-  shell.line = where.line();
-  shell.column = where.column();
+  if (!file_may_give || node["thickness"]) shell.thickness_m = parseThickness(doc, doc.required(node, "thickness", what), what);
   return shell;
 }
 
@@ -137,23 +148,30 @@ void parsePrimitive(const YamlDocument& doc, const YAML::Node& entry, const std:
     if (front.empty() && back.empty())
       throw doc.error(p["shell"], what + ".shell: the surface names no material on either side, so it has no node "
                                          "to give the shell's capacitance and conductors to");
-    shell = parseShell(doc, p["shell"], what + ".shell", ctx);
+    shell = parseShell(doc, p["shell"], what + ".shell", ctx, spec.kind == "mesh");
   }
   const int first_face = static_cast<int>(c.scene.faces().size());
+  std::vector<std::pair<int, int>> added;  // the scene faces of each add call, for a shell from the file
+  auto record = [&](int before) { added.emplace_back(before, static_cast<int>(c.scene.faces().size())); };
   auto add = [&](const std::string& surface, const std::string& node, const geometry::TriangleSoup& soup,
                  const std::string& mesh_file) {
+    const int before = static_cast<int>(c.scene.faces().size());
     addSides(doc, entry, what, std::string(spec.kind), {surface, node, mesh_file}, soup, front, back, ctx);
+    record(before);
   };
   auto add_with_sides = [&](const std::string& surface, const std::string& node, const geometry::TriangleSoup& soup,
                             const std::string& mesh_file, const YAML::Node& sides, const std::string& sides_what) {
     doc.expectMap(sides, sides_what, {"front", "back"});
+    const int before = static_cast<int>(c.scene.faces().size());
     addSides(doc, entry, what, std::string(spec.kind), {surface, node, mesh_file}, soup,
              materialOf(doc, sides["front"], sides_what + ".front", ctx),
              materialOf(doc, sides["back"], sides_what + ".back", ctx), ctx);
+    record(before);
   };
+  std::vector<PrimitiveInput::FileBulk> file_bulk;
   try {
     const auto subdivisions = parseCounts(doc, p["subdivisions"], what + ".subdivisions", spec.default_subdivisions);
-    const PrimitiveInput input{doc,
+    PrimitiveInput input{doc,
                                p,
                                what,
                                name,
@@ -167,10 +185,13 @@ void parsePrimitive(const YamlDocument& doc, const YAML::Node& entry, const std:
                                  c.scene.noteDefect(kind, place);
                                },
                                add_with_sides};
+    input.file_bulk = &file_bulk;
     spec.build(input);
     if (shell) {
       shell->first_face = first_face;
       shell->end_face = static_cast<int>(c.scene.faces().size());
+      if (shell->material.empty() || shell->thickness_m == 0.0)
+        shellFromFile(doc, p["shell"], c.materials, added, file_bulk, *shell);
       c.shells.push_back(*shell);
     }
   } catch (const geometry::GeometryError& e) {

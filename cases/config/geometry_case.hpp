@@ -35,8 +35,14 @@ struct Material {
 /// capacitance and conductors to its nodes (docs/case-files.md, "Shells").
 struct ShellSpec {
   int first_face = 0, end_face = 0;  ///< the primitive's scene faces
-  std::string material;
-  double thickness_m = 0.0;
+  std::string material;      ///< empty: every face's bulk from the file (face_bulk)
+  double thickness_m = 0.0;  ///< 0: every face's thickness from the file (face_bulk)
+  /// Per face of [first_face, end_face), where a NASTRAN file gives them (PSHELL T, MAT4 K,
+  /// CP, RHO); empty: the material and thickness above for every face.
+  struct FaceBulk {
+    double thickness_m = 0.0, conductivity = 0.0, rho_c = 0.0;  ///< m, W/(m K), J/(m³ K)
+  };
+  std::vector<FaceBulk> face_bulk;
   std::string what;  ///< e.g. "geometry[2].rectangle.shell", for messages
   std::string file;  ///< where the case gives it, for messages
   int line = 0, column = 0;

@@ -135,10 +135,46 @@ void noteSkipped(const PrimitiveInput& in, const std::string& kind, const std::s
   in.note(kind, path + ": " + list);
 }
 
+using FileBulk = PrimitiveInput::FileBulk;
+
+// What a NASTRAN file says of each PID's shell (PSHELL T, MAT4 K, CP, RHO), by group name;
+// for `nodes: single` (group ""), the PIDs' common values, or none where they differ.
+std::map<std::string, FileBulk> nastranBulk(const geometry::NastranModel& model) {
+  std::map<std::string, FileBulk> out;
+  for (const geometry::MeshGroup& g : model.groups) {
+    const int pid = std::stoi(g.name);
+    FileBulk& b = out[g.name];
+    b.group = "PID " + g.name;
+    if (const auto t = model.thickness_m.find(pid); t != model.thickness_m.end()) b.thickness_m = t->second;
+    if (const auto m = model.material.find(pid); m != model.material.end()) {
+      b.conductivity = m->second.conductivity;
+      b.density = m->second.density;
+      b.specific_heat = m->second.specific_heat;
+      b.group += " (MAT4 " + std::to_string(m->second.mid) + ")";
+    }
+  }
+  FileBulk all;
+  all.group = "the PIDs merged by nodes: single";
+  bool first = true;
+  for (const auto& [name, b] : out) {
+    auto same = [&](double FileBulk::*field) {
+      if (first) all.*field = b.*field;
+      else if (all.*field != b.*field) all.*field = 0.0;  // they differ: the file gives no one value
+    };
+    for (double FileBulk::*field : {&FileBulk::thickness_m, &FileBulk::conductivity, &FileBulk::density,
+                                   &FileBulk::specific_heat})
+      same(field);
+    first = false;
+  }
+  out[""] = all;
+  return out;
+}
+
 // The file's parts: one, its groups, or a NASTRAN or Gmsh model's groups (merged into one
-// for `nodes: single`); what those readers read past is noted.
+// for `nodes: single`); what those readers read past is noted, and a NASTRAN file's shell
+// data kept in `bulk`.
 std::vector<geometry::MeshGroup> readParts(const PrimitiveInput& in, const std::string& path, double scale,
-                                           MeshNodes mode, Format format) {
+                                           MeshNodes mode, Format format, std::map<std::string, FileBulk>& bulk) {
   std::vector<geometry::MeshGroup> groups;
   if (format == Format::Step) {
     const double size = in.params["mesh_size"] ? in.doc.number(in.params["mesh_size"], in.what + ".mesh_size (m)",
@@ -149,6 +185,7 @@ std::vector<geometry::MeshGroup> readParts(const PrimitiveInput& in, const std::
     geometry::NastranModel model = geometry::readNastran(path, scale);
     noteSkipped(in, "NASTRAN cards not read (radnet reads GRID, CORD2R, CTRIA3, CQUAD4, PSHELL, MAT4)", path,
                 model.skipped);
+    bulk = nastranBulk(model);
     groups = std::move(model.groups);
   } else if (format == Format::Gmsh) {
     geometry::GmshModel model = geometry::readGmsh(path, scale);
@@ -216,7 +253,8 @@ void buildMesh(const PrimitiveInput& in) {
                                    ? in.doc.number(in.params["feature_angle"], in.what + ".feature_angle (deg)", 0, 180)
                                    : geometry::kDefaultFeatureAngleDeg;
   try {
-    std::vector<geometry::MeshGroup> parts = readParts(in, path.string(), scale, mode, format);
+    std::map<std::string, FileBulk> bulk;
+    std::vector<geometry::MeshGroup> parts = readParts(in, path.string(), scale, mode, format, bulk);
     const std::map<std::string, YAML::Node> sides = properties(in, parts, format, mode);
     double extent = 0.0, shortest = std::numeric_limits<double>::infinity();
     for (geometry::MeshGroup& part : parts) {
@@ -235,7 +273,9 @@ void buildMesh(const PrimitiveInput& in) {
       checkNodeMemory(in.doc, fnode, in.what + ".nodes",
                       static_cast<double>(in.existing_nodes) + in.active_sides * double(pieces.size()));
       const auto own = sides.find(part.name);
+      const auto file_bulk = bulk.find(part.name);
       for (const geometry::MeshGroup& piece : pieces) {
+        if (in.file_bulk) in.file_bulk->push_back(file_bulk != bulk.end() ? file_bulk->second : FileBulk{label});
         const std::string name = piece.name.empty() ? node : node + "." + piece.name;
         if (own == sides.end()) in.add(name, name, piece.soup, path.string());
         else in.add_with_sides(name, name, piece.soup, path.string(), own->second, in.what + ".properties." + part.name);

@@ -38,6 +38,13 @@ struct PrimitiveInput {
   std::function<void(const std::string& surface, const std::string& node, const geometry::TriangleSoup& soup,
                      const std::string& mesh_file, const YAML::Node& sides, const std::string& sides_what)>
       add_with_sides;
+  /// What the file says of a shell's bulk, one entry per `add`/`add_with_sides` call in
+  /// order (a NASTRAN PID's PSHELL T and MAT4 K, CP, RHO; 0 where the file is blank).
+  struct FileBulk {
+    std::string group;  ///< e.g. "PID 20", for messages
+    double thickness_m = 0.0, conductivity = 0.0, density = 0.0, specific_heat = 0.0;
+  };
+  std::vector<FileBulk>* file_bulk = nullptr;
 };
 
 struct PrimitiveSpec {

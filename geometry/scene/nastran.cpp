@@ -212,7 +212,7 @@ Frame frameOf(Model& m, long cid, std::set<long>& visiting) {
 }
 
 void collect(const std::vector<Card>& cards, Model& m, NastranModel& out, std::map<long, long>& pshell_mid,
-             std::map<long, double>& mat4_k) {
+             std::map<long, NastranModel::Mat4>& mat4) {
   for (const Card& c : cards) {
     if (c.name == "GRID") {
       const long id = integer(c, 0, "ID");
@@ -230,7 +230,8 @@ void collect(const std::vector<Card>& cards, Model& m, NastranModel& out, std::m
       pshell_mid[pid] = integer(c, 1, "MID1", false, 0);
       out.thickness_m[static_cast<int>(pid)] = real(c, 2, "T", false, 0.0);
     } else if (c.name == "MAT4") {
-      mat4_k[integer(c, 0, "MID")] = real(c, 1, "K", false, 0.0);
+      const long mid = integer(c, 0, "MID");
+      mat4[mid] = {mid, real(c, 1, "K", false, 0.0), real(c, 2, "CP", false, 0.0), real(c, 3, "RHO", false, 0.0)};
     } else {
       ++out.skipped[c.name];
     }
@@ -272,11 +273,11 @@ NastranModel readNastran(const std::string& path, double scale) {
   NastranModel out;
   Model m;
   std::map<long, long> pshell_mid;
-  std::map<long, double> mat4_k;
-  collect(cards, m, out, pshell_mid, mat4_k);
+  std::map<long, NastranModel::Mat4> mat4;
+  collect(cards, m, out, pshell_mid, mat4);
   for (auto& [pid, t] : out.thickness_m) t *= scale;
   for (const auto& [pid, mid] : pshell_mid)
-    if (const auto k = mat4_k.find(mid); k != mat4_k.end()) out.conductivity[static_cast<int>(pid)] = k->second;
+    if (const auto k = mat4.find(mid); k != mat4.end()) out.material[static_cast<int>(pid)] = k->second;
   std::map<long, MeshGroup> by_pid;
   for (const Model::Element& e : m.elements) {
     const std::vector<Vec3> p = corners(m, e, scale);

@@ -20,8 +20,13 @@ struct NastranModel {
   /// One group per PID, named by it, in increasing PID order; each triangle's element is its
   /// EID (a CQUAD4 gives two triangles of one EID).
   std::vector<MeshGroup> groups;
-  std::map<int, double> thickness_m;     ///< PSHELL T per PID (file units × scale)
-  std::map<int, double> conductivity;    ///< MAT4 K of each PID's MID1, W/(m K) (as the file gives it)
+  std::map<int, double> thickness_m;     ///< PSHELL T per PID (file units × scale); 0: blank
+  /// The MAT4 card of a PID's PSHELL MID1 (K, CP, RHO as the file gives them; 0: blank).
+  struct Mat4 {
+    long mid = 0;
+    double conductivity = 0.0, specific_heat = 0.0, density = 0.0;
+  };
+  std::map<int, Mat4> material;          ///< per PID whose MID1 has a MAT4
   std::map<std::string, int> skipped;    ///< cards read past, by name, with their count
 };
 

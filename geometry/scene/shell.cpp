@@ -79,8 +79,8 @@ ShellAdjacency shellAdjacency(const Scene& scene, int first_face, int end_face) 
     const Vec3 m = s.weighted_midpoint / s.length;
     const auto& [area_a, sum_a] = centroid.at(pair.first);
     const auto& [area_b, sum_b] = centroid.at(pair.second);
-    const double d = (sum_a / area_a - m).norm() + (m - sum_b / area_b).norm();
-    out.neighbours.push_back({pair.first, pair.second, s.length, d});
+    const double d_a = (sum_a / area_a - m).norm(), d_b = (m - sum_b / area_b).norm();
+    out.neighbours.push_back({pair.first, pair.second, s.length, d_a + d_b, d_a, d_b});
   }
   for (const auto& [pair, area] : front_back) out.front_back.push_back({pair.first, pair.second, area});
   return out;

@@ -14,6 +14,8 @@ struct ShellAdjacency {
     int a = -1, b = -1;
     double shared_length_m = 0.0;  ///< L: total length of the shared edges
     double distance_m = 0.0;       ///< d: centroid of a → midpoint of the shared edges → centroid of b
+    double distance_a_m = 0.0;     ///< the part of d from a's centroid to the midpoint
+    double distance_b_m = 0.0;     ///< the part of d from the midpoint to b's centroid
   };
   /// The front and back node of two-sided triangles, and the area they share.
   struct FrontBack {
