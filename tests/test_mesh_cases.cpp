@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <map>
 
 using namespace radnet::test;
@@ -547,6 +549,28 @@ TEST_CASE("STEP: a box's CAD faces are its nodes with exact areas; a cylinder's 
     CHECK(names[k] == "box." + std::to_string(k));
     CHECK(sorted[k] == Approx(faces[k]).epsilon(1e-12));
     CHECK(space.values[k] == Approx(1.0).margin(1e-9));  // a convex solid's outward faces see only space
+  }
+  // The file's face labels name the nodes, made fit for names ("lid top" → lid_top); a label
+  // two faces share, and an empty one, leave those faces their index.
+  {
+    std::ifstream in(data + "box.step");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::vector<std::string> labels = {"lid top", "floor", "wall-a", "wall-b", "wall-a", ""};
+    size_t at = 0;
+    for (const std::string& label : labels) {
+      at = text.find("ADVANCED_FACE(''", at);
+      REQUIRE(at != std::string::npos);
+      text.replace(at, 16, "ADVANCED_FACE('" + label + "'");
+      at += 16;
+    }
+    dir.write("named.step", text);
+    dir.write("named.yaml", "name: n\n" + head + "  - mesh: {name: box, file: named.step, front: black}\n");
+    const Run n = runRadnet("run named.yaml -o n.h5", dir);
+    INFO(n.err);
+    REQUIRE(n.exit_code == 0);
+    f = H5Fopen((dir.path / "n.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    CHECK(readNodeNames(f) == std::vector<std::string>{"box.lid_top", "box.floor", "box.2", "box.wall-b", "box.4", "box.5"});
+    H5Fclose(f);
   }
   // A cylinder (r = 50 mm, h = 120 mm) at a chord deflection d = 0.5 mm: the tessellation is
   // inscribed, so each face is smaller than the true one, the wall by at most d/(3r) (its rim

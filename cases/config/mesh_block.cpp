@@ -256,7 +256,7 @@ void buildMesh(const PrimitiveInput& in) {
     std::map<std::string, FileBulk> bulk;
     std::vector<geometry::MeshGroup> parts = readParts(in, path.string(), scale, mode, format, bulk);
     const std::map<std::string, YAML::Node> sides = properties(in, parts, format, mode);
-    double extent = 0.0, shortest = std::numeric_limits<double>::infinity();
+    double extent = 0.0, shortest = std::numeric_limits<double>::infinity(), nodes_so_far = 0.0;
     for (geometry::MeshGroup& part : parts) {
       // NASTRAN, Gmsh and STEP elements are named by their id alone (unique across groups).
       const bool by_id = format != Format::Plain && mode == MeshNodes::Elements;
@@ -270,8 +270,8 @@ void buildMesh(const PrimitiveInput& in) {
       extent = std::max(extent, report.extent_m);
       shortest = std::min(shortest, report.shortest_edge_m);
       const auto pieces = geometry::splitMesh(part.soup, mode, feature_angle);
-      checkNodeMemory(in.doc, fnode, in.what + ".nodes",
-                      static_cast<double>(in.existing_nodes) + in.active_sides * double(pieces.size()));
+      nodes_so_far += in.active_sides * double(pieces.size());  // this file's earlier groups count too
+      checkNodeMemory(in.doc, fnode, in.what + ".nodes", static_cast<double>(in.existing_nodes) + nodes_so_far);
       const auto own = sides.find(part.name);
       const auto file_bulk = bulk.find(part.name);
       for (const geometry::MeshGroup& piece : pieces) {

@@ -11,17 +11,23 @@
 #include <Interface_Static.hxx>
 #include <Poly_Triangulation.hxx>
 #include <STEPControl_Reader.hxx>
+#include <StepRepr_RepresentationItem.hxx>
+#include <TCollection_HAsciiString.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopLoc_Location.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Face.hxx>
+#include <XSControl_TransferReader.hxx>
+#include <XSControl_WorkSession.hxx>
 #endif
 
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <csignal>
@@ -59,6 +65,20 @@ MeshGroup faceSoup(const TopoDS_Face& face, int index, double scale) {
   return g;
 }
 
+// The name the STEP file gives a face (its ADVANCED_FACE's label), made fit for a node name
+// (letters, digits, '_' and '-'; anything else becomes '_'); empty when it gives none.
+std::string stepName(const Handle(XSControl_TransferReader) & transfer, const TopoDS_Face& face) {
+  if (transfer.IsNull()) return {};
+  const Handle(StepRepr_RepresentationItem) item =
+      Handle(StepRepr_RepresentationItem)::DownCast(transfer->EntityFromShapeResult(face, 1));
+  if (item.IsNull() || item->Name().IsNull()) return {};
+  std::string name = item->Name()->ToCString();
+  if (name == "NONE") return {};  // what some exporters write for "no name"
+  for (char& ch : name)
+    if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-')) ch = '_';
+  return name;
+}
+
 // The kernel's own work, in the process that runs it.
 std::vector<MeshGroup> tessellate(const std::string& path, double scale, double mesh_size_m) {
   try {
@@ -77,12 +97,23 @@ std::vector<MeshGroup> tessellate(const std::string& path, double scale, double 
     // 0.5 rad: curved faces get at least about 13 segments a turn whatever the deflection.
     BRepMesh_IncrementalMesh mesher(shape, deflection, false, 0.5, false);
     std::vector<MeshGroup> faces;
+    std::vector<std::string> names;
+    const Handle(XSControl_TransferReader) transfer = reader.WS()->TransferReader();
     int index = 0;
     for (TopExp_Explorer e(shape, TopAbs_FACE); e.More(); e.Next(), ++index) {
       MeshGroup g = faceSoup(TopoDS::Face(e.Current()), index, scale);
-      if (!g.soup.triangles.empty()) faces.push_back(std::move(g));
+      if (g.soup.triangles.empty()) continue;
+      names.push_back(stepName(transfer, TopoDS::Face(e.Current())));
+      faces.push_back(std::move(g));
     }
     if (faces.empty()) throw GeometryError(path + ": no face of the STEP file could be tessellated");
+    // A face the file names takes its name, unless another face has it too (or it reads as
+    // a number, which could be another face's index): then its index, as unnamed faces.
+    for (size_t k = 0; k < faces.size(); ++k) {
+      const std::string& name = names[k];
+      const bool numeric = !name.empty() && std::all_of(name.begin(), name.end(), [](char ch) { return std::isdigit(static_cast<unsigned char>(ch)); });
+      if (!name.empty() && !numeric && std::count(names.begin(), names.end(), name) == 1) faces[k].name = name;
+    }
     return faces;
   } catch (const Standard_Failure& f) {
     throw GeometryError(path + ": OpenCASCADE failed on the STEP file (" + std::string(f.GetMessageString()) + ")");

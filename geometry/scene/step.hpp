@@ -12,7 +12,8 @@ namespace radnet::geometry {
 /// Whether this build reads STEP (it was built with OpenCASCADE).
 bool stepSupported();
 
-/// The faces of a STEP file, in the kernel's exploration order, named 0, 1, … (each face's
+/// The faces of a STEP file, in the kernel's exploration order, named by the file's face
+/// label where it gives one used by no other face, else by index 0, 1, … (each face's
 /// triangles have element = its index), fronts on the side the face's material is not (a
 /// solid's faces outward).
 /// @param mesh_size_m largest distance between the tessellation and the true surface (chord
