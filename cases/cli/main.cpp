@@ -5,6 +5,7 @@
 #include "cases/config/errors.hpp"
 #include "cases/config/work_estimate.hpp"
 #include "cases/output/expectations.hpp"
+#include "cases/output/hdf5_writer.hpp"
 #include "cases/output/export.hpp"
 #include "cases/output/output_guard.hpp"
 #include "cases/output/result_files.hpp"
@@ -379,6 +380,7 @@ int radnetMain(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  radnet::cases::Hdf5Writer::noLibraryExitHandler();  // before any HDF5 call (hdf5_writer.hpp)
   removeTemporariesOnSignal();  // Ctrl-C, kill or a closed terminal leave no OUT.h5.tmp-PID
   // Under mpirun: MPI up, and stdout (summaries, check results) from rank 0 only; every
   // rank's errors still reach stderr, so a failure seen by one rank is located (docs/mpi.md).

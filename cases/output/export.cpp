@@ -303,8 +303,7 @@ std::vector<std::string> exportResult(const std::string& h5_path, const ExportOp
     const std::filesystem::path dir = o.output.empty() ? stem.string() + "-export" : o.output;
     std::filesystem::create_directories(dir);
     const std::vector<std::string> tables = csvTables(net);
-    writeTextAtomically((dir / "nodes.csv").string(), tables[0]);
-    writeTextAtomically((dir / "conductors.csv").string(), tables[1]);
+    writeTextFilesAtomically({{(dir / "nodes.csv").string(), tables[0]}, {(dir / "conductors.csv").string(), tables[1]}});
     return {(dir / "nodes.csv").string(), (dir / "conductors.csv").string()};
   }
   if (o.format != "esatan" && o.format != "sinda")

@@ -13,6 +13,7 @@
 
 #include <hdf5.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
 #include <cstdio>
 #include <stdexcept>
@@ -59,15 +60,23 @@ void writeStringAttribute(hid_t obj, const std::string& name, const std::string&
 
 }  // namespace
 
+void Hdf5Writer::noLibraryExitHandler() { H5dont_atexit(); }
+
 Hdf5Writer::Hdf5Writer(std::string final_path) : final_path_(std::move(final_path)) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported by exceptions, not printed
-  temp_path_ = final_path_ + ".tmp-" + std::to_string(::getpid());
-  registerTemporary(temp_path_);  // a signal removes it (cases/output/output_guard.hpp)
-  file_ = H5Fcreate(temp_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (file_ < 0) {
+  // Created exclusively (H5F_ACC_EXCL is O_CREAT | O_EXCL, which follows no symlink): a name
+  // planted in a shared folder, a symlink to someone's file included, is passed over, never
+  // written through. The next name is tried; 100 taken names in a row is refused.
+  for (int attempt = 0; attempt < 100 && file_ < 0; ++attempt) {
+    temp_path_ = final_path_ + ".tmp-" + std::to_string(::getpid()) + (attempt ? "-" + std::to_string(attempt) : "");
+    registerTemporary(temp_path_);  // a signal removes it (cases/output/output_guard.hpp)
+    file_ = H5Fcreate(temp_path_.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT);
+    if (file_ >= 0) break;
     unregisterTemporary(temp_path_);
-    throw OutputError("cannot create the output file '" + temp_path_ + "'");
+    struct stat taken{};
+    if (::lstat(temp_path_.c_str(), &taken) != 0) break;  // not a name clash: the folder refuses
   }
+  if (file_ < 0) throw OutputError("cannot create the output file '" + temp_path_ + "'");
 }
 
 Hdf5Writer::~Hdf5Writer() {

@@ -18,6 +18,10 @@ class Hdf5Writer {
   /// @throws std::runtime_error when the temporary file cannot be created
   explicit Hdf5Writer(std::string final_path);
   ~Hdf5Writer();
+  /// Call first in main: HDF5 then installs no exit handler. Every file is closed explicitly;
+  /// a file whose close failed (a full disk) stays in HDF5's table, and 1.10's handler crashes
+  /// closing it again at exit (signal 11 after "closing … failed").
+  static void noLibraryExitHandler();
   Hdf5Writer(const Hdf5Writer&) = delete;
   Hdf5Writer& operator=(const Hdf5Writer&) = delete;
 

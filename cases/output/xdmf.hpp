@@ -15,6 +15,7 @@
 #include "geometry/scene/scene.hpp"
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace radnet::cases {
@@ -71,5 +72,8 @@ std::string xdmfPathFor(const std::string& h5_path);
 
 /// Writes `text` to `path` through a temporary file and a rename.
 void writeTextAtomically(const std::string& path, const std::string& text);
+/// Writes every (path, text) through temporaries, all before any rename: a full disk or any
+/// write error leaves every old file as it was.
+void writeTextFilesAtomically(const std::vector<std::pair<std::string, std::string>>& files);
 
 }  // namespace radnet::cases

@@ -65,7 +65,8 @@ std::vector<std::string> partialSeamWarnings(const Scene& scene, const SeamRepor
                   scene.surfaceNames()[static_cast<size_t>(b)] +
                   "' meet at some rim vertices but their rims have different facet counts, so they part between "
                   "them and what they enclose leaks there (a 32-facet lid on an 8-facet can lost 4 % of its emission "
-                  "to space): give touching curved surfaces the same angular subdivisions");
+                  "to space): give touching primitives the same angular subdivisions, touching meshes the same rim "
+                  "vertices");
   return out;
 }
 
