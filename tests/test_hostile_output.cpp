@@ -7,7 +7,9 @@
 #include <sys/mount.h>
 #include <unistd.h>
 
+#include <limits>
 #include <string>
+#include <vector>
 
 using namespace radnet::test;
 using Catch::Contains;
@@ -60,4 +62,63 @@ TEST_CASE("a full disk is exit 4, no crash, the old result untouched and nothing
   int entries = 0;
   for ([[maybe_unused]] const auto& e : fs::directory_iterator(full)) ++entries;
   CHECK(entries == 1);  // no temporary, no sidecar
+}
+
+namespace {
+
+// Replaces dataset `path` of an HDF5 file by a doubles array of the given shape.
+void replaceDataset(const fs::path& file, const std::string& path, const std::vector<hsize_t>& dims,
+                    const std::vector<double>& values) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  REQUIRE(f >= 0);
+  H5Ldelete(f, path.c_str(), H5P_DEFAULT);
+  const hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
+  const hid_t ds = H5Dcreate2(f, path.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  REQUIRE(ds >= 0);
+  H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+  H5Dclose(ds);
+  H5Sclose(space);
+  H5Fclose(f);
+}
+
+}  // namespace
+
+TEST_CASE("export refuses a malformed result naming the dataset (exit 2, nothing written), never a crash") {
+  TempDir dir;
+  REQUIRE(runRadnet("run '" + kCase + "' -o good.h5 -q", dir).exit_code == 0);
+  // The CubeSat: 13 nodes (11 radiative), 20 conductors, 76 positions.
+  struct Damage {
+    const char* dataset;
+    std::vector<hsize_t> dims;
+    std::vector<double> values;
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> temperatures(76 * 13, 290.0);
+  temperatures[5] = nan;
+  std::vector<double> pairs(40, 0.0);
+  pairs[7] = 1000.0;  // a node that does not exist
+  const std::vector<Damage> damages = {
+      // GR as export reads it: the base optics set's (more nodes than the result has; too long)
+      {"/optics/base/radiative_exchange", {20, 20}, std::vector<double>(400, 0.01)},
+      {"/optics/base/gr_space", {50}, std::vector<double>(50, 0.01)},
+      {"/thermal/conductor_nodes", {20, 2}, pairs},
+      {"/thermal/conductance", {76, 3}, std::vector<double>(76 * 3, 1.0)},  // short of the 20 conductors
+      {"/thermal/fixed", {2}, {1.0, 0.0}},                                   // short of the 13 nodes
+      {"/solution/temperature", {76, 13}, temperatures},                     // a NaN
+  };
+  for (const Damage& d : damages) {
+    INFO(d.dataset);
+    fs::copy_file(dir.path / "good.h5", dir.path / "bad.h5", fs::copy_options::overwrite_existing);
+    replaceDataset(dir.path / "bad.h5", d.dataset, d.dims, d.values);
+    for (const char* format : {"esatan", "sinda", "csv"}) {
+      INFO(format);
+      fs::remove_all(dir.path / (std::string("out.") + format));
+      const Run run = runRadnet(std::string("export bad.h5 --format ") + format + " -o out." + format, dir);
+      CHECK(run.exit_code == 2);
+      CHECK_THAT(run.err, Contains(d.dataset));
+      CHECK_FALSE(fs::exists(dir.path / (std::string("out.") + format)));
+    }
+  }
+  // The undamaged file still exports.
+  CHECK(runRadnet("export good.h5 --format esatan -o good.d", dir).exit_code == 0);
 }

@@ -19,9 +19,32 @@ namespace {
 constexpr double kStefanBoltzmann = 5.670374419e-8;  // W/(m² K⁴), CODATA 2018 (exact in SI)
 constexpr double kZeroCelsius = 273.15;
 
+// A result that is not what radnet writes (damaged, edited, foreign) is refused naming the
+// dataset, before any of it is used: indices, shapes and values all checked.
+[[noreturn]] void malformed(const Hdf5Reader& h5, const std::string& path, const std::string& what) {
+  throw InputError(h5.path(), 0, 0, path + ": " + what + " (not a result radnet wrote, or a damaged one)");
+}
+
+std::string shape(const Eigen::MatrixXd& m) { return std::to_string(m.rows()) + " × " + std::to_string(m.cols()); }
+
+// Every value finite: a NaN or ∞ would reach a deck as a plausible number or as text.
+template <class M>
+const M& finite(const Hdf5Reader& h5, const std::string& path, const M& m) {
+  if (!m.allFinite()) malformed(h5, path, "holds a value that is not finite");
+  return m;
+}
+
+// A node index stored as a double: integral and in [0, n).
+int nodeIndexAt(const Hdf5Reader& h5, const std::string& path, double value, Eigen::Index n) {
+  if (!(value >= 0 && value < static_cast<double>(n) && value == std::floor(value)))
+    malformed(h5, path, "holds node index " + std::to_string(value) + ", not one of the " + std::to_string(n) + " nodes");
+  return static_cast<int>(value);
+}
+
 Eigen::VectorXd orZeros(const Hdf5Reader& h5, const std::string& path, Eigen::Index n) {
   if (!h5.has(path)) return Eigen::VectorXd::Zero(n);
-  const Eigen::VectorXd stored = h5.vector(path);  // optics sets hold the radiative nodes only
+  const Eigen::VectorXd stored = finite(h5, path, h5.vector(path));  // optics sets hold the radiative nodes only
+  if (stored.size() > n) malformed(h5, path, std::to_string(stored.size()) + " values for " + std::to_string(n) + " nodes");
   Eigen::VectorXd v = Eigen::VectorXd::Zero(n);
   v.head(std::min(n, stored.size())) = stored.head(std::min(n, stored.size()));
   return v;
@@ -31,8 +54,9 @@ Eigen::VectorXd orZeros(const Hdf5Reader& h5, const std::string& path, Eigen::In
 Eigen::VectorXd rowOf(const Hdf5Reader& h5, const std::string& path, int p, Eigen::Index n) {
   if (!h5.has(path)) return Eigen::VectorXd::Zero(n);
   const Eigen::MatrixXd m = h5.matrix(path);
-  if (p >= m.rows() || m.cols() != n) throw InputError(h5.path(), 0, 0, path + " does not have position " + std::to_string(p));
-  return m.row(p).transpose();
+  if (m.cols() != n) malformed(h5, path, "shape " + shape(m) + " for " + std::to_string(n) + " nodes");
+  if (p >= m.rows()) throw InputError(h5.path(), 0, 0, path + " does not have position " + std::to_string(p));
+  return finite(h5, path, Eigen::VectorXd(m.row(p).transpose()));
 }
 
 // Picks the design case and the position, and the optics set whose GR the case uses.
@@ -51,8 +75,14 @@ std::string selectCase(const Hdf5Reader& h5, const ExportOptions& o, ExportedNet
       k = static_cast<int>(it - names.begin());
     }
     const Eigen::VectorXd start = h5.vector("/cases/position_start");
+    const std::vector<std::string> optics_of = h5.strings("/cases/optics");
+    if (start.size() != static_cast<Eigen::Index>(names.size()) + 1 || optics_of.size() != names.size())
+      malformed(h5, "/cases", "position_start, optics and name disagree on the number of cases");
+    for (Eigen::Index i = 0; i < start.size(); ++i)
+      if (!(start[i] >= 0 && start[i] <= positions && start[i] == std::floor(start[i]) && (i == 0 || start[i] >= start[i - 1])))
+        malformed(h5, "/cases/position_start", "not increasing positions within the run's " + std::to_string(positions));
     first = static_cast<int>(start[k]), end = static_cast<int>(start[k + 1]);
-    optics = h5.strings("/cases/optics")[static_cast<size_t>(k)];
+    optics = optics_of[static_cast<size_t>(k)];
     net.design_case = names[static_cast<size_t>(k)];
   } else if (!o.design_case.empty()) {
     throw InputError(h5.path(), 0, 0, "--case '" + o.design_case + "': the result has no design cases");
@@ -70,16 +100,24 @@ std::string selectCase(const Hdf5Reader& h5, const ExportOptions& o, ExportedNet
 // GR between nodes (i < j) and to space (j = n), user couplings and MLI added.
 void readCouplings(const Hdf5Reader& h5, const std::string& gr_group, ExportedNetwork& net, double min_gr) {
   const auto n = static_cast<Eigen::Index>(net.nodes.size());
-  const Eigen::MatrixXd exchange = h5.matrix(gr_group + "radiative_exchange");
-  const Eigen::VectorXd to_space = h5.vector(gr_group + "gr_space");
+  const Eigen::MatrixXd exchange = finite(h5, gr_group + "radiative_exchange", h5.matrix(gr_group + "radiative_exchange"));
+  const Eigen::VectorXd to_space = finite(h5, gr_group + "gr_space", h5.vector(gr_group + "gr_space"));
+  if (exchange.rows() != exchange.cols() || exchange.rows() > n)
+    malformed(h5, gr_group + "radiative_exchange", "shape " + shape(exchange) + " for " + std::to_string(n) + " nodes");
+  if (to_space.size() != exchange.rows())
+    malformed(h5, gr_group + "gr_space", std::to_string(to_space.size()) + " values for " +
+                                             std::to_string(exchange.rows()) + " radiative nodes");
   Eigen::MatrixXd gr = Eigen::MatrixXd::Zero(n, n + 1);
   gr.topLeftCorner(exchange.rows(), exchange.cols()) = exchange;
   gr.col(n).head(to_space.size()) = to_space;
   if (h5.has("/thermal/coupling_nodes") && h5.vector("/thermal/coupling_gr").size()) {
     const Eigen::MatrixXd pairs = h5.matrix("/thermal/coupling_nodes");
-    const Eigen::VectorXd value = h5.vector("/thermal/coupling_gr");
+    const Eigen::VectorXd value = finite(h5, "/thermal/coupling_gr", h5.vector("/thermal/coupling_gr"));
+    if (pairs.cols() != 2 || pairs.rows() != value.size())
+      malformed(h5, "/thermal/coupling_nodes", "shape " + shape(pairs) + " for " + std::to_string(value.size()) + " couplings");
     for (Eigen::Index k = 0; k < pairs.rows(); ++k) {
-      const auto i = static_cast<Eigen::Index>(pairs(k, 0)), j = static_cast<Eigen::Index>(pairs(k, 1));
+      const Eigen::Index i = nodeIndexAt(h5, "/thermal/coupling_nodes", pairs(k, 0), n);
+      const Eigen::Index j = nodeIndexAt(h5, "/thermal/coupling_nodes", pairs(k, 1), n);
       gr(i, j) += value[k], gr(j, i) += value[k];
     }
   }
@@ -121,15 +159,27 @@ void readThermal(const Hdf5Reader& h5, ExportedNetwork& net) {
     const Eigen::VectorXd t = h5.vector("/thermal/fixed_temperature");
     // /thermal/fixed marks the held nodes; results before it had NaN for free nodes.
     const Eigen::VectorXd held = h5.has("/thermal/fixed") ? h5.vector("/thermal/fixed") : t.array().isFinite().cast<double>();
-    for (Eigen::Index i = 0; i < n && i < t.size(); ++i)
-      if (held[i] != 0) net.fixed_temperature_k[i] = t[i];
+    if (t.size() != n || held.size() != n)
+      malformed(h5, "/thermal/fixed", std::to_string(held.size()) + " flags and " + std::to_string(t.size()) +
+                                          " temperatures for " + std::to_string(n) + " nodes");
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (held[i] != 0) {
+        if (!(std::isfinite(t[i]) && t[i] > 0)) malformed(h5, "/thermal/fixed_temperature", "a held node without a temperature in K");
+        net.fixed_temperature_k[i] = t[i];
+      }
   }
   net.space_temperature_k = h5.attribute("/thermal", "space_temperature", 3.0);
+  if (!(std::isfinite(net.space_temperature_k) && net.space_temperature_k >= 0))
+    malformed(h5, "/thermal", "space_temperature is not a temperature in K");
   if (h5.has("/thermal/conductor_nodes") && h5.matrix("/thermal/conductance").size()) {
     const Eigen::MatrixXd pairs = h5.matrix("/thermal/conductor_nodes");
-    const Eigen::MatrixXd g = h5.matrix("/thermal/conductance");
+    const Eigen::MatrixXd g = finite(h5, "/thermal/conductance", h5.matrix("/thermal/conductance"));
+    if (pairs.cols() != 2 || g.cols() != pairs.rows() || p >= g.rows())
+      malformed(h5, "/thermal/conductance", "shape " + shape(g) + " for " + std::to_string(pairs.rows()) +
+                                                " conductors at position " + std::to_string(p));
     for (Eigen::Index k = 0; k < pairs.rows(); ++k)
-      net.gl.push_back({static_cast<int>(pairs(k, 0)), static_cast<int>(pairs(k, 1)), g(p, k)});
+      net.gl.push_back({nodeIndexAt(h5, "/thermal/conductor_nodes", pairs(k, 0), n),
+                        nodeIndexAt(h5, "/thermal/conductor_nodes", pairs(k, 1), n), g(p, k)});
   }
 }
 
@@ -187,6 +237,7 @@ ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& o
   net.name = h5.textAttribute("/meta", "case_name", "radnet");
   net.nodes = h5.strings("/nodes/name");
   const auto n = static_cast<Eigen::Index>(net.nodes.size());
+  if (n == 0) malformed(h5, "/nodes/name", "no node");
   net.thermal = h5.has("/solution/temperature");
   net.transient = h5.textAttribute("/solution/temperature", "mode", "steady") == "transient";
   const int positions = net.thermal ? static_cast<int>(h5.matrix("/solution/temperature").rows()) : 1;
@@ -196,7 +247,11 @@ ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& o
   net.area_m2 = orZeros(h5, "/nodes/area", n);
   net.emissivity = orZeros(h5, gr_group == "/network/" ? "/nodes/emissivity" : gr_group + "emissivity", n);
   net.absorptivity = orZeros(h5, gr_group == "/network/" ? "/nodes/absorptivity" : gr_group + "absorptivity", n);
-  if (h5.has("/orbit/time")) net.time_s = h5.vector("/orbit/time")[net.position];
+  if (h5.has("/orbit/time")) {
+    const Eigen::VectorXd time = h5.vector("/orbit/time");
+    if (net.position >= time.size()) malformed(h5, "/orbit/time", std::to_string(time.size()) + " times for position " + std::to_string(net.position));
+    net.time_s = time[net.position];
+  }
   if (net.thermal) {
     readThermal(h5, net);
   } else {
