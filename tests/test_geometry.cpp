@@ -203,6 +203,15 @@ TEST_CASE("mesh files: OFF, OBJ (with groups), STL, PLY read and scaled, bad fil
                                     "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
                                     "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
   CHECK(soupArea(readMesh(ply, 1.0)) == Approx(0.5));
+  // Coordinates not named x, y, z (an exporter's "Z", or none) were read as 0: a tilted
+  // triangle flattened without a word (issue 38). Refused, naming what the file has.
+  const std::string upper = dir.write("upper.ply",
+                                      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                      "property float Z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                      "end_header\n0 0 0\n1 0 1\n0 1 1\n3 0 1 2\n");
+  CHECK_THROWS_WITH(readMesh(upper, 1.0), Contains("upper.ply") && Contains("no property 'z' (it has: x, y, Z)"));
+  CHECK_THROWS_WITH(readMesh(dir.write("open.ply", "ply\nformat ascii 1.0\nelement vertex 3\n"), 1.0),
+                    Contains("end_header"));
 
   const std::string truncated = dir.write("cut.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n");
   CHECK_THROWS_WITH(readMesh(truncated, 1.0), Contains("cut.off") && Contains("truncated"));

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 namespace radnet::geometry {
 namespace {
@@ -37,6 +38,42 @@ void checkScale(double scale, const std::string& path) {
   if (!(std::isfinite(scale) && scale > 0)) throw GeometryError(path + ": scale must be a finite value > 0");
 }
 
+// A PLY header's vertex element must name its coordinates x, y and z: CGAL reads them by
+// those names and takes any other (an exporter's "Z", or none) as 0, flattening the part
+// without a word. The header is text in ASCII and binary PLY alike.
+void checkPlyHeader(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line, element;
+  std::vector<std::string> vertex_properties;
+  bool has_vertex = false;
+  for (int line_no = 1; std::getline(in, line) && line_no <= 10000; ++line_no) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream ls(line);
+    std::string word;
+    ls >> word;
+    if (word == "end_header") {
+      if (!has_vertex) throw GeometryError(path + ": the PLY header declares no 'element vertex'");
+      for (const char* axis : {"x", "y", "z"})
+        if (std::find(vertex_properties.begin(), vertex_properties.end(), axis) == vertex_properties.end()) {
+          std::string found;
+          for (const std::string& p : vertex_properties) found += (found.empty() ? "" : ", ") + p;
+          throw GeometryError(path + ": the PLY vertex element has no property '" + axis + "' (it has: " +
+                              (found.empty() ? "none" : found) + "); coordinates must be named x, y and z");
+        }
+      return;
+    }
+    if (word == "element") {
+      ls >> element;
+      has_vertex = has_vertex || element == "vertex";
+    } else if (word == "property" && element == "vertex") {
+      std::string last, token;
+      while (ls >> token) last = token;
+      vertex_properties.push_back(last);
+    }
+  }
+  throw GeometryError(path + ": not a PLY file with a complete header (no end_header)");
+}
+
 }  // namespace
 
 TriangleSoup readMesh(const std::string& path, double scale) {
@@ -46,6 +83,7 @@ TriangleSoup readMesh(const std::string& path, double scale) {
     throw GeometryError(path + ": unknown mesh format '" + ext +
                         "'; expected .off, .obj, .stl, .ply, NASTRAN .bdf/.nas/.dat/.blk, Gmsh .msh or STEP .step/.stp");
   checkMeshFile(path);
+  if (ext == ".ply") checkPlyHeader(path);
   std::vector<Point3> points;
   std::vector<std::vector<std::size_t>> polygons;
   bool ok = false;
