@@ -122,3 +122,13 @@ TEST_CASE("export refuses a malformed result naming the dataset (exit 2, nothing
   // The undamaged file still exports.
   CHECK(runRadnet("export good.h5 --format esatan -o good.d", dir).exit_code == 0);
 }
+
+TEST_CASE("the .xmf sidecar escapes the file name: -o 'a&b<c>.h5' gives well-formed XML") {
+  TempDir dir;
+  const Run run = runRadnet("run '" + kCase + "' -o 'a&b<c>.h5' -q", dir);
+  INFO(run.err);
+  REQUIRE(run.exit_code == 0);
+  const std::string xmf = slurp(dir.path / "a&b<c>.xmf");
+  CHECK_THAT(xmf, Contains(">a&amp;b&lt;c&gt;.h5:/xdmf/"));
+  CHECK(xmf.find("a&b<c>") == std::string::npos);
+}

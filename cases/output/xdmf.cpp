@@ -90,25 +90,42 @@ std::vector<XdmfSeries> seriesOf(const GeometryRunResult& r, const std::string& 
   return s;
 }
 
+// Text for an XML attribute or element: a file or node name with &, <, >, " or ' in it
+// (`-o 'a&b<c>.h5'`) would otherwise make the sidecar malformed XML that ParaView refuses.
+std::string xml(const std::string& text) {
+  std::string out;
+  for (char ch : text) {
+    switch (ch) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += ch;
+    }
+  }
+  return out;
+}
+
 void dataItem(std::ostringstream& x, const std::string& h5, const std::string& path, Eigen::Index rows, int cols,
               bool integer) {
   x << "       <DataItem Dimensions=\"" << rows << (cols > 1 ? " " + std::to_string(cols) : "") << "\" "
     << (integer ? "NumberType=\"Int\" Precision=\"4\"" : "NumberType=\"Float\" Precision=\"8\"")
-    << " Format=\"HDF\">" << h5 << ":" << path << "</DataItem>\n";
+    << " Format=\"HDF\">" << xml(h5) << ":" << xml(path) << "</DataItem>\n";
 }
 
 // One block's grid at one position (`p` < 0: static fields only).
 void blockGrid(std::ostringstream& x, const XdmfPlan& plan, const XdmfBlock& b, int p, const std::string& h5) {
   const std::string dir = "/xdmf/" + b.name + "/";
   const Eigen::Index m = b.node.size();
-  x << "     <Grid Name=\"" << b.name << "\" GridType=\"Uniform\">\n";
+  x << "     <Grid Name=\"" << xml(b.name) << "\" GridType=\"Uniform\">\n";
   x << "      <Topology TopologyType=\"Triangle\" NumberOfElements=\"" << m << "\">\n";
   dataItem(x, h5, dir + "triangles", m, 3, true);
   x << "      </Topology>\n      <Geometry GeometryType=\"XYZ\">\n";
   dataItem(x, h5, "/geometry/vertices", plan.vertices, 3, false);
   x << "      </Geometry>\n";
   auto attribute = [&](const std::string& name, const std::string& path, bool integer) {
-    x << "      <Attribute Name=\"" << name << "\" AttributeType=\"Scalar\" Center=\"Cell\">\n";
+    x << "      <Attribute Name=\"" << xml(name) << "\" AttributeType=\"Scalar\" Center=\"Cell\">\n";
     dataItem(x, h5, path, m, 1, integer);
     x << "      </Attribute>\n";
   };
@@ -198,7 +215,7 @@ std::string xdmfText(const XdmfPlan& plan, int series, const std::string& h5) {
     return x.str();
   }
   const XdmfSeries& s = plan.series[static_cast<size_t>(series)];
-  x << "  <Grid Name=\"" << (s.label.empty() ? "run" : s.label)
+  x << "  <Grid Name=\"" << (s.label.empty() ? "run" : xml(s.label))
     << "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (size_t k = 0; k < s.positions.size(); ++k) {
     x << "   <Grid Name=\"position " << s.positions[k] << "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n";
