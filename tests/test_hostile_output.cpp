@@ -132,3 +132,21 @@ TEST_CASE("the .xmf sidecar escapes the file name: -o 'a&b<c>.h5' gives well-for
   CHECK_THAT(xmf, Contains(">a&amp;b&lt;c&gt;.h5:/xdmf/"));
   CHECK(xmf.find("a&b<c>") == std::string::npos);
 }
+
+TEST_CASE("filesystem failures are exit 4: a name over 255 bytes, a read-only folder") {
+  TempDir dir;
+  const std::string small = source("cases/examples/parallel-plates.yaml");
+  const Run long_name = runRadnet("run '" + small + "' -o " + std::string(300, 'a') + ".h5 -q", dir);
+  CHECK(long_name.exit_code == 4);
+  CHECK_THAT(long_name.err, Contains("output not written"));
+  const fs::path ro = dir.path / "ro";
+  fs::create_directory(ro);
+  if (::mount("tmpfs", ro.c_str(), "tmpfs", MS_RDONLY, "size=64k") != 0) {
+    WARN("cannot mount a read-only tmpfs here (not root?): that case is not exercised");
+    return;
+  }
+  const Run read_only = runRadnet("run '" + small + "' -o ro/out.h5 -q", dir);
+  ::umount(ro.c_str());
+  CHECK(read_only.exit_code == 4);
+  CHECK_THAT(read_only.err, Contains("not writable"));
+}

@@ -84,6 +84,9 @@ int guarded(Body&& body) {
   } catch (const std::invalid_argument& e) {
     std::cerr << "radnet: invalid input: " << e.what() << "\n";
     return agreed(kExitBadInput);
+  } catch (const std::filesystem::filesystem_error& e) {  // a name over 255 bytes, a path over PATH_MAX, …
+    std::cerr << "radnet: output not written: " << e.what() << "\n";
+    return agreed(kExitOutput);
   } catch (const std::bad_alloc&) {
     std::cerr << "radnet: out of memory: the case is too large for this machine\n";
     return agreed(kExitBadInput);

@@ -5,6 +5,7 @@
 #include <unistd.h>
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <csignal>
 #include <cstring>
 #include <filesystem>
@@ -18,8 +19,9 @@ void checkOne(const std::string& target, const std::vector<std::string>& inputs,
   const fs::path path = fs::absolute(target);
   const fs::path dir = path.parent_path();
   if (!fs::is_directory(dir)) throw InputError(target, 0, 0, what + ": directory '" + dir.string() + "' does not exist");
+  // A folder that refuses writing (permissions, a read-only mount) is the output failing, exit 4.
   if (::access(dir.c_str(), W_OK) != 0)
-    throw InputError(target, 0, 0, what + ": directory '" + dir.string() + "' is not writable");
+    throw OutputError(what + ": directory '" + dir.string() + "' is not writable (" + std::strerror(errno) + ")");
   std::string extension = path.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(), ::tolower);
   for (const char* input : {".yaml", ".yml", ".off", ".obj", ".stl", ".ply"})
