@@ -150,3 +150,30 @@ TEST_CASE("filesystem failures are exit 4: a name over 255 bytes, a read-only fo
   CHECK(read_only.exit_code == 4);
   CHECK_THAT(read_only.err, Contains("not writable"));
 }
+
+TEST_CASE("a 10 µm square 1 m above a 10 m plate: the exact method's work stays bounded (no hang)") {
+  // Once sat at "view factors 50 %" for over 300 s; the planner now bounds each pair's cost.
+  // 120 s is a hang guard, not a timing (it takes milliseconds).
+  TempDir dir;
+  dir.write("hang.yaml", R"(name: hang
+materials: {w: {emissivity: 0.8, absorptivity: 0.3}}
+geometry:
+  - rectangle: {name: tiny, origin: [0, 0, 1], u: [1.0e-5, 0, 0], v: [0, -1.0e-5, 0], front: w}
+  - rectangle: {name: plate, origin: [-5, -5, 0], u: [10, 0, 0], v: [0, 10, 0], front: w}
+)");
+  const std::string cmd = "cd '" + dir.path.string() + "' && timeout 120 '" + RADNET_EXE + "' run hang.yaml -o h.h5 -q > /dev/null 2>&1";
+  const int status = std::system(cmd.c_str());
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 0);
+  // F from a differential area 1 m above the centre of a 10 m square: four a × a rectangles
+  // with a corner below it (Howell's catalogue, element to a parallel rectangle:
+  // F = (1/2π)[A/√(1+A²) atan(B/√(1+A²)) + B/√(1+B²) atan(A/√(1+B²))], A = B = a/c = 5);
+  // checked to 1e-6 (the 10 µm square is a point to 1e-5 of its distance).
+  const hid_t f = H5Fopen((dir.path / "h.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  REQUIRE(f >= 0);
+  const H5Data space = readDataset(f, "/network/space_view_factor");
+  H5Fclose(f);
+  const double a = 5.0, c = 1.0, r = a / std::sqrt(a * a + c * c);
+  const double f_quarter = (1.0 / (2.0 * M_PI)) * (2.0 * r * std::atan(r));  // corner of an a × a rectangle, A = B
+  CHECK(space.values[0] == Approx(1.0 - 4.0 * f_quarter).margin(1e-6));
+}
