@@ -177,3 +177,36 @@ geometry:
   const double f_quarter = (1.0 / (2.0 * M_PI)) * (2.0 * r * std::atan(r));  // corner of an a × a rectangle, A = B
   CHECK(space.values[0] == Approx(1.0 - 4.0 * f_quarter).margin(1e-6));
 }
+
+TEST_CASE("a thermostat whose dead band is too narrow to resolve is exit 3 naming it, not an endless run") {
+  // 50 W into 1000 J/K: a band of 1e-12 K switches every 2e-11 s. A 0.01 K band switches a
+  // few thousand times and runs. 120 s is a hang guard, not a timing.
+  TempDir dir;
+  const auto thermostat = [&](const std::string& off_above) {
+    dir.write("band.yaml", R"(name: thermostat
+network:
+  nodes:
+    - {name: wall, area: 1.0, emissivity: 0.0}
+  view_factors: [[0.0]]
+thermal:
+  nodes:
+    wall: {temperature: 250.0}
+  lumped:
+    battery: {capacitance: 1000.0, initial_temperature: 280.65}
+  conductors: [[battery, wall, 1.0]]
+  heaters:
+    - {name: bat_heater, node: battery, power: 50.0, on_below: 278.15, off_above: )" + off_above + R"(}
+  transient: {duration: 2000.0, time_step: 10.0, output_step: 10.0}
+)");
+    fs::remove(dir.path / "b.h5");
+    const std::string cmd = "cd '" + dir.path.string() + "' && timeout 120 '" + RADNET_EXE +
+                            "' run band.yaml -o b.h5 -q > out.txt 2> err.txt";
+    const int status = std::system(cmd.c_str());
+    REQUIRE(WIFEXITED(status));
+    return WEXITSTATUS(status);
+  };
+  CHECK(thermostat("278.150000000001") == 3);
+  CHECK_THAT(slurp(dir.path / "err.txt"), Contains("heater 'bat_heater'") && Contains("widen the band"));
+  CHECK_FALSE(fs::exists(dir.path / "b.h5"));
+  CHECK(thermostat("278.16") == 0);
+}

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <tuple>
 
@@ -66,6 +67,13 @@ class Integrator {
   void switchHeater(TransientState& s, int k);
   void switchCrossed(TransientState& s);
   std::vector<double> tableEntries(double from, double to) const;
+  bool chattering(double from);
+
+  // A heater switching this often between two outputs chatters: its dead band is too narrow
+  // for its power against its sensor's capacity (a 1e-12 K band switches every 2e-11 s, and
+  // the run would not end). Legitimate thermostats switch a few times an orbit.
+  static constexpr int kMaxSwitchesPerOutput = 10000;
+  std::vector<int> output_switches_;  // per heater, since the last output time
 
   const ThermalNetwork& net_;
   const ThermalForcing& f_;
@@ -142,6 +150,23 @@ void Integrator::switchHeater(TransientState& s, int k) {
   s.heater_on[static_cast<size_t>(k)] = !s.heater_on[static_cast<size_t>(k)];
   s.h_prev = 0.0;  // the forcing jumps: restart BDF2 from backward Euler
   ++res_.heater_switches;
+  if (output_switches_.size() != net_.heaters.size()) output_switches_.assign(net_.heaters.size(), 0);
+  ++output_switches_[static_cast<size_t>(k)];
+}
+
+bool Integrator::chattering(double from) {
+  for (size_t k = 0; k < output_switches_.size(); ++k) {
+    if (output_switches_[k] <= kMaxSwitchesPerOutput) continue;
+    const Heater& h = net_.heaters[k];
+    res_.status = Status::NotConverged;
+    std::ostringstream m;
+    m << "heater '" << h.name << "' switched " << output_switches_[k] << " times between two outputs (from t = " << from
+      << " s): its dead band, " << h.off_above_k - h.on_below_k << " K, is too narrow for " << h.power_w
+      << " W against its sensor's heat capacity, and the transient would not end; widen the band (off_above − on_below)";
+    res_.message = m.str();
+    return true;
+  }
+  return false;
 }
 
 // Heaters whose sensor is already past their switching temperature (at the start, or
@@ -208,6 +233,8 @@ std::vector<double> Integrator::tableEntries(double from, double to) const {
 }
 
 bool Integrator::marchTo(double target, TransientState& s) {
+  const double from = s.clock;
+  output_switches_.assign(net_.heaters.size(), 0);
   std::vector<double> stops = tableEntries(s.clock, target);
   const bool target_is_entry = !stops.empty() && stops.back() == target;
   if (!target_is_entry) stops.push_back(target);
@@ -225,6 +252,7 @@ bool Integrator::marchTo(double target, TransientState& s) {
       } else if (!switchInside(s, h, heater)) {
         return false;
       }
+      if (chattering(from)) return false;
     }
     // The dissipation steps here: restart BDF2, whose two-step history would otherwise
     // carry the jump of dT/dt into an O(h) error.
