@@ -152,39 +152,30 @@ void parsePrimitive(const YamlDocument& doc, const YAML::Node& entry, const std:
   }
   const int first_face = static_cast<int>(c.scene.faces().size());
   std::vector<std::pair<int, int>> added;  // the scene faces of each add call, for a shell from the file
-  auto record = [&](int before) { added.emplace_back(before, static_cast<int>(c.scene.faces().size())); };
-  auto add = [&](const std::string& surface, const std::string& node, const geometry::TriangleSoup& soup,
-                 const std::string& mesh_file) {
+  auto place = [&](const std::string& surface, const std::string& node, const geometry::TriangleSoup& soup,
+                   const std::string& mesh_file, const std::string& front_material, const std::string& back_material) {
     const int before = static_cast<int>(c.scene.faces().size());
-    addSides(doc, entry, what, std::string(spec.kind), {surface, node, mesh_file}, soup, front, back, ctx);
-    record(before);
+    addSides(doc, entry, what, std::string(spec.kind), {surface, node, mesh_file}, soup, front_material, back_material,
+             ctx);
+    added.emplace_back(before, static_cast<int>(c.scene.faces().size()));
   };
+  auto add = [&](const std::string& surface, const std::string& node, const geometry::TriangleSoup& soup,
+                 const std::string& mesh_file) { place(surface, node, soup, mesh_file, front, back); };
   auto add_with_sides = [&](const std::string& surface, const std::string& node, const geometry::TriangleSoup& soup,
                             const std::string& mesh_file, const YAML::Node& sides, const std::string& sides_what) {
     doc.expectMap(sides, sides_what, {"front", "back"});
-    const int before = static_cast<int>(c.scene.faces().size());
-    addSides(doc, entry, what, std::string(spec.kind), {surface, node, mesh_file}, soup,
-             materialOf(doc, sides["front"], sides_what + ".front", ctx),
-             materialOf(doc, sides["back"], sides_what + ".back", ctx), ctx);
-    record(before);
+    place(surface, node, soup, mesh_file, materialOf(doc, sides["front"], sides_what + ".front", ctx),
+          materialOf(doc, sides["back"], sides_what + ".back", ctx));
   };
   std::vector<PrimitiveInput::FileBulk> file_bulk;
   try {
     const auto subdivisions = parseCounts(doc, p["subdivisions"], what + ".subdivisions", spec.default_subdivisions);
-    PrimitiveInput input{doc,
-                               p,
-                               what,
-                               name,
-                               subdivisions,
-                               (front.empty() ? 0 : 1) + (back.empty() ? 0 : 1),
-                               c.scene.nodes().size(),
-                               std::filesystem::path(doc.file()).parent_path(),
-                               add,
-                               !front.empty(),
-                               [&](const std::string& kind, const std::string& place) {
-                                 c.scene.noteDefect(kind, place);
-                               },
-                               add_with_sides};
+    const int active_sides = (front.empty() ? 0 : 1) + (back.empty() ? 0 : 1);
+    const auto note = [&](const std::string& kind, const std::string& place_text) {
+      c.scene.noteDefect(kind, place_text);
+    };
+    PrimitiveInput input{doc, p, what, name, subdivisions, active_sides, c.scene.nodes().size(),
+                         std::filesystem::path(doc.file()).parent_path(), add, !front.empty(), note, add_with_sides};
     input.file_bulk = &file_bulk;
     spec.build(input);
     if (shell) {

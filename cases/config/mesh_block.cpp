@@ -220,6 +220,26 @@ std::map<std::string, YAML::Node> properties(const PrimitiveInput& in, const std
   return out;
 }
 
+// The keys that belong to one format or node mode only; a STEP scale is warned. Returns the
+// feature angle (deg) for nodes: faces.
+double checkFormatKeys(const PrimitiveInput& in, Format format, MeshNodes mode, double scale,
+                       const std::filesystem::path& path) {
+  // A STEP file states its unit and is read in metres: the habit of `scale: 0.001` for a CAD
+  // export in mm would shrink it a thousandfold without a word.
+  if (format == Format::Step && scale != 1.0)
+    in.note("STEP files with a scale: a STEP file states its own unit and is read in metres already, so the "
+            "scale multiplies on top (drop it unless the part is to be resized)",
+            "mesh '" + in.name + "' from " + path.string() + ": scale " + number(scale));
+  if (in.params["mesh_size"] && format != Format::Step)
+    throw in.doc.error(in.params["mesh_size"], in.what + ".mesh_size: applies to STEP files only (other meshes are "
+                                                         "used as their file has them)");
+  if (in.params["feature_angle"] && mode != MeshNodes::Faces)
+    throw in.doc.error(in.params["feature_angle"], in.what + ".feature_angle: applies to nodes: faces only");
+  return in.params["feature_angle"]
+             ? in.doc.number(in.params["feature_angle"], in.what + ".feature_angle (deg)", 0, 180)
+             : geometry::kDefaultFeatureAngleDeg;
+}
+
 }  // namespace
 
 void buildMesh(const PrimitiveInput& in) {
@@ -238,20 +258,7 @@ void buildMesh(const PrimitiveInput& in) {
   const bool flip = in.params["flip"] && in.doc.boolean(in.params["flip"], in.what + ".flip");
   const Format format = formatOf(path);
   const MeshNodes mode = nodeMode(in, format);
-  // A STEP file states its unit and is read in metres: the habit of `scale: 0.001` for a CAD
-  // export in mm would shrink it a thousandfold without a word.
-  if (format == Format::Step && scale != 1.0)
-    in.note("STEP files with a scale: a STEP file states its own unit and is read in metres already, so the "
-            "scale multiplies on top (drop it unless the part is to be resized)",
-            "mesh '" + in.name + "' from " + path.string() + ": scale " + number(scale));
-  if (in.params["mesh_size"] && format != Format::Step)
-    throw in.doc.error(in.params["mesh_size"], in.what + ".mesh_size: applies to STEP files only (other meshes are "
-                                                         "used as their file has them)");
-  if (in.params["feature_angle"] && mode != MeshNodes::Faces)
-    throw in.doc.error(in.params["feature_angle"], in.what + ".feature_angle: applies to nodes: faces only");
-  const double feature_angle = in.params["feature_angle"]
-                                   ? in.doc.number(in.params["feature_angle"], in.what + ".feature_angle (deg)", 0, 180)
-                                   : geometry::kDefaultFeatureAngleDeg;
+  const double feature_angle = checkFormatKeys(in, format, mode, scale, path);
   try {
     std::map<std::string, FileBulk> bulk;
     std::vector<geometry::MeshGroup> parts = readParts(in, path.string(), scale, mode, format, bulk);

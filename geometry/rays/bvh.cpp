@@ -52,14 +52,78 @@ int binOf(double c, double lo, double scale) {
 
 }  // namespace
 
+namespace {
+
+// What the build reads of each triangle: its box and the box's centre (m).
+struct BuildInput {
+  std::vector<Box> box;
+  std::vector<Vec3> centre;
+  const Box& boxOf(int i) const { return box[static_cast<size_t>(i)]; }
+  double centreOf(int i, int axis) const { return centre[static_cast<size_t>(i)][axis]; }
+};
+
+struct Split {
+  int axis = -1;  ///< −1: no split cheaper than the leaf
+  int bin = 0;    ///< the left side holds bins 0 … bin
+};
+
+// The binned SAH split of order[first, last) (Wald 2007): the cheapest plane between 16
+// bins of the centres' bounds on each axis, if it costs less than `leaf_cost`.
+Split bestSahSplit(const BuildInput& in, std::vector<int>::iterator first, std::vector<int>::iterator last,
+                   const Box& box, const Box& centres, double leaf_cost) {
+  Split best;
+  const int total = static_cast<int>(last - first);
+  double best_cost = leaf_cost;
+  for (int a = 0; a < 3; ++a) {
+    const double extent = centres.hi[a] - centres.lo[a];
+    if (!(extent > 0.0)) continue;
+    const double scale = kBins / extent;
+    std::array<Box, kBins> bin_box;
+    std::array<int, kBins> bin_count{};
+    for (auto it = first; it != last; ++it) {
+      const auto b = static_cast<size_t>(binOf(in.centreOf(*it, a), centres.lo[a], scale));
+      ++bin_count[b];
+      bin_box[b].grow(in.boxOf(*it));
+    }
+    std::array<double, kBins> right_cost{};  // area × count of bins b+1 … end
+    Box acc;
+    int count = 0;
+    for (size_t b = kBins - 1; b > 0; --b) {
+      acc.grow(bin_box[b]), count += bin_count[b];
+      right_cost[b - 1] = acc.halfArea() * count;
+    }
+    acc = Box(), count = 0;
+    for (size_t b = 0; b + 1 < kBins; ++b) {
+      acc.grow(bin_box[b]), count += bin_count[b];
+      if (count == 0 || count == total) continue;
+      const double cost = kTraversalCost + (acc.halfArea() * count + right_cost[b]) / box.halfArea();
+      if (cost < best_cost) best_cost = cost, best = {a, static_cast<int>(b)};
+    }
+  }
+  return best;
+}
+
+// No SAH split (too deep, or all centres in one bin): halve the count along the centres'
+// longest extent, which bounds the depth whatever the input. Returns the middle.
+std::vector<int>::iterator medianSplit(const BuildInput& in, std::vector<int>::iterator first,
+                                       std::vector<int>::iterator last, const Box& centres) {
+  Eigen::Index longest = 0;
+  (centres.hi - centres.lo).maxCoeff(&longest);
+  const auto middle = first + (last - first) / 2;
+  std::nth_element(first, middle, last,
+                   [&](int i, int j) { return in.centreOf(i, longest) < in.centreOf(j, longest); });
+  return middle;
+}
+
+}  // namespace
+
 TriangleBvh::TriangleBvh(const std::vector<std::array<Vec3, 3>>& triangles) {
   const int n = static_cast<int>(triangles.size());
   if (n == 0) return;
-  std::vector<Box> boxes(static_cast<size_t>(n));
-  std::vector<Vec3> centre(static_cast<size_t>(n));
-  for (int i = 0; i < n; ++i) {
-    for (const Vec3& v : triangles[static_cast<size_t>(i)]) boxes[static_cast<size_t>(i)].grow(v);
-    centre[static_cast<size_t>(i)] = 0.5 * (boxes[static_cast<size_t>(i)].lo + boxes[static_cast<size_t>(i)].hi);
+  BuildInput in{std::vector<Box>(static_cast<size_t>(n)), std::vector<Vec3>(static_cast<size_t>(n))};
+  for (size_t i = 0; i < static_cast<size_t>(n); ++i) {
+    for (const Vec3& v : triangles[i]) in.box[i].grow(v);
+    in.centre[i] = 0.5 * (in.box[i].lo + in.box[i].hi);
   }
   std::vector<int> order(static_cast<size_t>(n));
   std::iota(order.begin(), order.end(), 0);
@@ -70,82 +134,62 @@ TriangleBvh::TriangleBvh(const std::vector<std::array<Vec3, 3>>& triangles) {
     const Range r = work.back();
     work.pop_back();
     depth_ = std::max(depth_, r.depth);
+    const auto first = order.begin() + r.first, last = first + r.count;
     Box box, centres;
-    for (int i = r.first; i < r.first + r.count; ++i) {
-      box.grow(boxes[static_cast<size_t>(order[static_cast<size_t>(i)])]);
-      centres.grow(centre[static_cast<size_t>(order[static_cast<size_t>(i)])]);
-    }
+    for (auto it = first; it != last; ++it) box.grow(in.boxOf(*it)), centres.grow(in.centre[static_cast<size_t>(*it)]);
     Node& node = nodes_[static_cast<size_t>(r.node)];
     node.lo = box.lo, node.hi = box.hi;
-    auto leaf = [&] { node.next = r.first, node.count = r.count; };
-    if (r.count <= 2) {
-      leaf();
+    const Split split = r.count > 2 && r.depth < kSahDepth
+                            ? bestSahSplit(in, first, last, box, centres, static_cast<double>(r.count))
+                            : Split{};
+    if (r.count <= 2 || (split.axis < 0 && r.count <= (r.depth < kSahDepth ? kMaxLeafSize : kLeafSize))) {
+      node.next = r.first, node.count = r.count;
       continue;
     }
-    const auto first = order.begin() + r.first, last = first + r.count;
-    int axis = -1, split_bin = 0;
-    double best_cost = static_cast<double>(r.count);  // the leaf's cost
-    if (r.depth < kSahDepth) {
-      for (int a = 0; a < 3; ++a) {
-        const double extent = centres.hi[a] - centres.lo[a];
-        if (!(extent > 0.0)) continue;
-        const double scale = kBins / extent;
-        std::array<Box, kBins> bin_box;
-        std::array<int, kBins> bin_count{};
-        for (auto it = first; it != last; ++it) {
-          const int b = binOf(centre[static_cast<size_t>(*it)][a], centres.lo[a], scale);
-          ++bin_count[static_cast<size_t>(b)];
-          bin_box[static_cast<size_t>(b)].grow(boxes[static_cast<size_t>(*it)]);
-        }
-        std::array<double, kBins> right_cost{};  // area × count of bins b+1 … end
-        Box acc;
-        int count = 0;
-        for (int b = kBins - 1; b > 0; --b) {
-          acc.grow(bin_box[static_cast<size_t>(b)]), count += bin_count[static_cast<size_t>(b)];
-          right_cost[static_cast<size_t>(b - 1)] = acc.halfArea() * count;
-        }
-        acc = Box(), count = 0;
-        for (int b = 0; b + 1 < kBins; ++b) {
-          acc.grow(bin_box[static_cast<size_t>(b)]), count += bin_count[static_cast<size_t>(b)];
-          if (count == 0 || count == r.count) continue;
-          const double cost =
-              kTraversalCost + (acc.halfArea() * count + right_cost[static_cast<size_t>(b)]) / box.halfArea();
-          if (cost < best_cost) best_cost = cost, axis = a, split_bin = b;
-        }
-      }
-    }
-    int middle = -1;
-    if (axis >= 0) {
-      const double scale = kBins / (centres.hi[axis] - centres.lo[axis]);
-      middle = static_cast<int>(std::partition(first, last, [&](int i) {
-                                  return binOf(centre[static_cast<size_t>(i)][axis], centres.lo[axis], scale) <= split_bin;
-                                }) - order.begin());
-    } else if (r.count <= (r.depth < kSahDepth ? kMaxLeafSize : kLeafSize)) {
-      leaf();
-      continue;
-    }
-    if (middle <= r.first || middle >= r.first + r.count) {
-      // No SAH split (too deep, or all centres in one bin): halve the count along the
-      // centres' longest extent, which bounds the depth whatever the input.
-      Eigen::Index longest = 0;
-      (centres.hi - centres.lo).maxCoeff(&longest);
-      middle = r.first + r.count / 2;
-      std::nth_element(first, order.begin() + middle, last, [&](int i, int j) {
-        return centre[static_cast<size_t>(i)][longest] < centre[static_cast<size_t>(j)][longest];
+    auto middle = last;
+    if (split.axis >= 0) {
+      const double scale = kBins / (centres.hi[split.axis] - centres.lo[split.axis]);
+      middle = std::partition(first, last, [&](int i) {
+        return binOf(in.centreOf(i, split.axis), centres.lo[split.axis], scale) <= split.bin;
       });
     }
-    const int left = static_cast<int>(nodes_.size());
+    if (middle == first || middle == last) middle = medianSplit(in, first, last, centres);
+    const int left = static_cast<int>(nodes_.size()), mid = static_cast<int>(middle - order.begin());
     node.next = left, node.count = 0;  // `node` is not used after the push below
     nodes_.push_back({});
     nodes_.push_back({});
-    work.push_back({left, r.first, middle - r.first, r.depth + 1});
-    work.push_back({left + 1, middle, r.first + r.count - middle, r.depth + 1});
+    work.push_back({left, r.first, mid - r.first, r.depth + 1});
+    work.push_back({left + 1, mid, r.first + r.count - mid, r.depth + 1});
   }
   triangles_.reserve(static_cast<size_t>(n));
   for (const int i : order) {
     const auto& v = triangles[static_cast<size_t>(i)];
     triangles_.push_back({v[0], v[1] - v[0], v[2] - v[0], i});
   }
+}
+
+// Möller & Trumbore (1997) on a leaf's triangles, edges closed (u, v ≥ 0, u + v ≤ 1):
+// whether one of them beats `best`, which then holds the nearest.
+[[gnu::always_inline]] inline bool TriangleBvh::testLeaf(const Node& node, const Vec3& origin, const Vec3& dir,
+                                                         int skip, Hit& best) const {
+  bool found = false;
+  for (int k = node.next; k < node.next + node.count; ++k) {
+    const Triangle& tri = triangles_[static_cast<size_t>(k)];
+    if (tri.id == skip) continue;
+    const Vec3 p = dir.cross(tri.e2);
+    const double det = tri.e1.dot(p);
+    if (det == 0.0) continue;  // the ray lies in the triangle's plane
+    const double inv_det = 1.0 / det;
+    const Vec3 s = origin - tri.v0;
+    const double u = s.dot(p) * inv_det;
+    if (!(u >= 0.0 && u <= 1.0)) continue;
+    const Vec3 q = s.cross(tri.e1);
+    const double v = dir.dot(q) * inv_det;
+    if (!(v >= 0.0 && u + v <= 1.0)) continue;
+    const double t = tri.e2.dot(q) * inv_det;
+    if (t > 0.0 && t < best.t) best = {tri.id, t}, found = true;
+  }
+  return found;
 }
 
 template <bool kAny>
@@ -168,26 +212,7 @@ TriangleBvh::Hit TriangleBvh::trace(const Vec3& origin, const Vec3& dir, int ski
     const auto index = stack[--top];
     const Node& node = nodes_[static_cast<size_t>(index)];
     if (node.count > 0) {
-      for (int k = node.next; k < node.next + node.count; ++k) {
-        const Triangle& tri = triangles_[static_cast<size_t>(k)];
-        if (tri.id == skip) continue;
-        // Möller & Trumbore (1997); edges closed (u, v ≥ 0, u + v ≤ 1).
-        const Vec3 p = dir.cross(tri.e2);
-        const double det = tri.e1.dot(p);
-        if (det == 0.0) continue;  // the ray lies in the triangle's plane
-        const double inv_det = 1.0 / det;
-        const Vec3 s = origin - tri.v0;
-        const double u = s.dot(p) * inv_det;
-        if (!(u >= 0.0 && u <= 1.0)) continue;
-        const Vec3 q = s.cross(tri.e1);
-        const double v = dir.dot(q) * inv_det;
-        if (!(v >= 0.0 && u + v <= 1.0)) continue;
-        const double t = tri.e2.dot(q) * inv_det;
-        if (t > 0.0 && t < best.t) {
-          best = {tri.id, t};
-          if constexpr (kAny) return best;
-        }
-      }
+      if (testLeaf(node, origin, dir, skip, best) && kAny) return best;
       continue;
     }
     const Node& a = nodes_[static_cast<size_t>(node.next)];

@@ -61,6 +61,7 @@ class TriangleBvh {
     Vec3 v0, e1, e2;
     int id;
   };
+  bool testLeaf(const Node& node, const Vec3& origin, const Vec3& dir, int skip, Hit& best) const;
   template <bool kAny>
   Hit trace(const Vec3& origin, const Vec3& dir, int skip, double t_max) const;
 
