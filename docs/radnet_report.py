@@ -4,7 +4,7 @@
     /usr/bin/python3 docs/radnet_report.py RESULT.h5 OUTDIR [--limits FILE.yaml]
 
 Needs Debian's python3-h5py, python3-numpy and python3-matplotlib. Writes into OUTDIR:
-  report.md            per design case: node min / time-weighted mean / max temperature,
+  report.md            the run's warnings (/report/warnings); per design case: node min / time-weighted mean / max temperature,
                        orbit-mean heat flows by kind, heater duty; the hot/cold envelope
                        (against limits when given); the run's speed and error budget
   temperatures.csv     case, node, min_K, mean_K, max_K
@@ -18,11 +18,16 @@ Needs Debian's python3-h5py, python3-numpy and python3-matplotlib. Writes into O
   modes.png            the radiative network's exchange modes kept by the eigendecomposition
 Limits: the case file's `limits: {node: [min_K, max_K]}` (/limits), or lines
 "node: [min_K, max_K]" in FILE.yaml.
-Exit: 0 written, 2 not a radnet result (or bad limits), 4 the directory cannot be written.
+Exit: 0 written, 2 not a radnet result, a malformed one (naming the dataset) or bad limits,
+4 the directory cannot be written. Every dataset read is checked against /nodes first (shape,
+index ranges, finite values, size against the file's); the files are made in a temporary
+folder beside OUTDIR and moved into it only when all are made, so a failure writes nothing.
 """
 import csv
 import os
 import re
+import shutil
+import signal
 import sys
 
 try:
@@ -48,6 +53,117 @@ def text(values):
 def fail(code, message):
     sys.stderr.write(f"radnet report: {message}\n")
     sys.exit(code)
+
+
+class Malformed(Exception):
+    """A dataset that is not what radnet writes."""
+
+    def __init__(self, dataset, what):
+        super().__init__(f"{dataset}: {what}")
+
+
+class WriteFailed(Exception):
+    """A file of the report could not be written (a full disk, permissions)."""
+
+
+def check_result(f, path):
+    """Checks every dataset the report reads against /nodes before any is used (exit 2 names
+    the first that is wrong): shapes, index ranges, finite values, and a logical size no larger
+    than the file could hold (a 3 GB dataset declared in a 10 kB file is refused, not read)."""
+    budget = 1100 * os.path.getsize(path) + (16 << 20)  # deflate reaches ~1000:1 at most
+
+    def dataset(name, shape=None, integer=False, finite=True, low=None, high=None):
+        if name not in f:
+            raise Malformed(name, "missing")
+        ds = f[name]
+        if not isinstance(ds, h5py.Dataset):
+            raise Malformed(name, "is a group, not a dataset")
+        if ds.dtype.kind not in "biuf" + ("SUOa" if shape == "text" else ""):
+            raise Malformed(name, f"holds {ds.dtype}, not numbers")
+        if ds.size * max(ds.dtype.itemsize, 1) > budget:
+            raise Malformed(name, f"declares {ds.size} entries, more than a {os.path.getsize(path)}-byte file holds")
+        if shape not in (None, "text") and (len(ds.shape) != len(shape) or any(
+                want is not None and got != want for got, want in zip(ds.shape, shape))):
+            raise Malformed(name, f"shape {ds.shape}, expected {tuple('any' if w is None else w for w in shape)}")
+        if shape == "text":
+            return ds
+        data = ds[()]
+        if integer and ds.dtype.kind not in "biu":
+            raise Malformed(name, f"holds {ds.dtype}, not whole numbers")
+        if finite and not np.all(np.isfinite(data)):
+            raise Malformed(name, "holds NaN or infinity")
+        if low is not None and np.any(data < low):
+            raise Malformed(name, f"holds {data.min()}, below {low}")
+        if high is not None and np.any(data > high):
+            raise Malformed(name, f"holds {data.max()}, above {high}")
+        return data
+
+    names = dataset("/nodes/name", "text")
+    if len(names.shape) != 1 or names.shape[0] == 0:
+        raise Malformed("/nodes/name", f"shape {names.shape}, expected one name per node")
+    n = names.shape[0]
+    positions = None
+    if "/solution/temperature" in f:
+        positions = dataset("/solution/temperature", (None, n), low=0.0).shape[0]
+    if "/orbit/time" in f:
+        time = dataset("/orbit/time", (positions,) if positions else (None,))
+        positions = time.shape[0]
+        dataset("/orbit/sunlit_fraction", (positions,), low=0.0, high=1.0)
+        dataset("/orbit/case", (positions,), integer=True, low=0)
+        for kind in ("solar", "albedo", "earth_ir"):
+            if dataset(f"/loads/{kind}", (positions, None)).shape[1] > n:
+                raise Malformed(f"/loads/{kind}", f"more columns than the {n} nodes")
+    if positions is None:
+        positions = 1
+    cases = 1
+    if "/cases/name" in f:
+        cases = dataset("/cases/name", "text").shape[0]
+        start = dataset("/cases/position_start", (cases + 1,), integer=True, low=0, high=positions)
+        if start[0] != 0 or start[-1] != positions or np.any(np.diff(start) < 0):
+            raise Malformed("/cases/position_start", f"not 0 … {positions} in order")
+    if "/cases/time_weight" in f:
+        dataset("/cases/time_weight", (positions,), low=0.0)
+    if "/solution/time" in f:
+        dataset("/solution/time", (positions,))
+    for kind in KINDS:
+        if "/solution/heat/" + kind in f:
+            dataset("/solution/heat/" + kind, (positions, n))
+    if "/heaters/name" in f:
+        heaters = dataset("/heaters/name", "text").shape[0]
+        node_names = set(text(names[()]))
+        for heater_node in text(dataset("/heaters/node", "text")[()]):
+            if heater_node not in node_names:
+                raise Malformed("/heaters/node", f"'{heater_node}' is not a node")
+        dataset("/heaters/power", (positions, heaters), low=0.0)
+        if "/heaters/case_duty" in f:
+            orbit_cases = dataset("/heaters/case_duty", (None, heaters), low=0.0, high=1.0).shape[0]
+            if "/cases/orbit_case_start" in f:
+                first = dataset("/cases/orbit_case_start", (cases + 1,), integer=True, low=0, high=orbit_cases)
+                if np.any(np.diff(first) < 0) or np.any(first[:-1] >= orbit_cases):
+                    raise Malformed("/cases/orbit_case_start", f"not in order below the {orbit_cases} orbit cases")
+    if "/solution/envelope/temperature_max" in f:
+        for side in ("min", "max"):
+            dataset(f"/solution/envelope/temperature_{side}", (n,), low=0.0)
+            dataset(f"/solution/envelope/temperature_{side}_case", (n,), integer=True, low=0, high=cases - 1)
+    if "/limits/node" in f:
+        count = dataset("/limits/node", "text").shape[0]
+        dataset("/limits/min", (count,))
+        dataset("/limits/max", (count,))
+    if "/eigen/values" in f and "/network/conductance" in f:
+        dataset("/eigen/values", (None,))
+        g = dataset("/network/conductance", "text")
+        if len(g.shape) != 2 or g.shape[0] != g.shape[1] or g.shape[0] > n or g.dtype.kind != "f":
+            raise Malformed("/network/conductance", f"shape {g.shape} of {g.dtype}, expected square, at most {n} nodes")
+    if "/report/warnings" in f and len(dataset("/report/warnings", "text").shape) != 1:
+        raise Malformed("/report/warnings", "expected one text per warning")
+    if "/report" in f:
+        for key, value in f["/report"].attrs.items():
+            if re.fullmatch(r"time_\w+_s|absorbed_uncertainty_\w+|accuracy|view_factor_error|heat_balance_\w+", key):
+                try:
+                    if not np.isfinite(float(value)):
+                        raise ValueError
+                except (TypeError, ValueError):
+                    raise Malformed(f"/report attribute {key}", f"'{value}' is not a finite number") from None
 
 
 class Result:
@@ -87,8 +203,17 @@ def limits_of(result, path):
     or, with --limits FILE, lines "node: [min_K, max_K]" of that file."""
     limits = {}
     if path:
+        if not os.path.isfile(path):
+            fail(2, f"{path}:0:0: limits file: {'no such file' if not os.path.exists(path) else 'not a regular file'}")
+        try:
+            with open(path, encoding="utf-8") as limits_file:
+                content = limits_file.read()
+        except (OSError, UnicodeDecodeError) as e:
+            fail(2, f"{path}:0:0: limits file cannot be read as text ({e})")
         entries = re.findall(r"^\s*['\"]?([\w.+\-]+)['\"]?\s*:\s*\[\s*([-+0-9.eE]+)\s*,\s*([-+0-9.eE]+)\s*\]",
-                             open(path).read(), re.M)
+                             content, re.M)
+        if not entries:
+            fail(2, f"{path}:0:0: limits file: no line 'node: [min_K, max_K]'")
     elif "/limits/node" in result.f:
         entries = zip(text(result.f["/limits/node"][()]), result.f["/limits/min"][()], result.f["/limits/max"][()])
     else:
@@ -96,7 +221,11 @@ def limits_of(result, path):
     for node, low, high in entries:
         if node not in result.nodes:
             fail(2, f"limits: no node '{node}' in the result")
-        if not float(low) < float(high):
+        try:
+            low, high = float(low), float(high)
+        except ValueError:
+            fail(2, f"limits: {node}: [{low}, {high}] are not numbers")
+        if not (np.isfinite(low) and np.isfinite(high) and low < high):
             fail(2, f"limits: {node}: min {low} K is not below max {high} K")
         limits[node] = (float(low), float(high))
     return limits
@@ -187,8 +316,12 @@ def primitive_groups(nodes):
 
 def save(fig, out, name):
     path = os.path.join(out, name)
-    fig.savefig(path, dpi=110, bbox_inches="tight")
-    plt.close(fig)
+    try:
+        fig.savefig(path, dpi=110, bbox_inches="tight")
+    except OSError as e:
+        raise WriteFailed(f"{name}: {e}") from None
+    finally:
+        plt.close(fig)
     return path
 
 
@@ -318,23 +451,17 @@ def md_table(headers, rows):
 
 
 def write_csv(path, headers, rows):
-    with open(path, "w", newline="") as out:
-        w = csv.writer(out)
-        w.writerow(headers)
-        w.writerows(rows)
+    try:
+        with open(path, "w", newline="") as out:
+            w = csv.writer(out)
+            w.writerow(headers)
+            w.writerows(rows)
+    except OSError as e:
+        raise WriteFailed(f"{os.path.basename(path)}: {e}") from None
 
 
-def main(path, out, limits_path):
-    try:
-        f = h5py.File(path, "r")
-    except OSError as e:
-        fail(2, f"{path}: not an HDF5 file ({e})")
-    if "/meta" not in f or "/nodes/name" not in f:
-        fail(2, f"{path}: not a radnet result (no /meta or /nodes/name)")
-    try:
-        os.makedirs(out, exist_ok=True)
-    except OSError as e:
-        fail(4, f"cannot create {out}: {e}")
+def main(f, path, out, limits_path):
+    """Makes the report's files in `out` and returns their names."""
     result = Result(f)
     limits = limits_of(result, limits_path)
     md = [f"# radnet report: {result.name}\n", f"Result `{os.path.basename(path)}`: {len(result.nodes)} nodes, "
@@ -417,12 +544,87 @@ def main(path, out, limits_path):
                             ("heat_balance_max_imbalance_w", "largest heat-balance imbalance, W")):
         if key_name in attrs:
             md.append(f"- {label}: {float(attrs[key_name]):.3g}\n")
+    if "/report/warnings" in f:
+        warnings = text(f["/report/warnings"][()])
+        md.append(f"\n## Warnings of the run ({len(warnings)})\n\n")
+        md.append("".join(f"- {w}\n" for w in warnings) if warnings else "None.\n")
     md.append("\n## Figures\n\n" + "".join(f"![{os.path.basename(p)}]({os.path.basename(p)})\n" for p in figures))
-    with open(os.path.join(out, "report.md"), "w") as report:
-        report.write("".join(md))
-    for p in ["report.md", *[os.path.basename(p) for p in figures]]:
-        print(os.path.join(out, p))
-    return 0
+    try:
+        with open(os.path.join(out, "report.md"), "w") as report:
+            report.write("".join(md))
+    except OSError as e:
+        raise WriteFailed(f"report.md: {e}") from None
+    return ["report.md", *[os.path.basename(p) for p in figures]]
+
+
+def scratch_folder(out):
+    """A new folder beside OUTDIR for the report's files while they are made."""
+    parent = os.path.dirname(os.path.abspath(out))
+    for attempt in range(100):
+        temp = os.path.join(parent, f".{os.path.basename(os.path.abspath(out))}.tmp-{os.getpid()}-{attempt}")
+        try:
+            os.mkdir(temp)
+            return temp
+        except FileExistsError:
+            continue
+    raise WriteFailed(f"no free temporary name beside {out}")
+
+
+def publish(temp, out):
+    """Moves every file made into OUTDIR (replacing the earlier report's files of the same
+    names, never touching others), with termination signals held until all are in place."""
+    held = {signal.SIGINT, signal.SIGTERM, signal.SIGHUP, signal.SIGQUIT}
+    signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    try:
+        os.makedirs(out, exist_ok=True)
+        for name in sorted(os.listdir(temp)):
+            os.replace(os.path.join(temp, name), os.path.join(out, name))
+    finally:
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, held)
+
+
+def interrupted(signum, frame):
+    raise KeyboardInterrupt
+
+
+def run(path, out, limits_path):
+    """main() with every error mapped to radnet's exit codes: no traceback reaches the user."""
+    if not os.path.isfile(path):
+        fail(2, f"{path}:0:0: {'no such file' if not os.path.exists(path) else 'not a regular file'}")
+    if os.path.lexists(out) and not os.path.isdir(out):
+        fail(2, f"{out}: exists and is not a directory")
+    temp = None
+    try:
+        try:
+            f = h5py.File(path, "r")
+        except OSError as e:
+            fail(2, f"{path}: not an HDF5 file ({e})")
+        if "/meta" not in f or "/nodes/name" not in f:
+            fail(2, f"{path}: not a radnet result (no /meta or /nodes/name)")
+        check_result(f, path)
+        try:
+            temp = scratch_folder(out)
+        except OSError as e:
+            raise WriteFailed(f"cannot create a folder beside {out}: {e}") from None
+        made = main(f, path, temp, limits_path)
+        try:
+            publish(temp, out)
+        except OSError as e:
+            raise WriteFailed(f"cannot move the report into {out}: {e}") from None
+        for name in made:
+            print(os.path.join(out, name))
+        return 0
+    except Malformed as e:
+        fail(2, f"{path}: malformed result: {e}")
+    except WriteFailed as e:
+        fail(4, f"report not written: {e}")
+    except KeyboardInterrupt:
+        return 130
+    except Exception as e:  # anything else the file's content provoked: named, never a traceback
+        fail(2, f"{path}: malformed result ({type(e).__name__}: {e})")
+    finally:
+        if temp is not None:
+            shutil.rmtree(temp, ignore_errors=True)
 
 
 if __name__ == "__main__":
@@ -434,4 +636,5 @@ if __name__ == "__main__":
         del args[at:at + 2]
     if len(args) != 2:
         fail(2, "usage: radnet_report.py RESULT.h5 OUTDIR [--limits FILE.yaml]")
-    sys.exit(main(args[0], args[1], limits_file))
+    signal.signal(signal.SIGTERM, interrupted)  # ends as Ctrl-C does: the scratch folder removed
+    sys.exit(run(args[0], args[1], limits_file))

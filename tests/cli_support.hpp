@@ -31,7 +31,8 @@ inline std::string slurp(const fs::path& p) {
 
 inline Run runRadnet(const std::string& args, const TempDir& dir) {
   const fs::path out = dir.path / "stdout.txt", err = dir.path / "stderr.txt";
-  const std::string cmd = "cd '" + dir.path.string() + "' && '" + RADNET_EXE + "' " + args + " > '" + out.string() +
+  // `timeout`: a hang (a FIFO read, an endless loop) fails the test as exit 124, not the suite.
+  const std::string cmd = "cd '" + dir.path.string() + "' && timeout -k 5 600 '" + RADNET_EXE + "' " + args + " > '" + out.string() +
                           "' 2> '" + err.string() + "'";
   const int status = std::system(cmd.c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};

@@ -13,6 +13,8 @@
 #include <algorithm>
 #include <cstring>
 #include <fstream>
+#include <thread>
+#include <atomic>
 #include <limits>
 
 #include <sys/wait.h>
@@ -173,7 +175,9 @@ TEST_CASE("cli: a run ended by SIGTERM or SIGINT leaves no temporary file") {
 
 TEST_CASE("output guard: a signal removes the registered temporary files and ends the process as it would") {
   TempDir dir;
-  for (int sig : {SIGTERM, SIGINT, SIGHUP}) {
+  // Every signal whose default ends the process and that can be caught (SIGQUIT, SIGUSR1 and
+  // SIGALRM left out.h5.tmp-PID behind before they were handled).
+  for (int sig : {SIGTERM, SIGINT, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF, SIGXCPU, SIGPIPE}) {
     INFO(sig);
     const fs::path temp = dir.path / "out.h5.tmp-1", kept = dir.path / "other.txt";
     std::ofstream(temp) << "partial";
@@ -193,6 +197,45 @@ TEST_CASE("output guard: a signal removes the registered temporary files and end
     CHECK_FALSE(fs::exists(temp));
     CHECK(fs::exists(kept));
   }
+}
+
+TEST_CASE("output guard: a signal while a set of files is renamed into place waits for the whole set") {
+  // 200 files (a result and its sidecars stand for them) published while another thread sends
+  // SIGTERM once the first is in place: the process must end with every file new, never some
+  // new and some old (before, 2 of 6 timed signals left the new .h5 beside the old .xmf; this
+  // test without the wait left 1 to 30 of the 200 new).
+  TempDir dir;
+  constexpr int kFiles = 200;
+  for (int k = 0; k < kFiles; ++k) std::ofstream(dir.path / ("f" + std::to_string(k))) << "old";
+  const pid_t child = fork();
+  REQUIRE(child >= 0);
+  if (child == 0) {
+    radnet::cases::removeTemporariesOnSignal();
+    std::atomic<bool> go{false};
+    const fs::path first = dir.path / "f0";
+    std::thread sender([&] {
+      while (!go.load() || slurp(first) != "new") std::this_thread::yield();
+      ::kill(::getpid(), SIGTERM);
+    });
+    {
+      radnet::cases::PendingFiles pending;
+      for (int k = 0; k < kFiles; ++k) pending.addText((dir.path / ("f" + std::to_string(k))).string(), "new");
+      go.store(true);
+      pending.publish();
+    }
+    sender.join();
+    ::pause();  // the signal ends the process (it may still be on its way)
+    _exit(0);
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  CHECK(WIFSIGNALED(status));
+  int fresh = 0;
+  for (int k = 0; k < kFiles; ++k) fresh += slurp(dir.path / ("f" + std::to_string(k))) == "new";
+  CHECK((fresh == 0 || fresh == kFiles));
+  INFO("files new: " << fresh);
+  for (const auto& entry : fs::directory_iterator(dir.path))
+    CHECK(entry.path().filename().string().find(".tmp-") == std::string::npos);
 }
 
 TEST_CASE("cli: only regular files are read, and --threads is bounded") {

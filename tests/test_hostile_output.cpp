@@ -81,17 +81,19 @@ void replaceDataset(const fs::path& file, const std::string& path, const std::ve
   H5Fclose(f);
 }
 
+/// A dataset of the CubeSat result rewritten with other dimensions or values.
+struct Damage {
+  const char* dataset;
+  std::vector<hsize_t> dims;
+  std::vector<double> values;
+};
+
 }  // namespace
 
 TEST_CASE("export refuses a malformed result naming the dataset (exit 2, nothing written), never a crash") {
   TempDir dir;
   REQUIRE(runRadnet("run '" + kCase + "' -o good.h5 -q", dir).exit_code == 0);
   // The CubeSat: 13 nodes (11 radiative), 20 conductors, 76 positions.
-  struct Damage {
-    const char* dataset;
-    std::vector<hsize_t> dims;
-    std::vector<double> values;
-  };
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::vector<double> temperatures(76 * 13, 290.0);
   temperatures[5] = nan;
@@ -209,4 +211,171 @@ thermal:
   CHECK_THAT(slurp(dir.path / "err.txt"), Contains("heater 'bat_heater'") && Contains("widen the band"));
   CHECK_FALSE(fs::exists(dir.path / "b.h5"));
   CHECK(thermostat("278.16") == 0);
+}
+
+namespace {
+
+// A chunked dataset of the given shape with no chunk written: a huge logical size in a tiny
+// file, as a hostile or truncated result may declare.
+void declareEmptyDataset(const fs::path& file, const std::string& path, const std::vector<hsize_t>& dims) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  REQUIRE(f >= 0);
+  H5Ldelete(f, path.c_str(), H5P_DEFAULT);
+  const hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
+  const hid_t props = H5Pcreate(H5P_DATASET_CREATE);
+  std::vector<hsize_t> chunk(dims.size(), 1);
+  chunk.back() = dims.back();
+  H5Pset_chunk(props, static_cast<int>(chunk.size()), chunk.data());
+  const hid_t ds = H5Dcreate2(f, path.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, props, H5P_DEFAULT);
+  REQUIRE(ds >= 0);
+  H5Dclose(ds);
+  H5Pclose(props);
+  H5Sclose(space);
+  H5Fclose(f);
+}
+
+bool hasReportPython() { return std::system("/usr/bin/python3 -c 'import h5py, matplotlib' 2>/dev/null") == 0; }
+
+}  // namespace
+
+TEST_CASE("report refuses a malformed result naming the dataset (exit 2, no traceback, nothing written)") {
+  if (!hasReportPython()) {
+    WARN("Debian's python3-h5py/matplotlib are missing: the report is not exercised");
+    return;
+  }
+  TempDir dir;
+  REQUIRE(runRadnet("run '" + kCase + "' -o good.h5 -q", dir).exit_code == 0);
+  // The CubeSat: 13 nodes, 11 radiative, 76 positions, one design case, one heater.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> temperatures(76 * 13, 290.0);
+  temperatures[40] = nan;
+  const std::vector<Damage> damages = {
+      {"/solution/temperature", {76, 13}, temperatures},                          // a NaN
+      {"/solution/temperature", {76, 7}, std::vector<double>(76 * 7, 290.0)},     // too few nodes
+      {"/orbit/time", {5}, std::vector<double>(5, 0.0)},                          // too few positions
+      {"/loads/solar", {76, 40}, std::vector<double>(76 * 40, 1.0)},              // more nodes than the result
+      {"/cases/position_start", {2}, {0.0, 1000.0}},                              // beyond the positions
+      {"/solution/envelope/temperature_max_case", {13}, std::vector<double>(13, 9.0)},  // no case 9
+      {"/heaters/power", {3, 1}, {1.0, 2.0, 3.0}},
+      {"/solution/heat/radiative", {76, 13}, std::vector<double>(76 * 13, nan)},
+      {"/network/conductance", {3, 5}, std::vector<double>(15, 1.0)},
+  };
+  for (const Damage& d : damages) {
+    INFO(d.dataset);
+    fs::copy_file(dir.path / "good.h5", dir.path / "bad.h5", fs::copy_options::overwrite_existing);
+    replaceDataset(dir.path / "bad.h5", d.dataset, d.dims, d.values);
+    const Run run = runRadnet("report bad.h5 -o rep", dir);
+    INFO(run.err);
+    CHECK(run.exit_code == 2);
+    CHECK_THAT(run.err, Contains(d.dataset));
+    CHECK(run.err.find("Traceback") == std::string::npos);
+    CHECK_FALSE(fs::exists(dir.path / "rep"));
+  }
+  // 400 million positions declared in a 2 MB file: refused by its size before it is read.
+  fs::copy_file(dir.path / "good.h5", dir.path / "bad.h5", fs::copy_options::overwrite_existing);
+  declareEmptyDataset(dir.path / "bad.h5", "/solution/temperature", {400000000, 13});
+  const Run huge = runRadnet("report bad.h5 -o rep", dir);
+  CHECK(huge.exit_code == 2);
+  CHECK_THAT(huge.err, Contains("/solution/temperature"));
+  // Bad limits files and targets: located, exit 2, no traceback.
+  dir.write("binary.yaml", std::string("\xff\xfe\x00\x01 node", 9));
+  for (const char* args : {"--limits missing.yaml", "--limits binary.yaml", "--limits ."}) {
+    INFO(args);
+    const Run run = runRadnet(std::string("report good.h5 -o rep ") + args, dir);
+    CHECK(run.exit_code == 2);
+    CHECK(run.err.find("Traceback") == std::string::npos);
+    CHECK_FALSE(fs::exists(dir.path / "rep"));
+  }
+  dir.write("plain.txt", "not a folder\n");
+  CHECK(runRadnet("report good.h5 -o plain.txt", dir).exit_code == 2);
+  CHECK(slurp(dir.path / "plain.txt") == "not a folder\n");
+  // The undamaged file gives its report; a second report into the same folder replaces its
+  // files and leaves a user's own file there alone.
+  REQUIRE(runRadnet("report good.h5 -o rep", dir).exit_code == 0);
+  dir.write("rep/notes.txt", "mine\n");
+  REQUIRE(runRadnet("report good.h5 -o rep", dir).exit_code == 0);
+  CHECK(fs::exists(dir.path / "rep" / "report.md"));
+  CHECK(slurp(dir.path / "rep" / "notes.txt") == "mine\n");
+  for (const auto& entry : fs::directory_iterator(dir.path))
+    CHECK(entry.path().filename().string().find(".tmp-") == std::string::npos);
+}
+
+TEST_CASE("report on a full disk is exit 4 with no partial report") {
+  if (!hasReportPython()) return;
+  TempDir dir;
+  REQUIRE(runRadnet("run '" + kCase + "' -o good.h5 -q", dir).exit_code == 0);
+  const fs::path full = dir.path / "full";
+  fs::create_directory(full);
+  if (::mount("tmpfs", full.c_str(), "tmpfs", 0, "size=100k") != 0) {
+    WARN("cannot mount a tmpfs here (not root?): the full-disk report is not exercised");
+    return;
+  }
+  struct Unmount {
+    fs::path at;
+    ~Unmount() { ::umount(at.c_str()); }
+  } unmount{full};
+  const Run run = runRadnet("report good.h5 -o full/rep", dir);
+  INFO(run.err);
+  CHECK(run.exit_code == 4);
+  CHECK(run.err.find("Traceback") == std::string::npos);
+  int entries = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(full)) ++entries;
+  CHECK(entries == 0);  // no report folder, no scratch folder
+}
+
+TEST_CASE("export: a FIFO is refused at once, a dataset declared larger than the file is refused unread") {
+  TempDir dir;
+  REQUIRE(std::system(("mkfifo '" + (dir.path / "fifo.h5").string() + "'").c_str()) == 0);
+  const Run fifo = runRadnet("export fifo.h5 --format esatan -o x.d", dir);  // bounded by `timeout`
+  CHECK(fifo.exit_code == 2);
+  CHECK_THAT(fifo.err, Contains("not a regular file"));
+  REQUIRE(runRadnet("run '" + kCase + "' -o good.h5 -q", dir).exit_code == 0);
+  fs::copy_file(dir.path / "good.h5", dir.path / "bad.h5");
+  declareEmptyDataset(dir.path / "bad.h5", "/solution/temperature", {400000000, 13});  // 41.6 GB
+  const Run huge = runRadnet("export bad.h5 --format esatan -o x.d", dir);
+  CHECK(huge.exit_code == 2);
+  CHECK_THAT(huge.err, Contains("/solution/temperature"));
+  CHECK_FALSE(fs::exists(dir.path / "x.d"));
+}
+
+TEST_CASE("warnings are kept in /report/warnings and counted on stderr even under -q") {
+  TempDir dir;
+  // A 300 mm square written in mm and read without `scale`: the 300 m model is warned.
+  dir.write("sq.off", "OFF\n4 2 0\n0 0 0\n300 0 0\n300 300 0\n0 300 0\n3 0 1 2\n3 0 2 3\n");
+  dir.write("mm.yaml", R"(name: mm-plate
+materials: {black: {emissivity: 0.9, absorptivity: 0.9}}
+geometry:
+  - mesh: {name: plate, file: sq.off, front: black}
+)");
+  const Run quiet = runRadnet("run mm.yaml -o m.h5 -q", dir);
+  REQUIRE(quiet.exit_code == 0);
+  CHECK(quiet.err.find("scale: 0.001") == std::string::npos);  // -q: the warning itself is not shown
+  CHECK_THAT(quiet.err, Contains("1 warning(s)"));
+  CHECK_THAT(quiet.err, Contains("/report/warnings"));
+  const hid_t f = H5Fopen((dir.path / "m.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  REQUIRE(f >= 0);
+  const hid_t ds = H5Dopen2(f, "/report/warnings", H5P_DEFAULT);
+  REQUIRE(ds >= 0);
+  const hid_t space = H5Dget_space(ds);
+  CHECK(H5Sget_simple_extent_npoints(space) == 1);
+  H5Sclose(space);
+  H5Dclose(ds);
+  H5Fclose(f);
+  // A case without warnings has the dataset, empty, and no count line.
+  const Run clean = runRadnet("run '" + source("cases/analytic/lumped-nodes.yaml") + "' -o l.h5 -q", dir);
+  REQUIRE(clean.exit_code == 0);
+  CHECK(clean.err.find("warning") == std::string::npos);
+}
+
+TEST_CASE("run with several cases reads them all first: a bad one among good ones writes nothing") {
+  TempDir dir;
+  fs::create_directory(dir.path / "out");
+  dir.write("good.yaml", slurp(source("cases/analytic/lumped-nodes.yaml")));
+  dir.write("bad.yaml", "name: bad\nnodes: [\n");
+  const Run run = runRadnet("run good.yaml bad.yaml -o out -q", dir);
+  CHECK(run.exit_code == 2);
+  CHECK_THAT(run.err, Contains("bad.yaml:"));
+  CHECK_THAT(run.err, Contains("no case was run"));
+  CHECK(fs::is_empty(dir.path / "out"));
+  CHECK(runRadnet("run good.yaml -o out -q", dir).exit_code == 0);
 }

@@ -13,6 +13,8 @@
 #include "cases/pipeline/distributed.hpp"
 #include "cases/pipeline/geometry_run.hpp"
 #include "cases/pipeline/network_run.hpp"
+#include "cases/cli/read_commands.hpp"
+#include "cases/cli/warning_tap.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -20,12 +22,14 @@
 #include <unistd.h>
 #include <algorithm>
 #include <filesystem>
+#include <functional>
 #include <cstdlib>
 #include <iomanip>
 #include <iostream>
 #include <chrono>
 #include <map>
 #include <sstream>
+#include <thread>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -97,7 +101,17 @@ int guarded(Body&& body) {
 }
 
 // --threads and --seed apply to every parallel loop and every random stream of the run.
-void applyRunOptions(const RunOptions& o, GeometryCase& g) {
+void applyRunOptions(RunOptions o, GeometryCase& g) {
+  // More threads than cores computes nothing sooner and, under a memory limit, fails to
+  // start them (1024 threads' stacks under a 4 GB cap: libgomp exits 1). The results do not
+  // depend on the count (every node and position has its own random stream).
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (o.threads > cores) {
+    if (!o.quiet)
+      std::cerr << "radnet: warning: --threads " << o.threads << " but this machine has " << cores
+                << " cores: running " << cores << " threads\n";
+    o.threads = cores;
+  }
   if (o.threads > 0) {
     g.view_factors.monte_carlo.threads = o.threads;
 #ifdef _OPENMP
@@ -126,6 +140,13 @@ std::string outputFor(const RunOptions& o) {
   return o.output;
 }
 
+// What an output may not overwrite: the case file and its includes.
+std::vector<std::string> inputsOf(const std::string& case_path, const LoadedCase& c) {
+  std::vector<std::string> inputs = {case_path};
+  if (c.geometry) for (const auto& [file, text] : c.geometry->included) inputs.push_back(file);
+  return inputs;
+}
+
 // Under MPI every rank runs the case (sharing out its work) and rank 0 alone writes the
 // files, prints progress and the summary.
 int runCommand(const RunOptions& o) {
@@ -133,25 +154,27 @@ int runCommand(const RunOptions& o) {
   checkSameCase(o.case_path, c);  // under MPI: every rank read the same files
   const bool writer = radnet::cluster::rank() == 0;
   std::ostringstream sink;
-  std::ostream& progress = o.quiet || !writer ? static_cast<std::ostream&>(sink) : std::cerr;
+  WarningTap tap(o.quiet || !writer ? static_cast<std::ostream&>(sink) : std::cerr);
+  std::ostream& progress = tap.stream();
   const std::string out = outputFor(o);
-  std::vector<std::string> inputs = {o.case_path};
-  if (c.geometry)
-    for (const auto& [file, text] : c.geometry->included) inputs.push_back(file);
-  if (writer) checkOutputTarget(out, inputs, c.geometry.has_value());
+  if (writer) checkOutputTarget(out, inputsOf(o.case_path, c), c.geometry.has_value());
   double write_s = 0.0;
   if (c.network) {
     const NetworkRunResult r = runNetworkCase(*c.network, progress);
-    if (writer) writeNetworkResult(*c.network, r, out);
+    if (writer) writeNetworkResult(*c.network, r, out, tap.warnings());
     printNetworkSummary(*c.network, r, std::cout, o.all_nodes);
   } else {
     applyRunOptions(o, *c.geometry);
     const GeometryRunResult r = runGeometryCase(*c.geometry, !o.quiet && writer, progress);
     const auto t0 = std::chrono::steady_clock::now();
-    if (writer) writeGeometryResult(*c.geometry, r, out);
+    if (writer) writeGeometryResult(*c.geometry, r, out, tap.warnings());
     write_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     printGeometrySummary(*c.geometry, r, std::cout, o.all_nodes);
   }
+  // Said even under -q: a quiet run's warnings are in the file, and the user is told so.
+  if (writer && !tap.warnings().empty())
+    std::cerr << "radnet: " << tap.warnings().size() << " warning(s)" << (o.quiet ? "" : " above")
+              << " (kept in " << out << " /report/warnings)\n";
   // The file's own /report cannot hold the time spent writing it: it is said here.
   if (!o.quiet && writer)
     std::cerr << "radnet: wrote " << out << (write_s > 0 ? " in " + std::to_string(write_s) + " s" : "") << "\n";
@@ -175,32 +198,30 @@ int runCommands(RunOptions o) {
     return 0;
   });
   if (clash) return clash;
+  // Every case is read and its output checked before the first one runs: a bad case among
+  // several is refused with nothing written, not after the good ones have written theirs.
+  if (o.case_paths.size() > 1) {
+    int refused = 0;
+    for (const std::string& path : o.case_paths) {
+      o.case_path = path;
+      refused = std::max(refused, guarded([&] {
+                           const LoadedCase c = loadCase(path);
+                           if (radnet::cluster::rank() == 0)
+                             checkOutputTarget(outputFor(o), inputsOf(path, c), c.geometry.has_value());
+                           return 0;
+                         }));
+    }
+    if (refused) {
+      std::cerr << "radnet: no case was run: every case is read before the first runs\n";
+      return refused;
+    }
+  }
   int worst = 0;
   for (const std::string& path : o.case_paths) {
     if (o.case_paths.size() > 1) std::cout << "== " << path << "\n" << std::flush;
     o.case_path = path;
     worst = std::max(worst, guarded([&] { return runCommand(o); }));
   }
-  return worst;
-}
-
-int validateCommand(const std::vector<std::string>& paths) {
-  int worst = 0;
-  for (const std::string& path : paths)
-    worst = std::max(worst, guarded([&] {
-                       const LoadedCase c = loadCase(path);
-                       if (c.geometry) {
-                         for (const auto& w : c.geometry->scene.warnings())
-                           std::cerr << path << ": warning: " << w << "\n";
-                         for (const auto& w : c.geometry->warnings) std::cerr << path << ": warning: " << w << "\n";
-                       }
-                       std::cout << path << ": valid (" << c.nodeCount() << " nodes";
-                       if (c.geometry)  // cases/config/work_estimate.hpp
-                         std::cout << "; about " << std::setprecision(3) << estimateWork(*c.geometry).total() / 1e9
-                                   << " GB of memory";
-                       std::cout << ")\n";
-                       return 0;
-                     }));
   return worst;
 }
 
@@ -241,37 +262,6 @@ int checkCommand(const std::vector<std::string>& paths) {
   std::cout << (failed_total == 0 && worst == 0 ? "all checks passed" : "checks FAILED") << " (" << checked
             << " case(s) checked)\n";
   return worst;
-}
-
-// The report's tables and figures are drawn by docs/radnet_report.py with Debian's python3,
-// h5py and matplotlib: found beside the executable's source tree or installed beside it.
-int reportCommand(const char* argv0, const std::string& result, std::string dir, const std::string& limits) {
-  namespace fs = std::filesystem;
-  std::vector<fs::path> candidates = {fs::path(RADNET_SOURCE_DIR) / "docs" / "radnet_report.py"};
-  std::error_code ec;
-  const fs::path self = fs::canonical(fs::path("/proc/self/exe"), ec);
-  if (!ec) candidates.push_back(self.parent_path().parent_path() / "share" / "radnet" / "radnet_report.py");
-  (void)argv0;
-  const auto script = std::find_if(candidates.begin(), candidates.end(), [](const fs::path& p) { return fs::exists(p); });
-  if (script == candidates.end()) {
-    std::cerr << "radnet report: docs/radnet_report.py not found (looked in " << candidates.front() << ")\n";
-    return kExitOutput;
-  }
-  if (!fs::exists(result)) {
-    std::cerr << result << ":0:0: no such file\n";
-    return kExitBadInput;
-  }
-  if (dir.empty()) dir = (fs::path(result).parent_path() / fs::path(result).stem()).string() + "-report";
-  const auto quote = [](const std::string& s) {
-    std::string q = "'";
-    for (char ch : s) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
-    return q + "'";
-  };
-  std::string command = "/usr/bin/python3 " + quote(script->string()) + " " + quote(result) + " " + quote(dir);
-  if (!limits.empty()) command += " --limits " + quote(limits);
-  const int status = std::system(command.c_str());
-  if (status == -1 || !WIFEXITED(status)) return kExitOutput;
-  return WEXITSTATUS(status);
 }
 
 constexpr const char* kExamples = R"(
@@ -367,9 +357,9 @@ int radnetMain(int argc, char** argv) {
     return kExitBadInput;
   }
   if (*run) return runCommands(run_options);
-  if (*validate) return validateCommand(validate_cases);
+  if (*validate) return validateCommand(validate_cases, [](const std::function<int()>& body) { return guarded(body); });
   if (*report)  // one writer: rank 0 draws, the others take its exit code
-    return agreed(radnet::cluster::rank() == 0 ? reportCommand(argv[0], report_result, report_dir, report_limits) : 0);
+    return agreed(radnet::cluster::rank() == 0 ? reportCommand(report_result, report_dir, report_limits) : 0);
   if (*exporter)  // one writer: rank 0 exports, the others wait for its exit code
     return guarded([&] {
       if (radnet::cluster::rank() == 0)

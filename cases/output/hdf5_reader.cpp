@@ -4,6 +4,8 @@
 
 #include <hdf5.h>
 
+#include <filesystem>
+
 namespace radnet::cases {
 namespace {
 
@@ -22,6 +24,9 @@ void quiet() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
 
 Hdf5Reader::Hdf5Reader(const std::string& path) : path_(path) {
   quiet();
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw InputError(path, 0, 0, "not a regular file (a FIFO, device or directory cannot be a result)");
   if (H5Fis_hdf5(path.c_str()) <= 0) throw InputError(path, 0, 0, "not an HDF5 file (or it does not exist)");
   file_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (file_ < 0) throw InputError(path, 0, 0, "cannot open the HDF5 file");
@@ -49,10 +54,22 @@ Eigen::MatrixXd Hdf5Reader::matrix(const std::string& path) const {
   hsize_t dims[2] = {1, 1};
   if (rank < 1 || rank > 2 || H5Sget_simple_extent_dims(space.id, dims, nullptr) < 0)
     throw InputError(path_, 0, 0, path + " is not a 1-D or 2-D dataset");
+  checkLogicalSize(path, static_cast<double>(dims[0]) * static_cast<double>(rank == 2 ? dims[1] : 1) * 8.0);
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> m(dims[0], rank == 2 ? dims[1] : 1);
   if (m.size() && H5Dread(ds.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, m.data()) < 0)
     throw InputError(path_, 0, 0, "cannot read " + path + " as numbers");
   return m;
+}
+
+void Hdf5Reader::checkLogicalSize(const std::string& path, double bytes) const {
+  // Deflate compresses at most ~1000:1 and unwritten chunks take no room: a dataset declared
+  // far larger than the file could hold is malformed, refused before memory is taken for it.
+  std::error_code ec;
+  const double file_bytes = static_cast<double>(std::filesystem::file_size(path_, ec));
+  if (!ec && bytes > 1100.0 * file_bytes + 16.0 * (1 << 20))
+    throw InputError(path_, 0, 0, path + " declares " + std::to_string(static_cast<long long>(bytes)) +
+                                      " bytes, more than a " + std::to_string(static_cast<long long>(file_bytes)) +
+                                      "-byte file can hold");
 }
 
 Eigen::VectorXd Hdf5Reader::vector(const std::string& path) const {
@@ -66,6 +83,7 @@ std::vector<std::string> Hdf5Reader::strings(const std::string& path) const {
   Handle ds{H5Dopen2(static_cast<hid_t>(file_), path.c_str(), H5P_DEFAULT), H5Dclose};
   Handle space{H5Dget_space(ds.id), H5Sclose};
   const hssize_t count = H5Sget_simple_extent_npoints(space.id);
+  checkLogicalSize(path, static_cast<double>(count) * 16.0);  // a pointer and a short name a string
   Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
   H5Tset_size(type.id, H5T_VARIABLE);
   H5Tset_cset(type.id, H5T_CSET_UTF8);

@@ -28,6 +28,8 @@ class Hdf5Reader {
   const std::string& path() const { return path_; }
 
  private:
+  /// InputError when dataset `path` declares more bytes than the file could hold.
+  void checkLogicalSize(const std::string& path, double bytes) const;
   std::string path_;
   long long file_ = -1;
 };

@@ -339,15 +339,16 @@ void Hdf5Writer::writeScalarAttribute(const std::string& object, const std::stri
   check(H5Awrite(attr.id, static_cast<hid_t>(memory_type), value), "write attribute " + name);
 }
 
-void Hdf5Writer::commit() {
+void Hdf5Writer::commit(const std::vector<std::pair<std::string, std::string>>& sidecars) {
   // The id is released whether or not the close succeeds: the destructor must not close it again.
   const herr_t closed = H5Fclose(static_cast<hid_t>(file_));
   file_ = -1;
   if (closed < 0) throw OutputError("HDF5: closing '" + temp_path_ + "' failed");
-  if (std::rename(temp_path_.c_str(), final_path_.c_str()) != 0)
-    throw OutputError("cannot rename '" + temp_path_ + "' to '" + final_path_ + "'");
+  PendingFiles pending;  // removes the temporaries, the .h5's too, if anything below fails
+  pending.adopt(temp_path_, final_path_);
+  for (const auto& [path, text] : sidecars) pending.addText(path, text);
+  pending.publish();
   committed_ = true;
-  unregisterTemporary(temp_path_);
 }
 
 }  // namespace radnet::cases

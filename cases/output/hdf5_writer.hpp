@@ -50,8 +50,10 @@ class Hdf5Writer {
   void attribute(const std::string& object, const std::string& name, double value);
   void attribute(const std::string& object, const std::string& name, long long value);
 
-  /// Closes the file and renames it to the requested name.
-  void commit();
+  /// Closes the file, writes each (path, text) sidecar to a temporary, then renames them all
+  /// to their names together (PendingFiles): a failure or a signal leaves the old set or the
+  /// new one, never a mix.
+  void commit(const std::vector<std::pair<std::string, std::string>>& sidecars = {});
 
  private:
   /// Fills one kMatrixChunk² row-major block (zeroed, cut at the edge) from (row0, col0).

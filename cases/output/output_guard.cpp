@@ -2,11 +2,15 @@
 
 #include "cases/config/errors.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <csignal>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 
@@ -39,16 +43,66 @@ void checkOne(const std::string& target, const std::vector<std::string>& inputs,
 }
 
 // Signal-safe storage: fixed buffers, a slot is in use while its first byte is not 0.
-constexpr int kSlots = 8;
+constexpr int kSlots = 256;  // a result, its sidecars, a design case each: far fewer
 constexpr size_t kPathMax = 4096;
 char temporaries[kSlots][kPathMax];
 std::atomic<bool> slot_used[kSlots];
 
-extern "C" void onSignal(int signal_number) {
+// While a set of files is renamed into place, a signal waits: the run then ends with the
+// new set whole, never the new .h5 beside the old .xmf.
+std::atomic<bool> publishing{false};
+std::atomic<int> deferred_signal{0};
+
+void removeRegistered() {
   for (int k = 0; k < kSlots; ++k)
     if (slot_used[k].load()) ::unlink(temporaries[k]);
+}
+
+extern "C" void onSignal(int signal_number) {
+  if (publishing.load()) {
+    deferred_signal.store(signal_number);
+    return;
+  }
+  removeRegistered();
   std::signal(signal_number, SIG_DFL);
   std::raise(signal_number);
+}
+
+// `text` into a new temporary beside `path`, created exclusively and without following a
+// symlink (as the .h5's temporary, hdf5_writer.cpp): a planted name is passed over, never
+// written through. Returns the temporary's path (registered for removal on a signal).
+std::string writeTemporary(const std::string& path, const std::string& text) {
+  std::string temp;
+  int fd = -1;
+  for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
+    temp = path + ".tmp-" + std::to_string(::getpid()) + (attempt ? "-" + std::to_string(attempt) : "");
+    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd < 0 && errno != EEXIST) break;
+  }
+  if (fd < 0) throw OutputError("cannot create '" + temp + "': " + std::strerror(errno));
+  registerTemporary(temp);
+  const auto fail = [&](const std::string& why) {
+    ::close(fd);
+    std::remove(temp.c_str());
+    unregisterTemporary(temp);
+    throw OutputError("cannot write '" + temp + "': " + why);  // a full disk shows here, not as a short file
+  };
+  size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) fail(n == 0 ? "nothing written" : std::strerror(errno));
+    done += static_cast<size_t>(n);
+  }
+  // fsync: the rename must not publish a name whose data a crash of the machine would lose.
+  if (::fsync(fd) != 0) fail(std::strerror(errno));
+  if (::close(fd) != 0) {
+    fd = -1;
+    std::remove(temp.c_str());
+    unregisterTemporary(temp);
+    throw OutputError("cannot write '" + temp + "': " + std::strerror(errno));
+  }
+  return temp;
 }
 
 }  // namespace
@@ -79,7 +133,56 @@ void unregisterTemporary(const std::string& path) {
 }
 
 void removeTemporariesOnSignal() {
-  for (int s : {SIGINT, SIGTERM, SIGHUP}) std::signal(s, onSignal);
+  for (int s : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF, SIGXCPU, SIGPIPE})
+    std::signal(s, onSignal);
+  // Past a file-size limit a write fails with EFBIG (exit 4, the old files kept) instead of
+  // the process dumping core with its temporary left behind.
+  std::signal(SIGXFSZ, SIG_IGN);
 }
+
+PendingFiles::~PendingFiles() {
+  for (const auto& [temp, target] : files_) {
+    std::remove(temp.c_str());
+    unregisterTemporary(temp);
+  }
+}
+
+void PendingFiles::adopt(const std::string& temp, const std::string& target) { files_.emplace_back(temp, target); }
+
+void PendingFiles::addText(const std::string& target, const std::string& text) {
+  files_.emplace_back(writeTemporary(target, text), target);
+}
+
+void PendingFiles::publish() {
+  // What would make a rename fail is looked for before the first: a target taken meanwhile
+  // by a directory (or anything not a regular file) leaves every old file as it was.
+  for (const auto& [temp, target] : files_) {
+    struct stat taken{};
+    if (::lstat(target.c_str(), &taken) == 0 && !S_ISREG(taken.st_mode) && !S_ISLNK(taken.st_mode))
+      throw OutputError("cannot replace '" + target + "': it is not a regular file");
+  }
+  publishing.store(true);
+  std::string failed;
+  size_t k = 0;
+  for (; k < files_.size() && failed.empty(); ++k) {
+    if (std::rename(files_[k].first.c_str(), files_[k].second.c_str()) != 0)
+      failed = "cannot rename '" + files_[k].first + "' to '" + files_[k].second + "': " + std::strerror(errno);
+    else
+      unregisterTemporary(files_[k].first);
+  }
+  if (failed.empty()) files_.clear();
+  else files_.erase(files_.begin(), files_.begin() + static_cast<long>(k) - 1);  // the failed one onwards
+  publishing.store(false);
+  if (const int s = deferred_signal.exchange(0)) onSignal(s);
+  if (!failed.empty()) throw OutputError(failed);
+}
+
+void writeTextFilesAtomically(const std::vector<std::pair<std::string, std::string>>& files) {
+  PendingFiles pending;
+  for (const auto& [path, text] : files) pending.addText(path, text);
+  pending.publish();
+}
+
+void writeTextAtomically(const std::string& path, const std::string& text) { writeTextFilesAtomically({{path, text}}); }
 
 }  // namespace radnet::cases

@@ -2,6 +2,7 @@
 // What radnet may write over, checked before anything is computed (docs/design.md,
 // "Contracts"), and temporary files removed when a signal ends the run.
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace radnet::cases {
@@ -15,12 +16,40 @@ namespace radnet::cases {
 void checkOutputTarget(const std::string& output, const std::vector<std::string>& inputs, bool with_sidecar);
 
 /// Temporary files a signal must not leave behind: registered while they are being written.
-/// Up to 8 at a time; paths longer than 4 KiB are not registered (and so not cleaned up).
+/// Up to 256 at a time; paths longer than 4 KiB are not registered (and so not cleaned up).
 void registerTemporary(const std::string& path);
 void unregisterTemporary(const std::string& path);
 
-/// Installs handlers for SIGINT, SIGTERM and SIGHUP that remove the registered temporary files
-/// and then end the process as the signal would have.
+/// Installs handlers for every signal that ends a process and can be caught (SIGINT, SIGTERM,
+/// SIGHUP, SIGQUIT, SIGUSR1/2, SIGALRM, SIGVTALRM, SIGPROF, SIGXCPU, SIGPIPE) that remove the
+/// registered temporary files and then end the process as the signal would have; SIGXFSZ is
+/// ignored, so a write past the file-size limit fails (exit 4) instead.
 void removeTemporariesOnSignal();
+
+/// A set of files written to temporaries beside their targets and renamed over them together
+/// (publish): an error before publish leaves every old file, and a signal during publish waits
+/// until the whole new set is in place. Temporaries not published are removed on destruction.
+class PendingFiles {
+ public:
+  PendingFiles() = default;
+  PendingFiles(const PendingFiles&) = delete;
+  PendingFiles& operator=(const PendingFiles&) = delete;
+  ~PendingFiles();
+  /// A temporary written elsewhere (registered, closed) to be renamed to `target`.
+  void adopt(const std::string& temp, const std::string& target);
+  /// Writes `text` to a new exclusive temporary beside `target` now (OutputError on failure).
+  void addText(const std::string& target, const std::string& text);
+  /// Renames every temporary over its target, in the order given.
+  void publish();
+
+ private:
+  std::vector<std::pair<std::string, std::string>> files_;  ///< (temporary, target)
+};
+
+/// Writes `text` to `path` through a temporary file and a rename.
+void writeTextAtomically(const std::string& path, const std::string& text);
+/// Writes every (path, text) through temporaries, all before any rename: a full disk or any
+/// write error leaves every old file as it was.
+void writeTextFilesAtomically(const std::vector<std::pair<std::string, std::string>>& files);
 
 }  // namespace radnet::cases

@@ -9,7 +9,8 @@
 
 namespace radnet::cases {
 
-void writeNetworkResult(const NetworkCase& c, const NetworkRunResult& r, const std::string& path) {
+void writeNetworkResult(const NetworkCase& c, const NetworkRunResult& r, const std::string& path,
+                        const std::vector<std::string>& warnings) {
   Hdf5Writer h5(path);
   writeMeta(h5, c.name, c.yaml_text);
   writeNodes(h5, r.radiative, r.thermal);
@@ -27,10 +28,12 @@ void writeNetworkResult(const NetworkCase& c, const NetworkRunResult& r, const s
   h5.attribute("/report", "refine_iterations", static_cast<long long>(r.solution.refine_iterations));
   h5.attribute("/report", "band_method", r.solution.method);
   h5.attribute("/report", "view_factor_error", r.radiative.network->reciprocity().max_view_factor_change);
+  h5.writeStrings("/report/warnings", warnings);
   h5.commit();
 }
 
-void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, const std::string& path) {
+void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, const std::string& path,
+                         const std::vector<std::string>& warnings) {
   Hdf5Writer h5(path);
   writeMeta(h5, c.name, c.yaml_text, c.included);
   writeNodes(h5, r.radiative, r.thermal);
@@ -61,13 +64,8 @@ void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, cons
   }
   const XdmfPlan xdmf = writeXdmfData(h5, c.scene, r, path);
   writeTimings(h5, r.timings);
-  h5.commit();
-  try {
-    writeXdmfFiles(xdmf, path);
-  } catch (const OutputError&) {
-    std::remove(path.c_str());  // the result and its ParaView files, or neither
-    throw;
-  }
+  h5.writeStrings("/report/warnings", warnings);
+  h5.commit(xdmfFiles(xdmf, path));  // the result and its ParaView files, or neither
 }
 
 }  // namespace radnet::cases

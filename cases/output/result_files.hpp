@@ -6,12 +6,16 @@
 #include "cases/pipeline/results.hpp"
 
 #include <string>
+#include <vector>
 
 namespace radnet::cases {
 
-void writeNetworkResult(const NetworkCase& c, const NetworkRunResult& r, const std::string& path);
+/// `warnings`: the run's warnings, kept in /report/warnings (an empty dataset when none).
+void writeNetworkResult(const NetworkCase& c, const NetworkRunResult& r, const std::string& path,
+                        const std::vector<std::string>& warnings);
 
-/// Writes `path` and its sidecar (same stem, .xmf), renamed after the HDF5 file.
-void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, const std::string& path);
+/// Writes `path` and its sidecar (same stem, .xmf), published together.
+void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, const std::string& path,
+                         const std::vector<std::string>& warnings);
 
 }  // namespace radnet::cases

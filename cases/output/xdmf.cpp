@@ -227,86 +227,18 @@ std::string xdmfText(const XdmfPlan& plan, int series, const std::string& h5) {
   return x.str();
 }
 
-void writeXdmfFiles(const XdmfPlan& plan, const std::string& h5_path) {
+std::vector<std::pair<std::string, std::string>> xdmfFiles(const XdmfPlan& plan, const std::string& h5_path) {
   const std::string h5 = std::filesystem::path(h5_path).filename().string();
-  std::vector<std::string> written;
-  try {
-    for (size_t k = 0; k < plan.series.size(); ++k) {
-      writeTextAtomically(plan.series[k].file, xdmfText(plan, static_cast<int>(k), h5));
-      written.push_back(plan.series[k].file);
-    }
-    if (!plan.overview_file.empty()) writeTextAtomically(plan.overview_file, xdmfText(plan, -1, h5));
-  } catch (const OutputError&) {
-    for (const std::string& f : written) std::remove(f.c_str());  // all the sidecars or none
-    throw;
-  }
+  std::vector<std::pair<std::string, std::string>> files;
+  for (size_t k = 0; k < plan.series.size(); ++k)
+    files.emplace_back(plan.series[k].file, xdmfText(plan, static_cast<int>(k), h5));
+  if (!plan.overview_file.empty()) files.emplace_back(plan.overview_file, xdmfText(plan, -1, h5));
+  return files;
 }
 
 std::string xdmfPathFor(const std::string& h5_path) {
   const std::filesystem::path p(h5_path);
   return (p.parent_path() / p.stem()).string() + ".xmf";
 }
-
-namespace {
-
-// `text` into a new temporary beside `path`, created exclusively and without following a
-// symlink (as the .h5's temporary, hdf5_writer.cpp): a planted name is passed over, never
-// written through. Returns the temporary's path (registered for removal on a signal).
-std::string writeTemporary(const std::string& path, const std::string& text) {
-  std::string temp;
-  int fd = -1;
-  for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
-    temp = path + ".tmp-" + std::to_string(::getpid()) + (attempt ? "-" + std::to_string(attempt) : "");
-    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-    if (fd < 0 && errno != EEXIST) break;
-  }
-  if (fd < 0) throw OutputError("cannot create '" + temp + "': " + std::strerror(errno));
-  registerTemporary(temp);
-  const auto fail = [&](const std::string& why) {
-    std::remove(temp.c_str());
-    unregisterTemporary(temp);
-    throw OutputError("cannot write '" + temp + "': " + why);  // a full disk shows here, not as a short file
-  };
-  size_t done = 0;
-  while (done < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const std::string why = n == 0 ? "nothing written" : std::strerror(errno);
-      ::close(fd);
-      fail(why);
-    }
-    done += static_cast<size_t>(n);
-  }
-  if (::close(fd) != 0) fail(std::strerror(errno));
-  return temp;
-}
-
-}  // namespace
-
-void writeTextFilesAtomically(const std::vector<std::pair<std::string, std::string>>& files) {
-  std::vector<std::string> temps;
-  const auto dropTemps = [&](size_t from) {
-    for (size_t k = from; k < temps.size(); ++k) {
-      std::remove(temps[k].c_str());
-      unregisterTemporary(temps[k]);
-    }
-  };
-  try {
-    for (const auto& [path, text] : files) temps.push_back(writeTemporary(path, text));
-  } catch (const OutputError&) {
-    dropTemps(0);  // nothing published: every old file stays as it was
-    throw;
-  }
-  for (size_t k = 0; k < files.size(); ++k) {
-    if (std::rename(temps[k].c_str(), files[k].first.c_str()) != 0) {
-      dropTemps(k);
-      throw OutputError("cannot rename '" + temps[k] + "' to '" + files[k].first + "'");
-    }
-    unregisterTemporary(temps[k]);
-  }
-}
-
-void writeTextAtomically(const std::string& path, const std::string& text) { writeTextFilesAtomically({{path, text}}); }
 
 }  // namespace radnet::cases

@@ -63,17 +63,11 @@ XdmfPlan writeXdmfData(Hdf5Writer& h5, const geometry::Scene& scene, const Geome
 /// The text of one series file (`series` < 0: the static overview).
 std::string xdmfText(const XdmfPlan& plan, int series, const std::string& h5_name);
 
-/// Writes every file of the plan (after the HDF5 file is committed); on failure removes those
-/// it wrote and throws OutputError.
-void writeXdmfFiles(const XdmfPlan& plan, const std::string& h5_path);
+/// Every file of the plan with its text: (path, text), for Hdf5Writer::commit to publish with
+/// the HDF5 file.
+std::vector<std::pair<std::string, std::string>> xdmfFiles(const XdmfPlan& plan, const std::string& h5_path);
 
 /// The sidecar's path beside the HDF5 file: same folder and stem, extension .xmf.
 std::string xdmfPathFor(const std::string& h5_path);
-
-/// Writes `text` to `path` through a temporary file and a rename.
-void writeTextAtomically(const std::string& path, const std::string& text);
-/// Writes every (path, text) through temporaries, all before any rename: a full disk or any
-/// write error leaves every old file as it was.
-void writeTextFilesAtomically(const std::vector<std::pair<std::string, std::string>>& files);
 
 }  // namespace radnet::cases
