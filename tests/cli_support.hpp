@@ -29,10 +29,11 @@ inline std::string slurp(const fs::path& p) {
   return s.str();
 }
 
-inline Run runRadnet(const std::string& args, const TempDir& dir) {
+/// @param shell_before  shell commands run first in the same shell (e.g. "ulimit -v 2000000 && ")
+inline Run runRadnet(const std::string& args, const TempDir& dir, const std::string& shell_before = "") {
   const fs::path out = dir.path / "stdout.txt", err = dir.path / "stderr.txt";
   // `timeout`: a hang (a FIFO read, an endless loop) fails the test as exit 124, not the suite.
-  const std::string cmd = "cd '" + dir.path.string() + "' && timeout -k 5 600 '" + RADNET_EXE + "' " + args + " > '" + out.string() +
+  const std::string cmd = "cd '" + dir.path.string() + "' && " + shell_before + "timeout -k 5 600 '" + RADNET_EXE + "' " + args + " > '" + out.string() +
                           "' 2> '" + err.string() + "'";
   const int status = std::system(cmd.c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};

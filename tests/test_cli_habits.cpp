@@ -2,6 +2,7 @@
 // progress a log can hold, the summary of a large model, exit 4.
 #include "cli_support.hpp"
 
+#include "cases/config/orbit_settings.hpp"
 #include "cases/config/work_estimate.hpp"
 #include "cases/output/hdf5_layout.hpp"
 #include "cases/output/hdf5_reader.hpp"
@@ -265,7 +266,7 @@ TEST_CASE("the scene's triangles are checked against the machine's memory as sur
   const radnet::cases::YamlDocument doc =
       radnet::cases::YamlDocument::parse("geometry:\n  - sphere: {name: ball}\n", "aliases.yaml");
   const YAML::Node entry = doc.root()["geometry"][0];
-  const double memory = radnet::cases::physicalMemory();
+  const double memory = radnet::cases::memoryLimit().bytes;
   REQUIRE(memory > 0);
   const double fits = 0.5 * memory / radnet::cases::kSceneBytesPerTriangle;
   CHECK_NOTHROW(radnet::cases::checkSceneMemory(doc, entry, "geometry[0].sphere", fits));
@@ -278,6 +279,38 @@ TEST_CASE("the scene's triangles are checked against the machine's memory as sur
     CHECK(m.find("geometry[300].sphere") != std::string::npos);
     CHECK(m.find("repeated alias") != std::string::npos);
   }
+}
+
+// Issue 38: 2,000 includes of a sphere under a 4 GB address-space cap ran 68 s to "out of
+// memory" with no location: the check compared the machine's RAM, not the process's limit.
+TEST_CASE("the memory check honours the process's own limit (ulimit -v), located at the surface") {
+  TempDir dir;
+  std::ofstream(dir.path / "big.yaml") << "name: big\nmaterials:\n  white: {emissivity: 0.88, absorptivity: 0.2}\n"
+                                          "geometry:\n  - sphere: {name: ball, center: [0, 0, 0], radius: 1.0, "
+                                          "subdivisions: 2000, front: white}\n";
+  // 8e6 triangles, about 4.8 GB at 600 B each: fits this machine, not a 2 GB address space.
+  const Run capped = runRadnet("validate big.yaml", dir, "ulimit -v 2000000 && ");
+  INFO(capped.err);
+  CHECK(capped.exit_code == 2);
+  CHECK(capped.err.find("big.yaml:5:5:") != std::string::npos);
+  CHECK(capped.err.find("address-space limit (ulimit -v)") != std::string::npos);
+}
+
+// Issue 38: `raan: 1e20` was converted to 1.7e18 rad before any reduction, keeping none of its
+// digits. 1e20 ≡ 280 (mod 360) exactly (1e20 ≡ 0 mod 8 and ≡ 10 mod 45), so both must give
+// the same orbit, bit for bit; as must -80 (one turn apart, to rounding of the turn in radians).
+TEST_CASE("orbit angles are reduced modulo 360 deg exactly before they become radians") {
+  const auto positionAt = [](const std::string& elements) {
+    const auto doc = radnet::cases::YamlDocument::parse(
+        "orbit: {semi_major_axis: 7.0e6, eccentricity: 0.01, inclination: 51.6, " + elements + "}\n", "angles.yaml");
+    const auto settings = radnet::cases::parseOrbitSettings(doc);
+    REQUIRE(settings);
+    return settings->cases.at(0).orbit->state(600.0).position_eci_m;
+  };
+  const Eigen::Vector3d reference = positionAt("raan: 280.0, arg_perigee: 30.0, true_anomaly: 10.0");
+  CHECK(positionAt("raan: 1.0e20, arg_perigee: 30.0, true_anomaly: 10.0") == reference);
+  CHECK(positionAt("raan: 280.0, arg_perigee: 390.0, true_anomaly: -350.0").isApprox(reference, 1e-12));
+  CHECK(positionAt("raan: -80.0, arg_perigee: 30.0, true_anomaly: 10.0").isApprox(reference, 1e-12));
 }
 
 // Issue 12: large matrices are deflated by radnet on all cores and handed to

@@ -115,7 +115,8 @@ void parseNetwork(const YamlDocument& doc, const YAML::Node& net, NetworkCase& c
     c.view_factors_sparse = parseEntries(doc, net["view_factor_entries"], index, n);
   }
   if (net["row_sum_tolerance"])
-    c.tolerances.row_sum = doc.number(net["row_sum_tolerance"], "network.row_sum_tolerance", 0.0, 1.0);
+    // Above 0.1 a row summing to 1.5 would pass and give a negative GR to space.
+    c.tolerances.row_sum = doc.number(net["row_sum_tolerance"], "network.row_sum_tolerance", 0.0, 0.1);
   if (net["reciprocity_tolerance"])
     c.tolerances.reciprocity = doc.number(net["reciprocity_tolerance"], "network.reciprocity_tolerance", 0.0, 1.0);
 }

@@ -1,5 +1,6 @@
 #include "cases/config/orbit_settings.hpp"
 
+#include "orbits/earth.hpp"
 #include "solver/units.hpp"
 
 #include <cmath>
@@ -21,23 +22,45 @@ struct OrbitKeys {
   double num(const char* key, const std::string& what, double lo, double hi, double fallback) const {
     return o[key] ? doc.number(o[key], "orbit." + std::string(key) + " " + what, lo, hi) : fallback;
   }
-  double angleRad(const char* key) const { return units::degToRad(num(key, "(deg)", -kBig, kBig, 0)); }
+  // An angle reduced to (-360, 360) deg in degrees, where std::fmod is exact, before it becomes
+  // radians: 1e20 deg reduced after the conversion keeps none of its digits.
+  double deg(const char* key, double fallback = 0) const {
+    return std::fmod(num(key, "(deg)", -kBig, kBig, fallback), 360.0);
+  }
+  double inclinationDeg() const { return num("inclination", "(deg)", 0, 180, 0); }
 };
 
 // Below ~100 km nothing orbits for long; such a value is almost always kilometres written
 // where metres are meant (35786 for GEO). Refused unless `allow_low_altitude: true`.
 constexpr double kLowestAltitude = 100e3;  // m
+// Beyond the Moon's mean distance an Earth orbit is not what the planet loads and the
+// eclipse model assume, and such a value is almost always a unit slip the other way
+// (35786.0e6 for GEO, an astronomical unit). Refused unless `allow_high_altitude: true`.
+constexpr double kMoonDistance = 3.844e8;  // m, mean Earth–Moon distance
+
+bool allowed(const YamlDocument& doc, const YAML::Node& o, const char* key) {
+  return o[key] && doc.boolean(o[key], std::string("orbit.") + key);
+}
 
 void checkAltitudes(const YamlDocument& doc, const YAML::Node& o) {
-  if (o["allow_low_altitude"] && doc.boolean(o["allow_low_altitude"], "orbit.allow_low_altitude")) return;
-  for (const char* key : {"altitude", "perigee_altitude", "apogee_altitude"}) {
+  const bool allow_low = allowed(doc, o, "allow_low_altitude"), allow_high = allowed(doc, o, "allow_high_altitude");
+  const double earth_radius = orbits::EarthModel::wgs84().equatorial_radius_m;
+  for (const char* key : {"altitude", "perigee_altitude", "apogee_altitude", "semi_major_axis"}) {
     const YAML::Node v = o[key];
     if (!v) continue;
-    const double h = doc.number(v, std::string("orbit.") + key + " (m)", -kBig, kBig);
-    if (h > 0 && h < kLowestAltitude) {
-      std::ostringstream msg;
+    const bool radius = std::string(key) == "semi_major_axis";
+    const double value = doc.number(v, std::string("orbit.") + key + " (m)", -kBig, kBig);
+    const double h = radius ? value - earth_radius : value;
+    std::ostringstream msg;
+    if (!allow_low && !radius && h > 0 && h < kLowestAltitude) {
       msg << "orbit." << key << ": " << h << " m is below 100 km, where no orbit lasts; altitudes are in metres ("
           << h << " km is " << h << ".0e3); give 'allow_low_altitude: true' if " << h << " m is meant";
+      throw doc.error(v, msg.str());
+    }
+    if (!allow_high && h > kMoonDistance) {
+      msg << "orbit." << key << ": " << value << " m puts the spacecraft " << h
+          << " m above the Earth, beyond the Moon's distance (3.844e8 m); lengths are in metres (GEO's altitude "
+             "is 35786.0e3); give 'allow_high_altitude: true' if it is meant";
       throw doc.error(v, msg.str());
     }
   }
@@ -98,15 +121,14 @@ orbits::KeplerElements keplerElements(const OrbitKeys& k) {
   if (!k.o["semi_major_axis"])
     return orbits::perigeeApogeeElements(
         k.num("perigee_altitude", "(m)", kPositive, kBig, 0), k.num("apogee_altitude", "(m)", kPositive, kBig, 0),
-        k.num("inclination", "(deg)", -kBig, kBig, 0), k.num("raan", "(deg)", -kBig, kBig, 0),
-        k.num("arg_perigee", "(deg)", -kBig, kBig, 0), k.num("true_anomaly", "(deg)", -kBig, kBig, 0));
+        k.inclinationDeg(), k.deg("raan"), k.deg("arg_perigee"), k.deg("true_anomaly"));
   orbits::KeplerElements el;
   el.semi_major_axis_m = k.num("semi_major_axis", "(m)", kPositive, kBig, 0);
   el.eccentricity = k.num("eccentricity", "", 0, kBig, 0);
-  el.inclination_rad = k.angleRad("inclination");
-  el.raan_rad = k.angleRad("raan");
-  el.arg_perigee_rad = k.angleRad("arg_perigee");
-  el.true_anomaly_rad = k.angleRad("true_anomaly");
+  el.inclination_rad = units::degToRad(k.inclinationDeg());
+  el.raan_rad = units::degToRad(k.deg("raan"));
+  el.arg_perigee_rad = units::degToRad(k.deg("arg_perigee"));
+  el.true_anomaly_rad = units::degToRad(k.deg("true_anomaly"));
   return el;
 }
 
@@ -132,11 +154,10 @@ orbits::KeplerElements circularElements(const OrbitKeys& k, std::optional<double
     d << "sun-synchronous, LTAN " << ltan << " h";
     description = d.str();
     return orbits::circularElements(h, orbits::sunSynchronousInclinationDeg(h), orbits::raanForLocalTimeDeg(ltan, epoch),
-                                    k.num("true_anomaly", "(deg)", -kBig, kBig, 0));
+                                    k.deg("true_anomaly"));
   }
   description = "circular";
-  return orbits::circularElements(h, k.num("inclination", "(deg)", 0, 180, 0), k.num("raan", "(deg)", -kBig, kBig, 0),
-                                  k.num("true_anomaly", "(deg)", -kBig, kBig, 0));
+  return orbits::circularElements(h, k.inclinationDeg(), k.deg("raan"), k.deg("true_anomaly"));
 }
 
 void parseSweepOptions(const YamlDocument& doc, const YAML::Node& o, orbits::SweepOptions& sweep) {
@@ -167,7 +188,7 @@ std::optional<OrbitSettings> parseOrbitSettings(const YamlDocument& doc, const Y
   doc.expectMap(o, "orbit",
                 {"altitude", "beta", "inclination", "raan", "ltan", "sun_synchronous", "semi_major_axis",
                  "eccentricity", "perigee_altitude", "apogee_altitude", "arg_perigee", "true_anomaly", "epoch",
-                 "positions", "orbits", "eclipse_events", "spacing", "allow_low_altitude"});
+                 "positions", "orbits", "eclipse_events", "spacing", "allow_low_altitude", "allow_high_altitude"});
   checkAltitudes(doc, o);
   OrbitSettings s;
   const OrbitKeys keys{doc, o};

@@ -1,6 +1,7 @@
 #include "cases/config/primitive_specs.hpp"
 
 #include "cases/config/mesh_block.hpp"
+#include "cases/config/work_estimate.hpp"
 
 #include <unistd.h>
 #include <limits>
@@ -157,14 +158,14 @@ std::pair<int, int> parseCounts(const YamlDocument& doc, const YAML::Node& node,
 }
 
 void checkNodeMemory(const YamlDocument& doc, const YAML::Node& where, const std::string& what, double nodes) {
-  const double physical = double(::sysconf(_SC_PHYS_PAGES)) * double(::sysconf(_SC_PAGE_SIZE));
+  const MemoryLimit memory = memoryLimit();
   // 32 n² bytes: above every measured peak per node² (24 n² at most, docs/limits.md).
   const double need = 32.0 * nodes * nodes;
-  if (need > 0.75 * physical) {
+  if (memory.bytes > 0 && need > 0.75 * memory.bytes) {
     std::ostringstream s;
     s << what << ": " << nodes << " thermal nodes need about " << need / 1073741824.0
-      << " GiB for the dense node × node matrices; this machine has " << physical / 1073741824.0
-      << " GiB. Use fewer nodes (subdivisions refine the mesh, not the node count)";
+      << " GiB for the dense node × node matrices, more than 75 % of " << memory.source
+      << ". Use fewer nodes (subdivisions refine the mesh, not the node count)";
     throw doc.error(where, s.str());
   }
 }

@@ -1,8 +1,10 @@
 #include "cases/config/work_estimate.hpp"
 
+#include <sys/resource.h>
 #include <unistd.h>
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <sstream>
 
 namespace radnet::cases {
@@ -15,6 +17,25 @@ std::string gigabytes(double bytes) {
   return s.str();
 }
 
+// A process limit, bytes; 0 when there is none.
+double resourceLimit(int resource) {
+  struct rlimit limit {};
+  if (::getrlimit(resource, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return 0;
+  return static_cast<double>(limit.rlim_cur);
+}
+
+// The cgroup v2 memory limit of this process ("max" or absent: none).
+double cgroupLimit() {
+  std::ifstream in("/sys/fs/cgroup/memory.max");
+  std::string text;
+  if (!(in >> text) || text == "max") return 0;
+  try {
+    return std::stod(text);
+  } catch (const std::exception&) {
+    return 0;
+  }
+}
+
 }  // namespace
 
 double physicalMemory() {
@@ -22,12 +43,25 @@ double physicalMemory() {
   return pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page) : 0.0;
 }
 
+MemoryLimit memoryLimit() {
+  MemoryLimit best;
+  const auto consider = [&](double bytes, const std::string& what) {
+    if (bytes > 0 && (best.bytes <= 0 || bytes < best.bytes)) best = {bytes, what + " of " + gigabytes(bytes)};
+  };
+  consider(physicalMemory(), "this machine's memory");
+  consider(resourceLimit(RLIMIT_AS), "the process's address-space limit (ulimit -v)");
+  consider(resourceLimit(RLIMIT_DATA), "the process's data limit (ulimit -d)");
+  consider(cgroupLimit(), "the cgroup's memory.max");
+  return best;
+}
+
 void checkSceneMemory(const YamlDocument& doc, const YAML::Node& where, const std::string& what, double triangles) {
-  const double memory = physicalMemory(), need = kSceneBytesPerTriangle * triangles;
-  if (memory <= 0 || need <= memory) return;
+  const MemoryLimit memory = memoryLimit();
+  const double need = kSceneBytesPerTriangle * triangles;
+  if (memory.bytes <= 0 || need <= memory.bytes) return;
   std::ostringstream m;
   m << what << ": the scene reaches " << triangles << " triangles, about " << gigabytes(need)
-    << " of memory for the triangles alone, more than this machine's " << gigabytes(memory)
+    << " of memory for the triangles alone, more than " << memory.source
     << ": coarser subdivisions or meshes (a repeated alias builds its surface again each time)";
   throw doc.error(where, m.str());
 }
@@ -65,7 +99,9 @@ WorkEstimate estimateWork(const GeometryCase& c) {
 }
 
 void checkWorkEstimate(const YamlDocument& doc, const GeometryCase& c, double memory_bytes) {
-  if (memory_bytes <= 0) memory_bytes = physicalMemory();
+  MemoryLimit memory = memoryLimit();
+  if (memory_bytes > 0) memory = {memory_bytes, "the given " + gigabytes(memory_bytes)};
+  memory_bytes = memory.bytes;
   if (memory_bytes <= 0) return;  // unknown: nothing to compare with
   const WorkEstimate w = estimateWork(c);
   if (w.total() <= memory_bytes) return;
@@ -83,7 +119,7 @@ void checkWorkEstimate(const YamlDocument& doc, const GeometryCase& c, double me
     << " for " << c.scene.faces().size() << " triangles, " << gigabytes(w.dense_bytes)
     << " for the " << c.scene.nodes().size() << "-node matrices, " << gigabytes(w.planet_bytes)
     << " for planet-ray hit points, " << gigabytes(w.position_bytes) << " for " << w.positions
-    << " positions), more than this machine's " << gigabytes(memory_bytes)
+    << " positions), more than " << memory.source
     << ": fewer nodes, planet rays, positions or design cases";
   throw doc.error(at, m.str());
 }

@@ -12,6 +12,15 @@ namespace radnet::cases {
 /// sphere, docs/limits.md).
 inline constexpr double kSceneBytesPerTriangle = 600.0;
 
+/// The memory this process may use, bytes (0 when unknown): the least of the machine's
+/// physical memory, the process's address-space and data limits (`ulimit -v`, `ulimit -d`:
+/// RLIMIT_AS, RLIMIT_DATA) and its cgroup's `memory.max`, with the words that say which.
+struct MemoryLimit {
+  double bytes = 0;
+  std::string source;  ///< e.g. "this machine's 25.2 GB", "the process's address-space limit (ulimit -v) of 4.1 GB"
+};
+MemoryLimit memoryLimit();
+
 /// This machine's physical memory, bytes (0 when unknown).
 double physicalMemory();
 
@@ -32,8 +41,8 @@ struct WorkEstimate {
 WorkEstimate estimateWork(const GeometryCase& c);
 
 /// @throws InputError, located at `geometry`, `environment.planet_rays` or `orbit.positions`
-///         (whichever dominates), when the estimate exceeds `memory_bytes` (default: this
-///         machine's physical memory)
+///         (whichever dominates), when the estimate exceeds `memory_bytes` (default:
+///         memoryLimit(), the least of the machine's memory and the process's limits)
 void checkWorkEstimate(const YamlDocument& doc, const GeometryCase& c, double memory_bytes = 0);
 
 }  // namespace radnet::cases
