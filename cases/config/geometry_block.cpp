@@ -19,6 +19,12 @@ struct GeometryContext {
   GeometryCase& c;
   std::vector<std::string> material_names;
   std::map<std::string, std::string> node_material;  // node name → material
+  // Node name → the entry that made it (its `where` and line), so that a later entry reaching
+  // the same node without `join: true` is refused instead of merging silently.
+  std::map<std::string, std::pair<std::string, int>> node_origin;
+  std::string entry_where;  // the entry being read
+  int entry_line = 0;
+  bool entry_joins = false;
 };
 
 std::string materialOf(const YamlDocument& doc, const YAML::Node& node, const std::string& what,
@@ -118,6 +124,13 @@ void addSides(const YamlDocument& doc, const YAML::Node& entry, const std::strin
   const std::string fn = front.empty() ? "" : at.node, bn = back.empty() ? "" : at.node + ".back";
   for (const auto& [nn, mat] : {std::pair{fn, front}, std::pair{bn, back}}) {
     if (nn.empty()) continue;
+    const auto [origin, first] = ctx.node_origin.emplace(nn, std::pair{ctx.entry_where, ctx.entry_line});
+    if (!first && origin->second.first != ctx.entry_where && !ctx.entry_joins)
+      throw doc.error(entry, what + ": node '" + nn + "' is already made by " + origin->second.first + ":" +
+                                 std::to_string(origin->second.second) +
+                                 "; two surfaces reaching one node name would merge into one node unseen: "
+                                 "give this one a name of its own, or 'join: true' to add its triangles to '" +
+                                 nn + "'");
     auto [it, fresh] = ctx.node_material.emplace(nn, mat);
     if (!fresh && it->second != mat)
       throw geometry::GeometryError("node '" + nn + "' would have two materials ('" + it->second + "' and '" + mat +
@@ -135,10 +148,14 @@ void parsePrimitive(const YamlDocument& doc, const YAML::Node& entry, const std:
   const YAML::Node p = entry.begin()->second;
   const std::string what = where + "." + std::string(spec.kind);
   if (!p.IsMap()) throw doc.error(p, what + ": expected a mapping of parameters");
-  std::vector<std::string> allowed = {"name", "front", "back", "subdivisions", "shell"};
+  std::vector<std::string> allowed = {"name", "front", "back", "subdivisions", "shell", "join"};
   allowed.insert(allowed.end(), spec.keys.begin(), spec.keys.end());
   doc.expectMap(p, what, allowed);
   const std::string name = doc.string(doc.required(p, "name", what), what + ".name");
+  // `where` is unique within one file; the file name keeps entries of two includes apart.
+  ctx.entry_where = where + " at " + doc.file();
+  ctx.entry_line = entry.Mark().line + 1;
+  ctx.entry_joins = p["join"] && doc.boolean(p["join"], what + ".join");
   checkPrimitiveName(doc, p, what, name);
   const std::string front = materialOf(doc, p["front"], what + ".front", ctx);
   const std::string back = materialOf(doc, p["back"], what + ".back", ctx);
