@@ -147,6 +147,44 @@ TEST_CASE("thermostat in a steady state: holds its sensor at on_below, or gives 
   CHECK(warm.temperature(0, 0) == Approx(std::pow(100.0 / kStefanBoltzmann + 81.0, 0.25)).epsilon(1e-9));
 }
 
+// Issue 38: a primary and a backup thermostat on one sensor failed every steady state below
+// both set points as "singular Jacobian" (both held the sensor, at two temperatures).
+TEST_CASE("two thermostats on one sensor in a steady state: the higher set point holds it, the other helps when it saturates") {
+  // One node on K W/K to a 200 K boundary, no other load: holding T needs K (T − 200) W.
+  ThermalNetwork net = network(2);
+  net.fixed_temperature[1] = 200.0;
+  const Eigen::MatrixXd q = Eigen::MatrixXd::Zero(2, 1);
+  auto run = [&](double conductance, double backup_on_below) {
+    setConductors(net, {{0, 1, conductance}});
+    net.heaters = {{"primary", 0, 0, 10.0, 280.0, 285.0}, {"backup", 0, 0, 20.0, backup_on_below, backup_on_below + 5.0}};
+    const ThermalResult r = steadyStates(net, q);
+    REQUIRE(r.status == Status::Converged);
+    return r;
+  };
+  // K = 0.1: the primary holds 280 K with 8 W; the backup (set at 270 K) stays off.
+  const ThermalResult enough = run(0.1, 270.0);
+  CHECK(enough.temperature(0, 0) == Approx(280.0).margin(1e-9));
+  CHECK(enough.heater_power(0, 0) == Approx(8.0).epsilon(1e-9));
+  CHECK(enough.heater_power(1, 0) == 0.0);
+  // K = 0.2: 16 W would hold 280 K, the primary has 10 and saturates (250 K alone); the backup
+  // then holds 270 K: 0.2 × 70 = 14 W in all, 4 W of it the backup's.
+  const ThermalResult backup = run(0.2, 270.0);
+  CHECK(backup.temperature(0, 0) == Approx(270.0).margin(1e-9));
+  CHECK(backup.heater_power(0, 0) == 10.0);
+  CHECK(backup.heater_power(1, 0) == Approx(4.0).epsilon(1e-9));
+  // Listed the other way round (the backup's set point above the primary's): 290 K held by the
+  // second heater, 18 W of its 20, the first off since 290 K is above its 280 K.
+  const ThermalResult swapped = run(0.2, 290.0);
+  CHECK(swapped.temperature(0, 0) == Approx(290.0).margin(1e-9));
+  CHECK(swapped.heater_power(0, 0) == 0.0);
+  CHECK(swapped.heater_power(1, 0) == Approx(18.0).epsilon(1e-9));
+  // Equal set points: the first listed gives all its 10 W, the second the other 6 W.
+  const ThermalResult equal = run(0.2, 280.0);
+  CHECK(equal.temperature(0, 0) == Approx(280.0).margin(1e-9));
+  CHECK(equal.heater_power(0, 0) == 10.0);
+  CHECK(equal.heater_power(1, 0) == Approx(6.0).epsilon(1e-9));
+}
+
 TEST_CASE("schedules: a time table repeats each orbit and an illumination schedule follows the sunlit fraction") {
   DissipationSchedule table;
   table.kind = DissipationSchedule::Kind::Table;

@@ -29,16 +29,37 @@ Eigen::VectorXd startingGuess(const ThermalNetwork& net, const Eigen::VectorXd& 
   return t;
 }
 
+// A sensor can be held at one set point only: two thermostats on one sensor (a primary and a
+// backup) both Controlled would ask it to sit at two temperatures, or split one power two ways
+// (a singular Jacobian). At equilibrium a heater whose set point is above the sensor's
+// temperature gives all its power and one below gives none, so of those that would be
+// Controlled together the highest set point (ties: the first listed) keeps control and the
+// others wait Off; the backup takes over on a later round once the primary has saturated.
+void oneControllerPerSensor(const std::vector<Heater>& heaters, std::vector<HeaterMode>& next,
+                            Eigen::VectorXd& power) {
+  for (size_t k = 0; k < heaters.size(); ++k) {
+    if (next[k] != HeaterMode::Controlled) continue;
+    for (size_t j = k + 1; j < heaters.size(); ++j) {
+      if (next[j] != HeaterMode::Controlled || heaters[j].sensor != heaters[k].sensor) continue;
+      const size_t loser = heaters[j].on_below_k > heaters[k].on_below_k ? k : j;
+      next[loser] = HeaterMode::Off;
+      power[static_cast<Eigen::Index>(loser)] = 0.0;
+      if (loser == k) break;
+    }
+  }
+}
+
 // One position: Newton for the temperatures and the controlled heaters' powers, then the
 // heaters' modes corrected until they agree with the answer (an active-set loop: at most a
-// few rounds, since each heater moves at most Off → Controlled → Saturated and back).
+// few rounds, since each heater moves at most Off → Controlled → Saturated and back, and a
+// backup on a shared sensor waits Off until the primary saturates).
 detail::NewtonOutcome solvePosition(const ThermalNetwork& net, const Eigen::VectorXd& q, std::vector<HeaterMode>& mode,
                                     Eigen::VectorXd& t, Eigen::VectorXd& power, const ThermalOptions& opt,
                                     detail::JacobianCache& cache) {
   const size_t H = net.heaters.size();
   constexpr double kSettle = 1e-6;  // K: a sensor this close to on_below is at it
   detail::NewtonOutcome total;
-  for (size_t round = 0; round < 2 * H + 3; ++round) {
+  for (size_t round = 0; round < 3 * H + 3; ++round) {  // a backup may wait a round per heater
     detail::ImplicitSystem sys{net, q, {}, 1.0, false, {}, &cache};
     Eigen::VectorXd u;
     std::vector<double> u0;
@@ -63,11 +84,11 @@ detail::NewtonOutcome solvePosition(const ThermalNetwork& net, const Eigen::Vect
       step.factorisations = total.factorisations;
       return step;
     }
-    bool changed = false;
+    std::vector<HeaterMode> next_mode = mode;
     for (size_t k = 0, c = 0; k < H; ++k) {
       const Heater& h = net.heaters[k];
       const double ts = t[h.sensor];
-      HeaterMode next = mode[k];
+      HeaterMode& next = next_mode[k];
       if (mode[k] == HeaterMode::Controlled) {
         const double uk = u[static_cast<Eigen::Index>(c++)];
         next = uk < 0 ? HeaterMode::Off : uk > h.power_w ? HeaterMode::Saturated : HeaterMode::Controlled;
@@ -79,9 +100,10 @@ detail::NewtonOutcome solvePosition(const ThermalNetwork& net, const Eigen::Vect
         if (ts > h.on_below_k + kSettle) next = HeaterMode::Controlled;
         power[static_cast<Eigen::Index>(k)] = h.power_w;
       }
-      changed |= next != mode[k];
-      mode[k] = next;
     }
+    oneControllerPerSensor(net.heaters, next_mode, power);
+    const bool changed = next_mode != mode;
+    mode = next_mode;
     if (!changed) return total;
   }
   total.status = Status::NotConverged;
