@@ -379,3 +379,31 @@ TEST_CASE("run with several cases reads them all first: a bad one among good one
   CHECK(fs::is_empty(dir.path / "out"));
   CHECK(runRadnet("run good.yaml -o out -q", dir).exit_code == 0);
 }
+
+// Issue 38: a transient reaching 1e6 K said nothing. 1e7 W into 10 J/K on a 0.001 W/K link
+// heats the box by about 1e6 K/s, so it reaches ~1e8 K by 100 s.
+TEST_CASE("a node heated beyond what any material survives is warned, naming it and when") {
+  TempDir dir;
+  dir.write("hot.yaml", R"(name: hot
+network:
+  nodes:
+    - {name: plate, area: 1.0, emissivity: 1.0}
+  view_factors:
+    - [0.0]
+thermal:
+  nodes:
+    plate: {capacitance: 1000.0}
+  lumped:
+    box: {dissipation: 1.0e7, capacitance: 10.0, initial_temperature: 293.15}
+  conductors: [[box, plate, 0.001]]
+  transient: {duration: 100.0, output_step: 10.0}
+)");
+  const Run hot = runRadnet("run hot.yaml -o hot.h5", dir);
+  INFO(hot.err);
+  CHECK(hot.exit_code == 0);
+  CHECK_THAT(hot.err, Contains("warning: thermal: node 'box' reaches 9.95"));
+  CHECK_THAT(hot.err, Contains("e+07 K at t = 100 s"));
+  CHECK_THAT(hot.out, Contains("9.95e+07"));  // the summary's maximum, not its first output
+  // The plate, at 1142 K, is hot but not impossible: not named.
+  CHECK(hot.err.find("'plate'") == std::string::npos);
+}

@@ -8,6 +8,7 @@
 #include <map>
 #include <numeric>
 #include <ostream>
+#include <sstream>
 
 namespace radnet::cases {
 namespace {
@@ -41,9 +42,16 @@ double columnScale(const NodeColumn& c) { return c.values.size() ? c.values.cwis
 
 void printValue(const NodeColumn& c, double v, double scale, std::ostream& out) {
   if (std::abs(v) < 1e-12 * scale) v = 0.0;
-  if (c.fixed)
-    out << std::fixed << std::setprecision(c.precision) << std::setw(c.width) << v << std::defaultfloat;
-  else
+  if (c.fixed) {
+    std::ostringstream text;
+    text << std::fixed << std::setprecision(c.precision) << v;
+    // A value too wide for fixed notation (a 1e8 K node) would run into its neighbour.
+    if (static_cast<int>(text.str().size()) >= c.width) {
+      text.str("");
+      text << std::defaultfloat << std::setprecision(std::max(1, c.width - 6)) << v;
+    }
+    out << std::setw(c.width) << text.str();
+  } else
     out << std::setprecision(c.precision) << std::setw(c.width) << v;
 }
 

@@ -204,7 +204,10 @@ void printNetworkSummary(const NetworkCase& c, const NetworkRunResult& r, std::o
   if (r.thermal) {
     const Layout thermal_layout{groupsByNamePrefix(r.thermal->node_names), all_nodes};
     out << "temperatures, K:\n";
-    thermal_layout.print(r.thermal->node_names, {kelvin("T", r.thermal->temperature().col(0), Aggregate::Max, 12)}, out);
+    if (r.thermal->temperature().cols() == 1)
+      thermal_layout.print(r.thermal->node_names, {kelvin("T", r.thermal->temperature().col(0), Aggregate::Max, 12)}, out);
+    else  // a transient without orbit: its range over the run, not its first output
+      printNodeTemperatures(r.thermal->node_names, r.thermal->temperature(), thermal_layout, out);
     printHeatBalance(*r.thermal, nullptr, Span{0, 1, 0, r.thermal->temperature().cols()}, thermal_layout, out);
   }
   if (const auto& ex = r.radiative.exchange)

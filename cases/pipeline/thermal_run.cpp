@@ -205,6 +205,29 @@ HeatBalance heatBalance(const solver::ThermalNetwork& net, const solver::Thermal
   return b;
 }
 
+namespace {
+
+// No spacecraft material survives 4000 K (graphite sublimes near 3900 K, tungsten melts at
+// 3695 K): a node above it means a dissipation in mW written as W, a capacitance in kJ/K, a
+// node cut off from every sink. The run is kept (the numbers are what the model says), but
+// not silently: a warning names the hottest node, its temperature and when.
+constexpr double kHottestMaterial = 4000.0;  // K
+
+void warnImplausibleTemperatures(const ThermalSolution& out, std::ostream& progress) {
+  const Eigen::MatrixXd& t = out.solve.temperature;
+  if (t.size() == 0) return;
+  Eigen::Index node = 0, column = 0;
+  const double hottest = t.maxCoeff(&node, &column);
+  if (!(hottest > kHottestMaterial)) return;
+  progress << "radnet: warning: thermal: node '" << out.node_names[static_cast<size_t>(node)] << "' reaches "
+           << hottest << " K";
+  if (static_cast<size_t>(column) < out.times_s.size()) progress << " at t = " << out.times_s[static_cast<size_t>(column)] << " s";
+  progress << ", above what any material survives (" << kHottestMaterial
+           << " K): check its dissipation (W), capacitance (J/K) and links to the rest of the model\n";
+}
+
+}  // namespace
+
 ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFactors& exchange, const SweepResult* sweep,
                            StageTimings& timings, std::ostream& progress, const ThermalErrorInputs* errors) {
   for (const std::string& w : ts.warnings) progress << "radnet: warning: " << w << "\n";
@@ -233,6 +256,7 @@ ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFact
   if (result.status != solver::Status::Converged)
     throw NumericalError(std::string("temperatures ") + solver::toString(result.status) + ": " + result.message);
   out.heat = heatBalance(net, result, q_env);
+  warnImplausibleTemperatures(out, progress);
   if (sweep && errors) {
     StageTimer t_unc(timings, Stage::Uncertainty);
     temperatureUncertainty(net, *sweep, *errors, ts.radiative_nodes, out);
