@@ -149,16 +149,20 @@ TEST_CASE("cli: -o never replaces an input, a non-regular file or the sidecar's 
 
 TEST_CASE("cli: a run ended by SIGTERM or SIGINT leaves no temporary file") {
   TempDir dir;
+  // The hot/cold CubeSat with 4000 optical samples instead of 64 runs for minutes, so the
+  // signal surely comes while it computes or writes (with 64 a fast machine finished within
+  // the 1.5 s wait once, and the run ended 0). Either way nothing named *.tmp-* may remain.
+  std::string text = slurp(source("cases/examples/cubesat-hot-cold.yaml"));
+  const std::string samples = "samples: 64,";
+  REQUIRE(text.find(samples) != std::string::npos);
+  text.replace(text.find(samples), samples.size(), "samples: 4000,");
+  std::ofstream(dir.path / "long.yaml") << text;
   for (const char* sig : {"TERM", "INT"}) {
     INFO(sig);
-    // The hot/cold CubeSat with its 64 optical samples runs for several seconds; the signal
-    // comes while it computes or writes. Either way nothing named *.tmp-* may remain.
     // The signal goes only once radnet has installed its handlers (SigCgt has SIGINT, bit 1):
     // a background job of a shell starts with SIGINT ignored, so a signal that came before
     // (a slow sanitizer build under load took longer than the 1.5 s once given) was lost.
-    const std::string script = "cd '" + dir.path.string() + "' && ( '" + RADNET_EXE + "' run '" +
-                               source("cases/examples/cubesat-hot-cold.yaml") +
-                               "' -o s.h5 -q > /dev/null 2>&1 & pid=$!; "
+    const std::string script = "cd '" + dir.path.string() + "' && ( '" + RADNET_EXE + "' run long.yaml -o s.h5 -q > /dev/null 2>&1 & pid=$!; "
                                "for i in $(seq 600); do c=$(awk '/^SigCgt/{print $2}' /proc/$pid/status 2>/dev/null); "
                                "[ -n \"$c\" ] && (( (16#$c & 2) != 0 )) && break; sleep 0.1; done; sleep 1.5; kill -" +
                                sig + " $pid; wait $pid; echo $? > rc.txt )";
