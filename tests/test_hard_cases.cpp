@@ -1,11 +1,13 @@
 // Numerically hard networks (docs/design.md, "Numerics"): every path either answers correctly or
 // reports a status; none returns NaN.
 #include "solver/radiative/exchange.hpp"
+#include "solver/radiative/policy.hpp"
 #include "solver/radiative/reference_solvers.hpp"
 #include "test_support.hpp"
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 using namespace radnet;
@@ -155,4 +157,35 @@ TEST_CASE("a truncation where the paper's eigenvector iteration diverges: report
     }
   }
   REQUIRE(found);
+}
+
+TEST_CASE("a ring of equal nodes, whose ±λ pairs cluster, defeats Lanczos: auto falls back to dense and says so") {
+  // 2000 unit squares in a ring, each seeing its two neighbours with F = 0.45: G is circulant,
+  // λ_k = 0.9 cos(2πk/n) m² (exact), every |λ| twice over and the largest within 1e-5 of each
+  // other. Lanczos reported 10 of 16 pairs converged and the run stopped with exit 3.
+  const int n = 2000;
+  std::vector<std::string> names;
+  std::vector<Eigen::Triplet<double>> f;
+  for (int i = 0; i < n; ++i) {
+    names.push_back("n" + std::to_string(i));
+    f.emplace_back(i, (i + 1) % n, 0.45);
+    f.emplace_back(i, (i + n - 1) % n, 0.45);
+  }
+  Eigen::SparseMatrix<double> view_factors(n, n);
+  view_factors.setFromTriplets(f.begin(), f.end());
+  const solver::Network net(names, Eigen::VectorXd::Ones(n), view_factors);
+  const Eigen::VectorXd rho = Eigen::VectorXd::Constant(n, 0.2);
+  const solver::SolverSettings settings;  // eigensolver auto, the defaults of a case
+  const solver::EigenPairs pairs = solver::policy::decomposeForBands(net, rho, settings, {Eigen::VectorXd::Constant(n, 0.8)});
+  REQUIRE(pairs.status == solver::Status::Converged);
+  CHECK(pairs.method == solver::EigenMethod::Dense);
+  CHECK(pairs.fallback.find("dense eigensolver") != std::string::npos);
+  // The pairs are the analytic ones, largest |λ| first; 1e-12 m² is round-off of a 2000² solve.
+  std::vector<double> analytic;
+  for (int k = 0; k < n; ++k) analytic.push_back(0.9 * std::cos(2.0 * M_PI * k / n));
+  std::sort(analytic.begin(), analytic.end(), [](double a, double b) { return std::abs(a) > std::abs(b); });
+  REQUIRE(pairs.rank() > 0);
+  for (int k = 0; k < pairs.rank(); ++k) CHECK(std::abs(std::abs(pairs.values[k]) - std::abs(analytic[k])) < 1e-12);
+  const Eigen::MatrixXd residual = net.denseConductance() * pairs.vectors - pairs.vectors * pairs.values.asDiagonal();
+  CHECK(residual.cwiseAbs().maxCoeff() < 1e-12);
 }

@@ -212,7 +212,7 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
   // reflectance any of them may give each node.
   r.solver = budgetedSolverSettings(c.solver, solver::largestEntry(r.view_factor_stderr));
   r.radiative.pairs = decomposeOnce(*r.radiative.network, c, r.solver, r.timings);
-  if (const std::string w = rankWarning(r.radiative.pairs, r.solver); !w.empty())
+  for (const std::string& w : decompositionWarnings(r.radiative.pairs, r.solver))
     progress << "radnet: warning: " << w << "\n";
   r.radiative.exchange = exchangeFactors(r.radiative, c.emissivity, r.solver, r.timings);
   const DesignContext ctx{c, caster, r.radiative, r.solver, r.view_factor_stderr, r.lost_view_factor_stderr, area};

@@ -25,7 +25,7 @@ NetworkRunResult runNetworkCase(const NetworkCase& c, std::ostream& progress) {
   if (c.emissivity) emissivities.push_back(*c.emissivity);
   r.radiative.pairs = decomposeNetwork(net, rho_max, emissivities, c.solver, r.timings);
   const solver::EigenPairs& pairs = r.radiative.pairs;
-  if (const std::string w = rankWarning(pairs, c.solver); !w.empty()) progress << "radnet: warning: " << w << "\n";
+  for (const std::string& w : decompositionWarnings(pairs, c.solver)) progress << "radnet: warning: " << w << "\n";
   progress << "radnet: " << pairs.rank() << " eigenpairs (" << solver::toString(pairs.method) << ")";
   if (pairs.rank() > 0) progress << ", largest |λ| " << std::abs(pairs.values[0]) << " m²";
   else progress << ": no exchange between the nodes (G = 0)";

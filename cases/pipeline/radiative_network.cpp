@@ -20,6 +20,13 @@ solver::EigenPairs decomposeNetwork(const solver::Network& net, const Eigen::Vec
   return pairs;
 }
 
+std::vector<std::string> decompositionWarnings(const solver::EigenPairs& pairs, const solver::SolverSettings& settings) {
+  std::vector<std::string> out;
+  if (!pairs.fallback.empty()) out.push_back("eigendecomposition: " + pairs.fallback);
+  if (std::string w = rankWarning(pairs, settings); !w.empty()) out.push_back(std::move(w));
+  return out;
+}
+
 std::string rankWarning(const solver::EigenPairs& pairs, const solver::SolverSettings& settings) {
   if (pairs.rank_rule == "explicit") {
     // Both truncations are in the reported uncertainty, but the budget was not met.

@@ -21,6 +21,10 @@ solver::EigenPairs decomposeNetwork(const solver::Network& net, const Eigen::Vec
 /// otherwise.
 std::string rankWarning(const solver::EigenPairs& pairs, const solver::SolverSettings& settings);
 
+/// Every warning the decomposition gives: `auto`'s dense fallback after Lanczos failed, and
+/// rankWarning's.
+std::vector<std::string> decompositionWarnings(const solver::EigenPairs& pairs, const solver::SolverSettings& settings);
+
 /// GR and GR to space. @throws NumericalError when they cannot be formed (e.g. a lossless closed cavity)
 solver::ExchangeFactors exchangeFactors(const RadiativeNetwork& radiative, const Eigen::VectorXd& emissivity,
                                         const solver::SolverSettings& settings, StageTimings& timings);

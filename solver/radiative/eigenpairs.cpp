@@ -195,16 +195,28 @@ EigenPairs decomposeConductance(const Network& net, const EigenRequest& req) {
   // Spectra needs nev < n and a Krylov space larger than nev.
   if (method == EigenMethod::Lanczos && (n < 4 || req.rank >= n - 1)) method = EigenMethod::Dense;
 
-  EigenPairs result;
-  if (method == EigenMethod::Dense) {
+  const auto dense = [&] {
     EigenPairs all = denseEigenPairs(net.denseConductance());
     if (all.status != Status::Converged) return all;
-    result = req.rank > 0 ? truncate(all, std::min(req.rank, n)) : rankFromTolerance(all, req, max_s, cap);
+    return req.rank > 0 ? truncate(all, std::min(req.rank, n)) : rankFromTolerance(all, req, max_s, cap);
+  };
+  EigenPairs result;
+  if (method == EigenMethod::Dense) {
+    result = dense();
   } else if (req.rank > 0) {
     result = lanczosOnNetwork(net, req.rank, req);
     result.dropped_bound = result.status == Status::Converged ? std::abs(result.values[result.rank() - 1]) : 0.0;
   } else {
     result = growLanczos(net, req, max_s, cap);
+  }
+  // A clustered spectrum (a ring of equal nodes: pairs ±λ a relative 1e-5 apart) can defeat
+  // Lanczos; `auto` then takes the dense solver where it is affordable, and says so.
+  if (req.method == EigenMethod::Auto && result.method == EigenMethod::Lanczos &&
+      result.status == Status::NotConverged && n <= policy::kDenseEigenFallbackMaxNodes) {
+    const std::string why = result.message;
+    result = dense();
+    if (result.status == Status::Converged)
+      result.fallback = why + "; the dense eigensolver gave the pairs instead (solver.eigensolver: auto)";
   }
   result.tolerance = req.rank > 0 ? 0.0 : req.tolerance;
   if (result.status == Status::Converged && !finite(result)) {

@@ -59,6 +59,9 @@ struct EigenPairs {
   std::string rank_rule = "explicit";
   double probe_residual = -1.0;        ///< a-posteriori: the probes' largest band residual at this rank (−1: not measured)
   double probe_exchange_error = -1.0;  ///< a-posteriori: the probes' largest GR error at this rank (−1: not measured)
+  /// Non-empty when `auto` chose Lanczos, Lanczos did not converge and the dense solver gave
+  /// these pairs instead: what Lanczos said (a warning for the user, not an error).
+  std::string fallback;
   int rank() const { return static_cast<int>(values.size()); }
 };
 

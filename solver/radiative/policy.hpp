@@ -16,6 +16,9 @@ namespace radnet::solver::policy {
 /// EigenMethod::Auto uses the dense solver up to this many nodes: Ashdown §10 finds
 /// QR-type methods faster below ~400 elements and Lanczos above.
 inline constexpr int kDenseEigenMaxNodes = 400;
+/// `auto` falls back to the dense eigensolver when Lanczos does not converge up to this many
+/// nodes: its O(n³) stays within minutes there (2,000 nodes: about 2 s on this machine).
+inline constexpr int kDenseEigenFallbackMaxNodes = 8000;
 /// ... and whenever an explicit rank asks for more than n / kDenseEigenRankDivisor
 /// pairs, where Lanczos would rebuild most of the spectrum anyway.
 inline constexpr int kDenseEigenRankDivisor = 4;
