@@ -56,7 +56,11 @@ std::vector<SweepPosition> sweepOrbit(const Orbit& orbit, const AttitudeSpec& at
     const SunPosition sun = sunPosition(orbit.epochJd() + t / kSecondsPerDay);
     const Eigen::Vector3d sun_pos = sun.direction_eci * sun.distance_m;
     const Eigen::Vector3d to_sun = (sun_pos - st.position_eci_m).normalized();
-    p.body_from_eci = bodyFromEci(attitude, orbit, st, to_sun, t);
+    try {
+      p.body_from_eci = bodyFromEci(attitude, orbit, st, to_sun, t);
+    } catch (const OrbitError& e) {  // say when: a pointing's targets may align at one instant only
+      throw OrbitError(std::string(e.what()) + " at t = " + std::to_string(t) + " s of the orbit");
+    }
     p.position_eci_m = st.position_eci_m;
     p.velocity_eci_m_s = st.velocity_eci_m_s;
     p.elements = orbit.elementsAt(t);

@@ -68,6 +68,17 @@ void parsePointing(const YamlDocument& doc, const YAML::Node& node, orbits::Atti
   }
   if (a.pointing.primary_body.normalized().cross(a.pointing.secondary_body.normalized()).norm() < 1e-9)
     throw doc.error(node, "attitude: the primary and secondary body axes are parallel");
+  // Targets parallel at every instant leave the roll undefined everywhere; those that align
+  // only at some instants are found on the sweep's positions (parseOrbitSettings).
+  using orbits::Target;
+  const Target t1 = a.pointing.primary, t2 = a.pointing.secondary;
+  const bool same = t1 == t2 && t1 != Target::Inertial;
+  const bool opposite = (t1 == Target::Nadir && t2 == Target::Zenith) || (t1 == Target::Zenith && t2 == Target::Nadir);
+  const bool fixed = t1 == Target::Inertial && t2 == Target::Inertial &&
+                     a.pointing.primary_eci.normalized().cross(a.pointing.secondary_eci.normalized()).norm() < 1e-9;
+  if (same || opposite || fixed)
+    throw doc.error(node["secondary"]["target"], "attitude.secondary.target: parallel to the primary target at every instant "
+                                       "(the roll about the primary axis is undefined); choose a target across it");
 }
 
 }  // namespace

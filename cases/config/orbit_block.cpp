@@ -1,6 +1,7 @@
 #include "cases/config/orbit_settings.hpp"
 
 #include "orbits/earth.hpp"
+#include "orbits/sweep.hpp"
 #include "solver/units.hpp"
 
 #include <cmath>
@@ -171,6 +172,23 @@ void parseSweepOptions(const YamlDocument& doc, const YAML::Node& o, orbits::Swe
   if (o["eclipse_events"]) sweep.insert_eclipse_events = doc.boolean(o["eclipse_events"], "orbit.eclipse_events");
 }
 
+// A pointing whose two targets align at some position of the sweep (sun and nadir at the
+// subsolar point of a noon orbit) has no roll there: refused at `attitude:` before any work,
+// so `validate` says what `run` would. Positions only, no rays: milliseconds.
+void checkAttitudeOnSweep(const YamlDocument& doc, const YAML::Node& attitude, const OrbitSettings& s) {
+  using Mode = orbits::AttitudeSpec::Mode;
+  if (!attitude || (s.attitude.mode != Mode::Pointing && s.attitude.mode != Mode::Sun)) return;
+  for (const OrbitCase& oc : s.cases) {
+    try {
+      (void)orbits::sweepOrbit(*oc.orbit, s.attitude, s.sweep);
+    } catch (const orbits::OrbitError& e) {
+      const std::string what = e.what();
+      if (what.rfind("attitude", 0) != 0) throw;  // not the attitude's: the run reports it as before
+      throw doc.error(attitude, what + " (" + oc.label + ")");
+    }
+  }
+}
+
 }  // namespace
 
 std::optional<OrbitSettings> parseOrbitSettings(const YamlDocument& doc) {
@@ -230,6 +248,7 @@ std::optional<OrbitSettings> parseOrbitSettings(const YamlDocument& doc, const Y
   parseSweepOptions(doc, o, s.sweep);
   s.attitude = parseAttitude(doc, attitude);
   parseEnvironment(doc, environment, s.sweep, s.environment);
+  checkAttitudeOnSweep(doc, attitude, s);
   return s;
 }
 
