@@ -244,6 +244,10 @@ ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& o
   const std::string gr_group = selectCase(h5, o, net, positions);
   const Eigen::Index radiative = h5.matrix("/network/radiative_exchange").rows();
   for (Eigen::Index i = 0; i < n; ++i) net.lumped.push_back(i >= radiative);
+  // Every result has one area per node (lumped nodes 0): missing or short is a foreign file,
+  // not zeros to write into a deck.
+  if (!h5.has("/nodes/area") || h5.vector("/nodes/area").size() != n)
+    malformed(h5, "/nodes/area", "missing or not one value per node (" + std::to_string(n) + ")");
   net.area_m2 = orZeros(h5, "/nodes/area", n);
   net.emissivity = orZeros(h5, gr_group == "/network/" ? "/nodes/emissivity" : gr_group + "emissivity", n);
   net.absorptivity = orZeros(h5, gr_group == "/network/" ? "/nodes/absorptivity" : gr_group + "absorptivity", n);
