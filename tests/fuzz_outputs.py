@@ -161,6 +161,9 @@ def family_results(args, rng, base, problems):
         if rc == 0:
             found += [f"NaN/Inf written into {p}" for p in produced_nonfinite(output)]
         found += [f"left {t}" for t in temporaries(folder)]
+        if found:  # kept for a rerun by hand
+            (args.work / "failures").mkdir(exist_ok=True)
+            shutil.copy(folder / "r.h5", args.work / "failures" / f"results-{i}.h5")
         for p in found:
             problems.append(f"results #{i} ({' '.join(cmd[1:3])}; {what}): {p}: {err.strip()[-200:]}")
         count += 1
@@ -226,7 +229,7 @@ def family_files(args, rng, base, case, problems):
     if os.geteuid() != 0:
         print("fuzz_outputs: not root: the full and read-only tmpfs tricks are skipped")
         return count
-    for i in range(8):
+    for i in range(16):
         mount = args.work / "mnt"
         readonly = i % 4 == 3
         size = rng.choice([4, 16, 64, 256, 1024])
@@ -235,8 +238,11 @@ def family_files(args, rng, base, case, problems):
             return count
         try:
             command = rng.choice(["run", "export", "report"])
-            target = {"run": "out.h5", "export": "out.d", "report": "rep"}[command]
-            old = mount / ("out.h5" if command != "export" else "out.d")
+            fmt = rng.choice(sorted(FORMATS))
+            target = {"run": "out.h5", "export": {"esatan": "out.d", "sinda": "out.sin", "csv": "out-csv"}[fmt],
+                      "report": "rep"}[command]
+            folder_output = target in ("rep", "out-csv")
+            old = mount / (target if not folder_output else "out.h5")
             if size >= 16:
                 old.write_bytes(b"the old result\n")
             if readonly and subprocess.run(["mount", "-o", "remount,ro", str(mount)], capture_output=True).returncode:
@@ -244,7 +250,7 @@ def family_files(args, rng, base, case, problems):
                 continue
             before = digest(old)
             cmd = {"run": [str(args.radnet), "run", str(case)],
-                   "export": [str(args.radnet), "export", str(base), "--format", "esatan"],
+                   "export": [str(args.radnet), "export", str(base), "--format", fmt],
                    "report": [str(args.radnet), "report", str(base)]}[command] + ["-o", str(mount / target)]
             rc, out, err = run(cmd, args.work)
             found = contract(rc, out, err)
@@ -253,10 +259,10 @@ def family_files(args, rng, base, case, problems):
             if rc == 4 and digest(old) != before:
                 found.append("the old output was changed")
             found += [f"left {t}" for t in temporaries(mount)]
-            if rc == 4 and command == "report" and (mount / "rep").exists():
-                found.append("a partial report folder was left")
+            if rc == 4 and folder_output and (mount / target).exists():
+                found.append(f"a partial {target} folder was left")
             for p in found:
-                problems.append(f"disk #{i} ({size} KiB{' ro' if readonly else ''}, {command}): {p}: {err.strip()[-200:]}")
+                problems.append(f"disk #{i} ({size} KiB{' ro' if readonly else ''}, {' '.join(cmd[1:5])}): {p}: {err.strip()[-200:]}")
         finally:
             unmount(mount)
         count += 1

@@ -359,7 +359,9 @@ int radnetMain(int argc, char** argv) {
   if (*run) return runCommands(run_options);
   if (*validate) return validateCommand(validate_cases, [](const std::function<int()>& body) { return guarded(body); });
   if (*report)  // one writer: rank 0 draws, the others take its exit code
-    return agreed(radnet::cluster::rank() == 0 ? reportCommand(report_result, report_dir, report_limits) : 0);
+    return agreed(radnet::cluster::rank() == 0
+                      ? guarded([&] { return reportCommand(report_result, report_dir, report_limits); })
+                      : 0);
   if (*exporter)  // one writer: rank 0 exports, the others wait for its exit code
     return guarded([&] {
       if (radnet::cluster::rank() == 0)

@@ -2,6 +2,8 @@
 
 #include "cases/config/case_file.hpp"
 #include "cases/config/work_estimate.hpp"
+#include "cases/output/damaged_file_guard.hpp"
+#include "cases/output/hdf5_reader.hpp"
 
 #include <sys/wait.h>
 
@@ -35,6 +37,9 @@ int reportCommand(const std::string& result, std::string dir, const std::string&
     std::cerr << result << ":0:0: no such file\n";
     return kExitBadInput;
   }
+  // h5py crashes on a damaged file as HDF5 does for us (python3 ends with SIGSEGV): try the
+  // whole file in a child first, so such a file is exit 2 naming it, never a crash.
+  tryReadInChild(result, [&] { Hdf5Reader(result).readEverything(); });
   if (dir.empty()) dir = (fs::path(result).parent_path() / fs::path(result).stem()).string() + "-report";
   const auto quote = [](const std::string& s) {
     std::string q = "'";

@@ -1,6 +1,7 @@
 #include "cases/output/export.hpp"
 
 #include "cases/config/errors.hpp"
+#include "cases/output/damaged_file_guard.hpp"
 #include "cases/output/hdf5_reader.hpp"
 #include "cases/output/output_guard.hpp"
 #include "cases/output/xdmf.hpp"
@@ -355,6 +356,7 @@ std::vector<std::string> csvTables(const ExportedNetwork& net) {
 }
 
 std::vector<std::string> exportResult(const std::string& h5_path, const ExportOptions& o) {
+  tryReadInChild(h5_path, [&] { readExportedNetwork(Hdf5Reader(h5_path), o); });
   const Hdf5Reader h5(h5_path);
   const ExportedNetwork net = readExportedNetwork(h5, o);
   const std::filesystem::path stem = std::filesystem::path(h5_path).stem();

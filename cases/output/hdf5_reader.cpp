@@ -5,6 +5,7 @@
 #include <hdf5.h>
 
 #include <filesystem>
+#include <vector>
 
 namespace radnet::cases {
 namespace {
@@ -20,7 +21,47 @@ struct Handle {
 // HDF5 prints its own error stack on stderr; the messages here say what is wrong instead.
 void quiet() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
 
+// Reads a value of `type` `count` times through its native type, as a reader of it would,
+// then frees what HDF5 allocated (variable-length strings and sequences).
+template <class Read>
+void readAsNative(hid_t type, hid_t space, hssize_t count, Read read) {
+  if (count <= 0) return;
+  Handle mem{H5Tget_native_type(type, H5T_DIR_ASCEND), H5Tclose};
+  if (mem.id < 0) return;
+  std::vector<unsigned char> buffer(static_cast<size_t>(count) * H5Tget_size(mem.id));
+  if (read(mem.id, buffer.data()) >= 0 && (H5Tdetect_class(mem.id, H5T_VLEN) > 0 || H5Tis_variable_str(mem.id) > 0))
+    H5Dvlen_reclaim(mem.id, space, H5P_DEFAULT, buffer.data());
+}
+
+herr_t readAttribute(hid_t object, const char* name, const H5A_info_t*, void*) {
+  Handle a{H5Aopen(object, name, H5P_DEFAULT), H5Aclose};
+  Handle type{H5Aget_type(a.id), H5Tclose};
+  Handle space{H5Aget_space(a.id), H5Sclose};
+  readAsNative(type.id, space.id, H5Sget_simple_extent_npoints(space.id),
+               [&](hid_t mem, void* out) { return H5Aread(a.id, mem, out); });
+  return 0;
+}
+
+herr_t readObject(hid_t group, const char* name, const H5L_info_t*, void* reader) {
+  Handle object{H5Oopen(group, name, H5P_DEFAULT), H5Oclose};
+  if (object.id < 0) return 0;
+  H5Aiterate2(object.id, H5_INDEX_NAME, H5_ITER_NATIVE, nullptr, readAttribute, nullptr);
+  if (H5Iget_type(object.id) != H5I_DATASET) return 0;
+  Handle type{H5Dget_type(object.id), H5Tclose};
+  Handle space{H5Dget_space(object.id), H5Sclose};
+  const hssize_t count = H5Sget_simple_extent_npoints(space.id);
+  static_cast<const Hdf5Reader*>(reader)->checkLogicalSize(name, static_cast<double>(count) * H5Tget_size(type.id));
+  readAsNative(type.id, space.id, count,
+               [&](hid_t mem, void* out) { return H5Dread(object.id, mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, out); });
+  return 0;
+}
+
 }  // namespace
+
+void Hdf5Reader::readEverything() const {
+  H5Aiterate2(static_cast<hid_t>(file_), H5_INDEX_NAME, H5_ITER_NATIVE, nullptr, readAttribute, nullptr);
+  H5Lvisit(static_cast<hid_t>(file_), H5_INDEX_NAME, H5_ITER_NATIVE, readObject, const_cast<Hdf5Reader*>(this));
+}
 
 Hdf5Reader::Hdf5Reader(const std::string& path) : path_(path) {
   quiet();

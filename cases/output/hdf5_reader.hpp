@@ -26,10 +26,14 @@ class Hdf5Reader {
   double attribute(const std::string& object, const std::string& name, double fallback) const;
   std::string textAttribute(const std::string& object, const std::string& name, const std::string& fallback) const;
   const std::string& path() const { return path_; }
-
- private:
+  /// Reads every dataset and attribute once and discards it: run in a child process
+  /// (damaged_file_guard.hpp) it shows whether the HDF5 library survives the file at all.
+  void readEverything() const;
   /// InputError when dataset `path` declares more bytes than the file could hold.
   void checkLogicalSize(const std::string& path, double bytes) const;
+
+ private:
+
   std::string path_;
   long long file_ = -1;
 };
