@@ -142,6 +142,16 @@ void addSides(const YamlDocument& doc, const YAML::Node& entry, const std::strin
 
 // One `- <primitive>: {...}` entry: keys checked against its spec, sides' materials, then
 // its builder adds the surfaces to the scene.
+// Which entry adds surfaces now, for the error when it reaches a node another entry made.
+void noteEntry(const YamlDocument& doc, const YAML::Node& entry, const std::string& where, const std::string& what,
+               GeometryContext& ctx) {
+  const YAML::Node p = entry.begin()->second;
+  // `where` is unique within one file; the file name keeps entries of two includes apart.
+  ctx.entry_where = where + " at " + doc.file();
+  ctx.entry_line = entry.Mark().line + 1;
+  ctx.entry_joins = p["join"] && doc.boolean(p["join"], what + ".join");
+}
+
 void parsePrimitive(const YamlDocument& doc, const YAML::Node& entry, const std::string& where, GeometryContext& ctx) {
   GeometryCase& c = ctx.c;
   const PrimitiveSpec& spec = primitiveSpec(doc, entry.begin()->first, where);
@@ -152,10 +162,7 @@ void parsePrimitive(const YamlDocument& doc, const YAML::Node& entry, const std:
   allowed.insert(allowed.end(), spec.keys.begin(), spec.keys.end());
   doc.expectMap(p, what, allowed);
   const std::string name = doc.string(doc.required(p, "name", what), what + ".name");
-  // `where` is unique within one file; the file name keeps entries of two includes apart.
-  ctx.entry_where = where + " at " + doc.file();
-  ctx.entry_line = entry.Mark().line + 1;
-  ctx.entry_joins = p["join"] && doc.boolean(p["join"], what + ".join");
+  noteEntry(doc, entry, where, what, ctx);
   checkPrimitiveName(doc, p, what, name);
   const std::string front = materialOf(doc, p["front"], what + ".front", ctx);
   const std::string back = materialOf(doc, p["back"], what + ".back", ctx);
@@ -188,9 +195,7 @@ void parsePrimitive(const YamlDocument& doc, const YAML::Node& entry, const std:
   try {
     const auto subdivisions = parseCounts(doc, p["subdivisions"], what + ".subdivisions", spec.default_subdivisions);
     const int active_sides = (front.empty() ? 0 : 1) + (back.empty() ? 0 : 1);
-    const auto note = [&](const std::string& kind, const std::string& place_text) {
-      c.scene.noteDefect(kind, place_text);
-    };
+    const auto note = [&](const std::string& kind, const std::string& at) { c.scene.noteDefect(kind, at); };
     PrimitiveInput input{doc, p, what, name, subdivisions, active_sides, c.scene.nodes().size(),
                          std::filesystem::path(doc.file()).parent_path(), add, !front.empty(), note, add_with_sides};
     input.file_bulk = &file_bulk;
