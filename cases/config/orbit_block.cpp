@@ -172,12 +172,18 @@ void parseSweepOptions(const YamlDocument& doc, const YAML::Node& o, orbits::Swe
   if (o["eclipse_events"]) sweep.insert_eclipse_events = doc.boolean(o["eclipse_events"], "orbit.eclipse_events");
 }
 
+constexpr double kAttitudeCheckMaxPositions = 2.0e5;  // about 0.2 s of positions (sweepOrbit)
+
 // A pointing whose two targets align at some position of the sweep (sun and nadir at the
 // subsolar point of a noon orbit) has no roll there: refused at `attitude:` before any work,
 // so `validate` says what `run` would. Positions only, no rays: milliseconds.
 void checkAttitudeOnSweep(const YamlDocument& doc, const YAML::Node& attitude, const OrbitSettings& s) {
   using Mode = orbits::AttitudeSpec::Mode;
   if (!attitude || (s.attitude.mode != Mode::Pointing && s.attitude.mode != Mode::Sun)) return;
+  // A sweep too long to check in a moment (1e9 positions: validate ran for minutes) is left to
+  // the memory check, which refuses most such sweeps, and to the run, which names the time.
+  if (s.sweep.positions_per_orbit * s.sweep.orbits * static_cast<double>(s.cases.size()) > kAttitudeCheckMaxPositions)
+    return;
   for (const OrbitCase& oc : s.cases) {
     try {
       (void)orbits::sweepOrbit(*oc.orbit, s.attitude, s.sweep);
