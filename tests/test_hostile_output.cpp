@@ -180,11 +180,15 @@ geometry:
   CHECK(space.values[0] == Approx(1.0 - 4.0 * f_quarter).margin(1e-6));
 }
 
-TEST_CASE("a thermostat whose dead band is too narrow to resolve is exit 3 naming it, not an endless run") {
-  // 50 W into 1000 J/K: a band of 1e-12 K switches every 2e-11 s. A 0.01 K band switches a
-  // few thousand times and runs. 120 s is a hang guard, not a timing.
+TEST_CASE("a thermostat dead band too narrow to resolve is refused at its line; one that chatters is exit 3") {
+  // 50 W into 1000 J/K: a band of 1e-12 K would switch every 2e-11 s (it ran without end):
+  // refused at off_above, as is anything below twice the switch tolerance (1e-3 K). 60 kW
+  // against 1000 W/K to a 250 K wall across a 0.002 K band (±30 K/s) switches every 7e-5 s,
+  // over 10,000 times between two outputs: the run stops naming the heater. 120 s is a hang
+  // guard, not a timing.
   TempDir dir;
-  const auto thermostat = [&](const std::string& off_above) {
+  const auto thermostat = [&](const std::string& off_above, const std::string& power,
+                              const std::string& conductance = "1.0") {
     dir.write("band.yaml", R"(name: thermostat
 network:
   nodes:
@@ -195,9 +199,9 @@ thermal:
     wall: {temperature: 250.0}
   lumped:
     battery: {capacitance: 1000.0, initial_temperature: 280.65}
-  conductors: [[battery, wall, 1.0]]
+  conductors: [[battery, wall, )" + conductance + R"(]]
   heaters:
-    - {name: bat_heater, node: battery, power: 50.0, on_below: 278.15, off_above: )" + off_above + R"(}
+    - {name: bat_heater, node: battery, power: )" + power + R"(, on_below: 278.15, off_above: )" + off_above + R"(}
   transient: {duration: 2000.0, time_step: 10.0, output_step: 10.0}
 )");
     fs::remove(dir.path / "b.h5");
@@ -207,10 +211,13 @@ thermal:
     REQUIRE(WIFEXITED(status));
     return WEXITSTATUS(status);
   };
-  CHECK(thermostat("278.150000000001") == 3);
+  CHECK(thermostat("278.150000000001", "50.0") == 2);
+  CHECK_THAT(slurp(dir.path / "err.txt"), Contains("band.yaml:13:") && Contains("widen it to at least 0.002 K"));
+  CHECK(thermostat("278.1505", "50.0") == 2);
+  CHECK(thermostat("278.152", "60000.0", "1000.0") == 3);
   CHECK_THAT(slurp(dir.path / "err.txt"), Contains("heater 'bat_heater'") && Contains("widen the band"));
   CHECK_FALSE(fs::exists(dir.path / "b.h5"));
-  CHECK(thermostat("278.16") == 0);
+  CHECK(thermostat("278.16", "50.0") == 0);
 }
 
 namespace {

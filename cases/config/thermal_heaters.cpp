@@ -1,8 +1,11 @@
 // Thermostat heaters and the tables of the thermal block.
 #include "cases/config/thermal_settings.hpp"
+#include "solver/thermal/temperatures.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 #include <set>
 
 namespace radnet::cases {
@@ -52,6 +55,16 @@ void parseHeaters(const YamlDocument& doc, const YAML::Node& list, ThermalSettin
     if (!(h.off_above_k > h.on_below_k))
       throw doc.error(off, what + ".off_above: must lie above on_below (" + std::to_string(h.on_below_k) +
                                " K); a thermostat needs a dead band between switching on and off");
+    // The transient locates a switch to within switch_tolerance_k of its set point: a narrower
+    // band cannot be resolved (1e-12 K ran without end before the switching cap).
+    const double min_band_k = 2.0 * solver::ThermalOptions{}.switch_tolerance_k;
+    if (h.off_above_k - h.on_below_k < min_band_k) {
+      std::ostringstream msg;
+      msg << what << ".off_above: a dead band of " << std::setprecision(3) << h.off_above_k - h.on_below_k
+          << " K is narrower than the transient resolves a switch (±" << min_band_k / 2
+          << " K about each set point); widen it to at least " << min_band_k << " K";
+      throw doc.error(off, msg.str());
+    }
     if (h.on_below_k < 100.0)  // legal for a cryogenic stage, but far likelier °C written for K
       s.warnings.push_back(what + ": on_below " + std::to_string(h.on_below_k) +
                            " K is below 100 K; temperatures are in kelvin (5 °C is 278.15)");
