@@ -309,3 +309,113 @@ TEST_CASE("view-factor methods end to end: auto and exact integrate the blocked 
     H5Fclose(file);
   }
 }
+
+namespace {
+
+// A 10 cm plate in orbit and a lumped battery with a 3 W heater (5 K band, 300 J/K) on a 260 K
+// wall: the plate's entry, the conductors, whether the heater is there, the transient.
+std::string batteryOnPlate(const std::string& plate, const std::string& conductors, bool heater,
+                           const std::string& transient) {
+  std::string text = R"(name: battery-heater
+materials:
+  white: {emissivity: 0.88, absorptivity: 0.2}
+geometry:
+  - rectangle: {name: plate, origin: [0, 0, 0], u: [0.1, 0, 0], v: [0, 0.1, 0], front: white}
+orbit: {altitude: 500.0e3, inclination: 51.6, positions: 36}
+thermal:
+  nodes:
+    plate: )" + plate + R"(
+  lumped:
+    wall: {temperature: 260.0}
+    battery: {capacitance: 300.0, initial_temperature: 280.0}
+  conductors: )" + conductors + "\n";
+  if (heater)
+    text += "  heaters:\n    - {name: battery_heater, node: battery, power: 3.0, on_below: 273.15, off_above: 278.15}\n";
+  return text + "  transient: " + transient + "\n";
+}
+
+const char* kPeriodic = "{periodic: true, periodic_tolerance: 0.01, max_orbits: 40, time_step: 10.0}";
+
+}  // namespace
+
+TEST_CASE("a thermostat cycling on its own period, not locked to the orbit: the last orbit with a warning") {
+  // The battery (300 J/K, 0.05 W/K to a 260 K wall, 3 W heater with a 5 K band) cycles every
+  // ~2,700 s whatever the orbit (~5,700 s) does: no periodic state exists, and the run ended
+  // with exit 3 after max_orbits. Now the last orbit is reported with a warning; the plate,
+  // which the cycle does not touch, must still be at its own periodic state (the same case
+  // without the heater, which converges, is the second method), and the battery in its band.
+  const auto variant = [](const std::string& plate, const std::string& conductors, bool heater) {
+    return batteryOnPlate(plate, conductors, heater, kPeriodic);
+  };
+  TempDir dir;
+  dir.write("case.yaml", variant("{capacitance: 50.0}", "[[battery, wall, 0.05]]", true));
+  const Run run = runRadnet("run case.yaml -o out.h5", dir);
+  INFO(run.err);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.err, Catch::Contains("not locked to the orbit"));
+  const hid_t file = H5Fopen((dir.path / "out.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  REQUIRE(file >= 0);
+  const int plate = nodeIndex(file, "plate"), battery = nodeIndex(file, "battery");
+  const H5Data t = readDataset(file, "/solution/temperature");  // (P, n)
+  const size_t n = t.dims[1];
+  H5Fclose(file);
+  for (size_t p = 0; p < t.dims[0]; ++p) {  // switching located to 1e-3 K
+    CHECK(t.values[p * n + battery] > 273.15 - 2e-3);
+    CHECK(t.values[p * n + battery] < 278.15 + 2e-3);
+  }
+  TempDir alone;
+  const hid_t reference = runAndOpen(alone, variant("{capacitance: 50.0}", "[[battery, wall, 0.05]]", false));
+  const H5Data t_ref = readDataset(reference, "/solution/temperature");
+  H5Fclose(reference);
+  REQUIRE(t_ref.values.size() == t.values.size());
+  // Both settle to 0.01 K orbit to orbit; the plate's states agree to twice that.
+  for (size_t p = 0; p < t.dims[0]; ++p) CHECK(t.values[p * n + plate] == Approx(t_ref.values[p * n + plate]).margin(0.02));
+  // A node still far from its periodic state (a 2e6 J/K plate from 300 K, drifting ~0.01 K per
+  // orbit one way) under the same wandering cycle is not taken for it: exit 3 as before.
+  dir.write("slow.yaml", variant("{capacitance: 2.0e6, initial_temperature: 300.0}",
+                                 "[[battery, wall, 0.05], [battery, plate, 0.01]]", true));
+  const Run slow = runRadnet("run slow.yaml -o slow.h5 -q", dir);
+  CHECK(slow.exit_code == 3);
+  CHECK_THAT(slow.err, Catch::Contains("did not become periodic"));
+}
+
+TEST_CASE("a thermostat locked to several orbits: the period found and checked by plain transients") {
+  // The battery now also sees the plate's orbital swing (0.2 W/K), which pulls its heater
+  // cycle onto whole orbits: the history repeats every m > 1 orbits, not every orbit, and the
+  // run ended with exit 3 before. The second method: plain transients of K and K + m orbits
+  // from the same start end in the same orbit (to twice the tolerance), K + 1 in another one.
+  const auto text = [](const std::string& transient) {
+    return batteryOnPlate("{capacitance: 50.0}", "[[battery, wall, 0.02], [battery, plate, 0.2]]", true, transient);
+  };
+  TempDir dir;
+  dir.write("case.yaml", text(kPeriodic));
+  const Run run = runRadnet("run case.yaml -o out.h5", dir);
+  INFO(run.err);
+  REQUIRE(run.exit_code == 0);
+  CHECK_THAT(run.err, Catch::Contains("the state repeats every"));
+  hid_t file = H5Fopen((dir.path / "out.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  REQUIRE(file >= 0);
+  const long long orbits = static_cast<long long>(readDoubleAttribute(file, "/solution/temperature", "orbits"));
+  const long long period = static_cast<long long>(readDoubleAttribute(file, "/solution/temperature", "orbits_per_period"));
+  const double spread = readDoubleAttribute(file, "/solution/temperature", "periodic_residual");
+  const H5Data periodic = readDataset(file, "/solution/temperature");
+  H5Fclose(file);
+  REQUIRE(period > 1);
+  const auto lastOrbit = [&](long long n) {
+    TempDir plain;
+    const hid_t f = runAndOpen(plain, text("{orbits: " + std::to_string(n) + ", time_step: 10.0}"));
+    const H5Data t = readDataset(f, "/solution/temperature");
+    H5Fclose(f);
+    return t.values;
+  };
+  const auto largestDifference = [](const std::vector<double>& a, const std::vector<double>& b) {
+    double d = 0.0;
+    for (size_t k = 0; k < a.size(); ++k) d = std::max(d, std::abs(a[k] - b[k]));
+    return d;
+  };
+  const std::vector<double> at_k = lastOrbit(orbits), at_k_m = lastOrbit(orbits + period), at_k_1 = lastOrbit(orbits + 1);
+  CHECK(largestDifference(at_k, periodic.values) < 1e-9);  // the same integration
+  CHECK(largestDifference(at_k, at_k_m) < 0.02);
+  CHECK(largestDifference(at_k, at_k_1) > 0.1);
+  CHECK(spread > 0.1);
+}

@@ -278,6 +278,10 @@ void writeTemperatures(Hdf5Writer& h5, const ThermalSolution& thermal, const The
   if (settings.periodic) {
     h5.attribute("/solution/temperature", "periodic_residual", thermal.solve.periodic_residual_k);
     h5.attribute("/solution/temperature", "periodic_tolerance", settings.periodic->tolerance_k);
+    // 1 normally; m > 1 for a thermostat locked to m orbits; 0 when no period exists (a
+    // thermostat not locked to the orbit): docs/solver.md, "Periodic transients".
+    h5.attribute("/solution/temperature", "orbits_per_period",
+                 static_cast<long long>(thermal.solve.heater_cycle_unlocked ? 0 : thermal.solve.orbits_per_period));
   }
   if (!sweep)
     h5.writeVector("/solution/time",

@@ -130,8 +130,12 @@ void printHeatBalance(const ThermalSolution& thermal, const SweepResult* sweep, 
 std::string temperatureMode(const GeometryCase& c, const solver::ThermalResult& solve) {
   std::ostringstream m;
   if (c.thermal->periodic)
-    m << "periodic transient, last of " << solve.orbits << " orbits, orbit-to-orbit change " << solve.periodic_residual_k
-      << " K";
+    m << "periodic transient, last of " << solve.orbits << " orbits, "
+      << (solve.orbits_per_period > 1 ? "repeating every " + std::to_string(solve.orbits_per_period) +
+                                            " orbits, differing from the others by "
+          : solve.heater_cycle_unlocked ? "no period (a thermostat not locked to the orbit), change "
+                                        : "orbit-to-orbit change ")
+      << solve.periodic_residual_k << " K";
   else if (c.thermal->transient_orbits)
     m << "transient, last orbit";
   else if (c.thermal->duration_s)

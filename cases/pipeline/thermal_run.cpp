@@ -58,6 +58,11 @@ solver::ThermalResult solvePerCase(const ThermalSettings& ts, const solver::Ther
       result.message = part.message + " (orbit case " + std::to_string(k + 1) + ")";
       break;
     }
+    if (part.notOneOrbitPeriodic()) {
+      result.heater_cycle_unlocked = result.heater_cycle_unlocked || part.heater_cycle_unlocked;
+      result.orbits_per_period = std::max(result.orbits_per_period, part.orbits_per_period);
+      result.message += (result.message.empty() ? "" : "; ") + part.message + " (orbit case " + std::to_string(k + 1) + ")";
+    }
     const int begin = sw.case_start[static_cast<size_t>(k)];
     const Eigen::Index count = part.temperature.cols();
     result.temperature.middleCols(begin, count) = part.temperature;
@@ -255,6 +260,7 @@ ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFact
   const solver::ThermalResult& result = out.solve;
   if (result.status != solver::Status::Converged)
     throw NumericalError(std::string("temperatures ") + solver::toString(result.status) + ": " + result.message);
+  if (result.notOneOrbitPeriodic()) progress << "radnet: warning: temperatures: " << result.message << "\n";
   out.heat = heatBalance(net, result, q_env);
   warnImplausibleTemperatures(out, progress);
   if (sweep && errors) {
@@ -265,7 +271,12 @@ ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFact
                << "; /uncertainty/temperature is not written\n";
   }
   progress << "radnet: temperatures (" << out.mode;
-  if (ts.periodic) progress << ", " << result.orbits << " orbits to a change below " << ts.periodic->tolerance_k << " K";
+  if (ts.periodic && result.notOneOrbitPeriodic())
+    progress << ", " << result.orbits << " orbits, a change of " << result.periodic_residual_k
+             << " K left by a thermostat cycle " << (result.heater_cycle_unlocked ? "not locked to the orbit"
+                                                   : "repeating over several orbits");
+  else if (ts.periodic)
+    progress << ", " << result.orbits << " orbits to a change below " << ts.periodic->tolerance_k << " K";
   if (!ts.heaters.empty()) progress << ", " << result.heater_switches << " heater switchings";
   progress << "), " << result.newton_iterations << " Newton iterations (" << result.factorisations
            << " Jacobian factorisations), largest heat-balance residual "

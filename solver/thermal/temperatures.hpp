@@ -53,6 +53,16 @@ struct ThermalResult {
   int orbits = 0;               ///< transients: orbits integrated
   int heater_switches = 0;      ///< transients: switchings located inside a step
   double periodic_residual_k = std::numeric_limits<double>::quiet_NaN();  ///< periodic: last orbit-to-orbit change, K
+  /// periodic: no periodic state exists because a thermostat cycles on its own period, not
+  /// locked to the orbit (the change stopped decaying, within the dead band, switching every
+  /// orbit); the last orbit is returned as Converged and `message` says so.
+  bool heater_cycle_unlocked = false;
+  /// periodic: orbits after which the history repeats; above 1 when a thermostat locked to
+  /// several orbits (the last is returned, Converged; periodic_residual_k is then the largest
+  /// difference from the other orbits of the period, and `message` says so).
+  int orbits_per_period = 1;
+  /// The periodic state is not one orbit's: the caller should say so (message).
+  bool notOneOrbitPeriodic() const { return heater_cycle_unlocked || orbits_per_period > 1; }
 };
 
 /// Heat balance G(T) of every node for environmental loads q_env (n) and the constant

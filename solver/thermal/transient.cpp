@@ -2,6 +2,7 @@
 // dissipation-table steps located inside the step, orbit after orbit.
 #include "solver/thermal/temperatures.hpp"
 #include "solver/thermal/newton.hpp"
+#include "solver/thermal/periodic_state.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -372,27 +373,14 @@ ThermalResult periodicTransient(const ThermalNetwork& net, const ThermalForcing&
   ThermalResult res;
   Integrator integrator(net, forcing, opt, res);
   TransientState state = integrator.start(initial);
-  Eigen::MatrixXd previous;
+  detail::PeriodicHistory history;
   for (int orbit = 0; orbit < periodic.max_orbits; ++orbit) {
+    const int switches_before = res.heater_switches;
     if (!integrator.marchPeriod(orbit * forcing.load_period_s, state)) return res;
     res.orbits = orbit + 1;
-    if (orbit > 0) {
-      // The largest change of any node's temperature history from one orbit to the next.
-      res.periodic_residual_k = (res.temperature - previous).cwiseAbs().maxCoeff();
-      if (res.periodic_residual_k <= periodic.tolerance_k) break;
-    }
-    previous = res.temperature;
+    if (history.addOrbit(net, res, res.heater_switches - switches_before, periodic.tolerance_k)) break;
   }
-  if (res.status == Status::Converged && !(res.periodic_residual_k <= periodic.tolerance_k)) {
-    res.status = Status::NotConverged;
-    res.message = "the transient did not become periodic in " + std::to_string(res.orbits) +
-                  " orbits: the last orbit still changed a temperature by " +
-                  std::to_string(res.periodic_residual_k) + " K (periodic_tolerance " +
-                  std::to_string(periodic.tolerance_k) + " K); raise max_orbits or check for a slow time constant" +
-                  (res.heater_switches > 0 ? ", or a thermostat whose on/off cycle does not repeat with the orbit "
-                                             "(a periodic_tolerance above its dead band)"
-                                           : "");
-  }
+  detail::concludePeriodic(net, periodic, history, res);
   checkFinite(res);
   return res;
 }
