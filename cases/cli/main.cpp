@@ -144,6 +144,7 @@ std::string outputFor(const RunOptions& o) {
 std::vector<std::string> inputsOf(const std::string& case_path, const LoadedCase& c) {
   std::vector<std::string> inputs = {case_path};
   if (c.geometry) for (const auto& [file, text] : c.geometry->included) inputs.push_back(file);
+  if (c.imported) inputs.push_back(c.imported->source);
   return inputs;
 }
 
@@ -163,6 +164,10 @@ int runCommand(const RunOptions& o) {
     const NetworkRunResult r = runNetworkCase(*c.network, progress);
     if (writer) writeNetworkResult(*c.network, r, out, tap.warnings());
     printNetworkSummary(*c.network, r, std::cout, o.all_nodes);
+  } else if (c.imported) {
+    const ImportRunResult r = runImportedCase(*c.imported, progress);
+    if (writer) writeImportedResult(*c.imported, r, out, tap.warnings());
+    printImportedSummary(*c.imported, r, std::cout, o.all_nodes);
   } else {
     applyRunOptions(o, *c.geometry);
     const GeometryRunResult r = runGeometryCase(*c.geometry, !o.quiet && writer, progress);
@@ -239,6 +244,10 @@ int checkCase(const std::string& path, int& checked, int& failed_total) {
   int failed = 0;
   if (c.network) {
     const NetworkRunResult r = runNetworkCase(*c.network, sink);
+    failed = evaluateExpectations(
+        c.expectations(), [&](const Expectation& x) { return lookupResult(r, x); }, std::cout);
+  } else if (c.imported) {
+    const ImportRunResult r = runImportedCase(*c.imported, sink);
     failed = evaluateExpectations(
         c.expectations(), [&](const Expectation& x) { return lookupResult(r, x); }, std::cout);
   } else {

@@ -64,8 +64,11 @@ void parseNodeProperties(const YamlDocument& doc, const YAML::Node& props, const
       s.capacitance[i] = doc.number(c, what + ".capacitance (J/K)", 0, kMaxCapacitance);
     }
   }
-  if (props["dissipation"])
+  if (props["dissipation"]) {  // replaces any the node had (an imported load history)
+    s.schedules.erase(std::remove_if(s.schedules.begin(), s.schedules.end(), [i](const auto& x) { return x.node == i; }),
+                      s.schedules.end());
     s.dissipation[i] = parseDissipation(doc, props["dissipation"], what + ".dissipation", i, orbit_period_s, s);
+  }
   if (props["temperature"])
     s.fixed_temperature[i] =
         doc.number(props["temperature"], what + ".temperature (K, boundary node)", kMinTemperature, kMaxTemperature);
@@ -182,7 +185,7 @@ void parseTransient(const YamlDocument& doc, const YAML::Node& tr, bool has_orbi
 }
 
 void parseNodes(const YamlDocument& doc, const YAML::Node& t, const std::vector<std::string>& names,
-                std::optional<double> orbit_period_s, ThermalSettings& s) {
+                std::optional<double> orbit_period_s, int first_lumped, ThermalSettings& s) {
   if (const YAML::Node nodes = t["nodes"]) {
     if (!nodes.IsMap()) throw doc.error(nodes, "thermal.nodes: expected a mapping of node names");
     for (const auto& kv : nodes) {
@@ -190,7 +193,7 @@ void parseNodes(const YamlDocument& doc, const YAML::Node& t, const std::vector<
       parseNodeProperties(doc, kv.second, "thermal.nodes." + names[static_cast<size_t>(i)], i, orbit_period_s, s);
     }
   }
-  for (int i = s.radiative_nodes; i < s.nodeCount(); ++i) {
+  for (int i = first_lumped; i < s.nodeCount(); ++i) {
     const std::string& name = s.node_names[static_cast<size_t>(i)];
     parseNodeProperties(doc, t["lumped"][name], "thermal.lumped." + name, i, orbit_period_s, s);
   }
@@ -199,26 +202,31 @@ void parseNodes(const YamlDocument& doc, const YAML::Node& t, const std::vector<
 }  // namespace
 
 std::optional<ThermalSettings> parseThermalSettings(const YamlDocument& doc, const std::vector<std::string>& names,
-                                                    const Eigen::VectorXd& area, std::optional<double> orbit_period_s) {
+                                                    const Eigen::VectorXd& area, std::optional<double> orbit_period_s,
+                                                    const ThermalSettings* imported) {
   const YAML::Node t = doc.root()["thermal"];
-  if (!t) return std::nullopt;
+  if (!t) return imported ? std::optional<ThermalSettings>(*imported) : std::nullopt;
   doc.expectMap(t, "thermal",
                 {"nodes", "lumped", "conductors", "radiative_couplings", "mli", "heaters", "initial_temperature",
                  "space_temperature", "transient", "tolerance"});
   ThermalSettings s;
-  s.node_names = names;
-  s.radiative_nodes = static_cast<int>(names.size());
+  if (imported) s = *imported;
+  else s.node_names = names, s.radiative_nodes = static_cast<int>(names.size());
+  const int first_lumped = s.nodeCount();
   if (t["lumped"]) parseLumpedNames(doc, t["lumped"], s);
   const Eigen::Index n = s.nodeCount();
-  s.capacitance = Eigen::VectorXd::Zero(n);
-  s.dissipation = Eigen::VectorXd::Zero(n);
-  s.fixed_temperature = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::quiet_NaN());
   const double initial =
       t["initial_temperature"]
           ? doc.number(t["initial_temperature"], "thermal.initial_temperature (K)", kMinTemperature, kMaxTemperature)
           : kDefaultInitialTemperature;
-  s.initial_temperature = Eigen::VectorXd::Constant(n, initial);
-  parseNodes(doc, t, names, orbit_period_s, s);
+  // Nodes added here start with nothing; an imported model keeps what its file gave.
+  s.capacitance.conservativeResize(n), s.capacitance.tail(n - first_lumped).setZero();
+  s.dissipation.conservativeResize(n), s.dissipation.tail(n - first_lumped).setZero();
+  s.fixed_temperature.conservativeResize(n);
+  s.fixed_temperature.tail(n - first_lumped).setConstant(std::numeric_limits<double>::quiet_NaN());
+  s.initial_temperature.conservativeResize(n), s.initial_temperature.tail(n - first_lumped).setConstant(initial);
+  if (t["initial_temperature"]) s.initial_temperature.setConstant(initial);
+  parseNodes(doc, t, names, orbit_period_s, first_lumped, s);
   if (t["conductors"]) parsePairs(doc, t["conductors"], "conductors", "W/K", true, s, s.conductors);
   if (t["radiative_couplings"])
     parsePairs(doc, t["radiative_couplings"], "radiative_couplings", "m²", false, s, s.radiative_couplings);
@@ -227,7 +235,14 @@ std::optional<ThermalSettings> parseThermalSettings(const YamlDocument& doc, con
   if (t["space_temperature"])
     s.space_temperature = doc.number(t["space_temperature"], "thermal.space_temperature (K)", 0, 1e4);
   if (t["tolerance"]) s.options.tolerance_w = doc.number(t["tolerance"], "thermal.tolerance (relative)", 1e-15, 1e-2);
-  if (t["transient"]) parseTransient(doc, t["transient"], orbit_period_s.has_value(), s);
+  if (t["transient"] && imported) {  // the file sets the output times; only the step may be refined
+    doc.expectMap(t["transient"], "thermal.transient (of an imported model: its file sets the output times)",
+                  {"time_step"});
+    if (t["transient"]["time_step"])
+      s.options.max_step_s = doc.number(t["transient"]["time_step"], "thermal.transient.time_step (s)", 1e-3, 1e5);
+  } else if (t["transient"]) {
+    parseTransient(doc, t["transient"], orbit_period_s.has_value(), s);
+  }
   return s;
 }
 

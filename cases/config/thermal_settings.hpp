@@ -36,6 +36,7 @@ struct ThermalSettings {
   std::optional<solver::PeriodicOptions> periodic;  ///< a transient integrated until it repeats
   std::optional<double> duration_s;                 ///< a transient without an orbit, s
   double output_step_s = 0.0;                       ///< its output interval, s
+  std::vector<double> output_times_s;               ///< or its output times (an imported file's), s from the start
   solver::ThermalOptions options;
   std::vector<std::string> warnings;  ///< accepted but suspicious input, printed with the run's progress
   int nodeCount() const { return static_cast<int>(node_names.size()); }
@@ -48,8 +49,12 @@ struct ThermalSettings {
 /// @param area    their areas, m² (MLI couplings are A_outer ε*)
 /// @param orbit_period_s  the shortest orbit period of the case's orbits (dissipation tables
 ///                        repeat each orbit and must fit in it); nullopt without an orbit
+/// @param imported  a model read from another tool's file (names = its nodes): `thermal:` then
+///                  adds lumped nodes, conductors, couplings and heaters to it and overrides
+///                  the properties of the nodes it names; transient takes time_step only
 std::optional<ThermalSettings> parseThermalSettings(const YamlDocument& doc, const std::vector<std::string>& names,
-                                                    const Eigen::VectorXd& area, std::optional<double> orbit_period_s);
+                                                    const Eigen::VectorXd& area, std::optional<double> orbit_period_s,
+                                                    const ThermalSettings* imported = nullptr);
 
 /// `{table: [[x, y], ...]}`: x strictly increasing within [x_lo, x_hi], y in [y_lo, y_hi].
 /// @param what  names the entry and the units, e.g. "thermal.nodes.a.capacitance (K, J/K)"

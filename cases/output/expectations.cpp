@@ -10,6 +10,16 @@ namespace {
 
 using Q = ExpectQuantity;
 
+// A temperature of any thermal node (lumped ones too) at output `index` (default the first).
+std::optional<double> lookupTemperature(const ThermalSolution& thermal, const Expectation& x) {
+  const int p = std::max(0, x.index);
+  if (x.quantity != Q::Temperature || p >= thermal.temperature().cols()) return std::nullopt;
+  const auto& names = thermal.node_names;
+  const auto it = std::find(names.begin(), names.end(), x.node);
+  if (it == names.end()) return std::nullopt;
+  return thermal.temperature()(it - names.begin(), p);
+}
+
 // Quantities both case forms have: view factors, exchange factors, eigenvalues, temperatures.
 std::optional<double> lookupShared(const RadiativeNetwork& radiative, const std::optional<ThermalSolution>& thermal,
                                    const Expectation& x) {
@@ -28,14 +38,7 @@ std::optional<double> lookupShared(const RadiativeNetwork& radiative, const std:
     case Q::GrSpace:
       if (!radiative.exchange) return std::nullopt;
       return radiative.exchange->gr_space[i];
-    case Q::Temperature: {  // any thermal node, lumped ones too
-      const int p = std::max(0, x.index);
-      if (!thermal || p >= thermal->temperature().cols()) return std::nullopt;
-      const auto& names = thermal->node_names;
-      const auto it = std::find(names.begin(), names.end(), x.node);
-      if (it == names.end()) return std::nullopt;
-      return thermal->temperature()(it - names.begin(), p);
-    }
+    case Q::Temperature: return thermal ? lookupTemperature(*thermal, x) : std::nullopt;
     default: return std::nullopt;
   }
 }
@@ -47,6 +50,10 @@ std::optional<double> lookupResult(const NetworkRunResult& r, const Expectation&
   if (x.quantity == Q::Exitance) return r.solution.exitance(i, 0);
   if (x.quantity == Q::Irradiance) return r.solution.irradiance(i, 0);
   return lookupShared(r.radiative, r.thermal, x);
+}
+
+std::optional<double> lookupResult(const ImportRunResult& r, const Expectation& x) {
+  return lookupTemperature(r.thermal, x);
 }
 
 std::optional<double> lookupResult(const GeometryRunResult& r, const Expectation& x) {

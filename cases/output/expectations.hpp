@@ -12,6 +12,7 @@ namespace radnet::cases {
 
 /// The computed value of an expectation; empty when the run has no such result.
 std::optional<double> lookupResult(const NetworkRunResult& r, const Expectation& x);
+std::optional<double> lookupResult(const ImportRunResult& r, const Expectation& x);
 std::optional<double> lookupResult(const GeometryRunResult& r, const Expectation& x);
 
 using ResultLookup = std::function<std::optional<double>(const Expectation&)>;

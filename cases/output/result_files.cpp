@@ -32,6 +32,23 @@ void writeNetworkResult(const NetworkCase& c, const NetworkRunResult& r, const s
   h5.commit();
 }
 
+void writeImportedResult(const ImportedCase& c, const ImportRunResult& r, const std::string& path,
+                         const std::vector<std::string>& warnings) {
+  Hdf5Writer h5(path);
+  writeMeta(h5, c.name, c.yaml_text);
+  h5.attribute("/meta", "imported_from", c.source);
+  const Eigen::Index n = c.thermal.nodeCount();
+  h5.writeStrings("/nodes/name", c.thermal.node_names);
+  h5.writeStrings("/nodes/label", c.labels);
+  h5.writeVector("/nodes/area", Eigen::VectorXd::Zero(n), "m^2");  // no surface of radnet's: GR came with the file
+  h5.writeBooleans("/nodes/lumped", std::vector<bool>(static_cast<size_t>(n), true));
+  writeTemperatures(h5, r.thermal, c.thermal, nullptr);
+  h5.attribute("/solution/time", "origin", std::string("the imported file's times"));
+  writeTimings(h5, r.timings);
+  h5.writeStrings("/report/warnings", warnings);
+  h5.commit();
+}
+
 void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, const std::string& path,
                          const std::vector<std::string>& warnings) {
   Hdf5Writer h5(path);

@@ -2,6 +2,7 @@
 // A run's result files: the HDF5 file (docs/hdf5-layout.md) and, for geometry cases, the
 // XDMF sidecar for ParaView. Both are written to temporary names and renamed at the end.
 #include "cases/config/geometry_case.hpp"
+#include "cases/config/import_case.hpp"
 #include "cases/config/network_case.hpp"
 #include "cases/pipeline/results.hpp"
 
@@ -13,6 +14,10 @@ namespace radnet::cases {
 /// `warnings`: the run's warnings, kept in /report/warnings (an empty dataset when none).
 void writeNetworkResult(const NetworkCase& c, const NetworkRunResult& r, const std::string& path,
                         const std::vector<std::string>& warnings);
+
+/// An imported case's result: its nodes (all lumped, area 0, /nodes/label), temperatures and heat flows.
+void writeImportedResult(const ImportedCase& c, const ImportRunResult& r, const std::string& path,
+                         const std::vector<std::string>& warnings);
 
 /// Writes `path` and its sidecar (same stem, .xmf), published together.
 void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, const std::string& path,

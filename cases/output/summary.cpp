@@ -219,6 +219,19 @@ void printNetworkSummary(const NetworkCase& c, const NetworkRunResult& r, std::o
   printTimings(r.timings, out);
 }
 
+void printImportedSummary(const ImportedCase& c, const ImportRunResult& r, std::ostream& out, bool all_nodes) {
+  const ThermalSolution& t = r.thermal;
+  out << "case " << c.name << ": " << t.node_names.size() << " nodes imported from " << c.source << "\n";
+  const Layout layout{groupsByNamePrefix(t.node_names), all_nodes};
+  out << "temperatures, K:\n";
+  if (t.temperature().cols() == 1)
+    layout.print(t.node_names, {kelvin("T", t.temperature().col(0), Aggregate::Max, 12)}, out);
+  else
+    printNodeTemperatures(t.node_names, t.temperature(), layout, out);
+  printHeatBalance(t, nullptr, Span{0, 1, 0, t.temperature().cols()}, layout, out);
+  printTimings(r.timings, out);
+}
+
 void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std::ostream& out, bool all_nodes) {
   const solver::Network& net = *r.radiative.network;
   const solver::ExchangeFactors& ex = *r.radiative.exchange;

@@ -43,4 +43,15 @@ NetworkRunResult runNetworkCase(const NetworkCase& c, std::ostream& progress) {
   return r;
 }
 
+ImportRunResult runImportedCase(const ImportedCase& c, std::ostream& progress) {
+  ImportRunResult r;
+  progress << "radnet: imported " << c.thermal.nodeCount() << " nodes, " << c.thermal.conductors.size() / 2 << " GL and "
+           << c.thermal.radiative_couplings.size() / 2 << " GR from " << c.source << "\n";
+  solver::ExchangeFactors none;  // the file's GR are user couplings: no radiative node of radnet's
+  none.gr.resize(0, 0), none.gr_space.resize(0);
+  r.thermal = runThermal(c.thermal, none, nullptr, r.timings, progress);
+  for (double& t : r.thermal.times_s) t += c.time_offset_s;  // the file's own times
+  return r;
+}
+
 }  // namespace radnet::cases

@@ -98,6 +98,12 @@ struct NetworkRunResult {
   StageTimings timings;
 };
 
+/// An imported run (import: {esatan_tmd}): the temperatures of the file's network.
+struct ImportRunResult {
+  ThermalSolution thermal;  ///< at the file's output times (times_s from its first)
+  StageTimings timings;
+};
+
 /// What the exact view-factor method did (methods exact and auto).
 struct ExactViewFactorStats {
   int patches = 0;

@@ -82,7 +82,9 @@ solver::ThermalResult solvePerCase(const ThermalSettings& ts, const solver::Ther
 solver::ThermalResult solveWithoutOrbit(const ThermalSettings& ts, const solver::ThermalNetwork& net,
                                         std::vector<double>& times) {
   solver::ThermalForcing f;
-  if (ts.duration_s) {
+  if (!ts.output_times_s.empty()) {
+    f.times_s = ts.output_times_s;
+  } else if (ts.duration_s) {
     const long steps = std::lround(std::ceil(*ts.duration_s / ts.output_step_s - 1e-9));
     for (long k = 0; k <= steps; ++k) f.times_s.push_back(std::min(*ts.duration_s, k * ts.output_step_s));
   } else {

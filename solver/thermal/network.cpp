@@ -36,7 +36,7 @@ void validateSchedule(const DissipationSchedule& s, Eigen::Index n) {
   if (s.node < 0 || s.node >= n) throw std::invalid_argument("dissipation schedule: node index out of range");
   if (!std::isfinite(s.sunlit_w) || !std::isfinite(s.eclipse_w))
     throw std::invalid_argument("dissipation schedule: powers must be finite");
-  if (s.kind != DissipationSchedule::Kind::Table) return;
+  if (s.kind == DissipationSchedule::Kind::Illumination) return;
   if (s.times_s.empty() || s.times_s.size() != s.power_w.size() || s.times_s.front() != 0.0)
     throw std::invalid_argument("dissipation table: one power per time, the first at 0 s");
   for (size_t k = 0; k < s.times_s.size(); ++k)
@@ -86,6 +86,14 @@ void TemperatureTable::validate(const std::string& what) const {
 
 double DissipationSchedule::at(double t, double sunlit_fraction, double period) const {
   if (kind == Kind::Illumination) return eclipse_w + sunlit_fraction * (sunlit_w - eclipse_w);
+  if (kind == Kind::Interpolated) {
+    const auto hi = std::upper_bound(times_s.begin(), times_s.end(), t);
+    if (hi == times_s.begin()) return power_w.front();
+    if (hi == times_s.end()) return power_w.back();
+    const size_t k = static_cast<size_t>(hi - times_s.begin());
+    const double w = (t - times_s[k - 1]) / (times_s[k] - times_s[k - 1]);
+    return (1 - w) * power_w[k - 1] + w * power_w[k];
+  }
   const double tau = period > 0 ? t - period * std::floor(t / period) : t;
   const auto it = std::upper_bound(times_s.begin(), times_s.end(), tau);
   return it == times_s.begin() ? power_w.front() : power_w[static_cast<size_t>(it - times_s.begin()) - 1];

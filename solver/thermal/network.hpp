@@ -30,7 +30,8 @@ struct TemperatureTable {
 struct DissipationSchedule {
   enum class Kind {
     Illumination,  ///< eclipse_w + f (sunlit_w − eclipse_w), f the spacecraft's sunlit fraction
-    Table          ///< power_w[k] from times_s[k] until the next entry, repeating every period
+    Table,         ///< power_w[k] from times_s[k] until the next entry, repeating every period
+    Interpolated   ///< linear between the entries, held beyond them, never repeating (a load history read from another tool)
   };
   int node = -1;
   Kind kind = Kind::Illumination;
