@@ -307,8 +307,8 @@ CLI::App* addRunCommand(CLI::App& app, RunOptions& run_options) {
 CLI::App* addExportCommand(CLI::App& app, std::string& export_result, ExportOptions& export_options) {
   auto* exporter = app.add_subcommand("export", "write a result's nodes, GL and GR for ESATAN-TMS, SINDA/FLUINT or CSV");
   exporter->add_option("result", export_result, "radnet result (HDF5)")->required();
-  exporter->add_option("--format", export_options.format, "esatan (TMD deck), sinda (input deck) or csv")
-      ->check(CLI::IsMember({"esatan", "sinda", "csv"}));
+  exporter->add_option("--format", export_options.format, "esatan (input deck), sinda (input deck), csv or tmd (ESATAN-TMS results file)")
+      ->check(CLI::IsMember({"esatan", "sinda", "csv", "tmd"}));
   exporter->add_option("-o,--output", export_options.output,
                        "deck file (default <stem>.d or <stem>.sin), or directory for csv (default <stem>-export)");
   exporter->add_option("--case", export_options.design_case, "design case (default: the first)");

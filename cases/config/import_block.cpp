@@ -75,10 +75,11 @@ void importNode(const TmdFile& f, const std::string& path, Eigen::Index i, Eigen
 void importConductors(const TmdConductors& c, const std::vector<int>& model_index, const TmdFile& f,
                       const std::string& path, const char* kind, double max_value,
                       std::vector<Eigen::Triplet<double>>& out, std::vector<std::string>& warnings) {
-  int varying = 0;
+  int varying = 0, to_inactive = 0;
   for (Eigen::Index k = 0; k < c.nodes.rows(); ++k) {
     const int a = model_index[static_cast<size_t>(c.nodes(k, 0))], b = model_index[static_cast<size_t>(c.nodes(k, 1))];
     const double g = c.value(0, k);
+    if ((a < 0) != (b < 0) && g > 0) ++to_inactive;
     if (!(g >= 0 && g <= max_value))
       throw InputError(path, 0, 0, std::string(kind) + " conductor " + std::to_string(k + 1) + " (" +
                                        nodeName(f, c.nodes(k, 0)) + ", " + nodeName(f, c.nodes(k, 1)) + ") of " +
@@ -88,6 +89,9 @@ void importConductors(const TmdConductors& c, const std::vector<int>& model_inde
     out.emplace_back(a, b, g);
     out.emplace_back(b, a, g);
   }
+  if (to_inactive)
+    warnings.push_back("import: " + std::to_string(to_inactive) + " " + kind +
+                       " conductor(s) join an active node to an inactive one (type X): dropped with the X nodes");
   if (varying)
     warnings.push_back("import: " + std::to_string(varying) + " " + kind +
                        " conductor(s) change during the file's run: the first time's values are used throughout");

@@ -220,11 +220,12 @@ std::optional<ThermalSettings> parseThermalSettings(const YamlDocument& doc, con
           ? doc.number(t["initial_temperature"], "thermal.initial_temperature (K)", kMinTemperature, kMaxTemperature)
           : kDefaultInitialTemperature;
   // Nodes added here start with nothing; an imported model keeps what its file gave.
-  s.capacitance.conservativeResize(n), s.capacitance.tail(n - first_lumped).setZero();
-  s.dissipation.conservativeResize(n), s.dissipation.tail(n - first_lumped).setZero();
+  const Eigen::Index fresh = n - (imported ? first_lumped : 0);
+  s.capacitance.conservativeResize(n), s.capacitance.tail(fresh).setZero();
+  s.dissipation.conservativeResize(n), s.dissipation.tail(fresh).setZero();
   s.fixed_temperature.conservativeResize(n);
-  s.fixed_temperature.tail(n - first_lumped).setConstant(std::numeric_limits<double>::quiet_NaN());
-  s.initial_temperature.conservativeResize(n), s.initial_temperature.tail(n - first_lumped).setConstant(initial);
+  s.fixed_temperature.tail(fresh).setConstant(std::numeric_limits<double>::quiet_NaN());
+  s.initial_temperature.conservativeResize(n), s.initial_temperature.tail(fresh).setConstant(initial);
   if (t["initial_temperature"]) s.initial_temperature.setConstant(initial);
   parseNodes(doc, t, names, orbit_period_s, first_lumped, s);
   if (t["conductors"]) parsePairs(doc, t["conductors"], "conductors", "W/K", true, s, s.conductors);

@@ -4,6 +4,7 @@
 #include "cases/output/damaged_file_guard.hpp"
 #include "cases/output/hdf5_reader.hpp"
 #include "cases/output/output_guard.hpp"
+#include "cases/output/tmd_export.hpp"
 #include "cases/output/xdmf.hpp"
 #include "solver/units.hpp"
 
@@ -60,6 +61,16 @@ Eigen::VectorXd rowOf(const Hdf5Reader& h5, const std::string& path, int p, Eige
   return finite(h5, path, Eigen::VectorXd(m.row(p).transpose()));
 }
 
+// Row p of a (P, n_radiative) load dataset padded to n nodes, or zeros without it.
+Eigen::VectorXd loadRow(const Hdf5Reader& h5, const std::string& path, int p, Eigen::Index n) {
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(n);
+  if (!h5.has(path)) return v;
+  const Eigen::MatrixXd m = h5.matrix(path);
+  if (m.cols() > n || p >= m.rows()) malformed(h5, path, "shape " + shape(m) + " for " + std::to_string(n) + " nodes");
+  v.head(m.cols()) = finite(h5, path, Eigen::VectorXd(m.row(p).transpose()));
+  return v;
+}
+
 // Picks the design case and the position, and the optics set whose GR the case uses.
 std::string selectCase(const Hdf5Reader& h5, const ExportOptions& o, ExportedNetwork& net, int positions) {
   int first = 0, end = positions, k = 0;
@@ -88,6 +99,7 @@ std::string selectCase(const Hdf5Reader& h5, const ExportOptions& o, ExportedNet
   } else if (!o.design_case.empty()) {
     throw InputError(h5.path(), 0, 0, "--case '" + o.design_case + "': the result has no design cases");
   }
+  net.case_first = first, net.case_end = end;
   net.position = o.position < 0 ? first : o.position;
   if (net.position < first || net.position >= end)
     throw InputError(h5.path(), 0, 0,
@@ -192,12 +204,7 @@ std::string number(double v) {
 
 std::string celsius(double k) { return number(k - kZeroCelsius); }
 
-// Deck node numbers: radnet node i is i + 1; the space node (index n) is 99999, or n + 1 on
-// a model that large.
-int deckNumber(const ExportedNetwork& net, int i) {
-  const int n = static_cast<int>(net.nodes.size());
-  return i == n ? std::max(99999, n + 1) : i + 1;
-}
+int deckNumber(const ExportedNetwork& net, int i) { return deckNodeNumber(net, i); }
 
 // A node name inside a quoted label or field: the quote it would end is replaced.
 std::string quoted(const std::string& name, char quote) {
@@ -208,10 +215,11 @@ std::string quoted(const std::string& name, char quote) {
 
 bool isFixed(const ExportedNetwork& net, Eigen::Index i) { return std::isfinite(net.fixed_temperature_k[i]); }
 
-// The temperature a node starts from (or is held at): radnet's, else 20 °C.
+// The temperature a node starts from (or is held at): radnet's; NaN for a result without
+// temperatures (never a made-up 20 °C: the decks then say that none exist).
 double startTemperature(const ExportedNetwork& net, Eigen::Index i) {
   if (isFixed(net, i)) return net.fixed_temperature_k[i];
-  return std::isfinite(net.temperature_k[i]) && net.thermal ? net.temperature_k[i] : 293.15;
+  return net.thermal ? net.temperature_k[i] : NAN;
 }
 
 std::string header(const ExportedNetwork& net, const char* comment) {
@@ -224,6 +232,9 @@ std::string header(const ExportedNetwork& net, const char* comment) {
   if (net.transient)
     h << comment << " the temperatures are radnet's transient ones at this position: a steady solve of this deck\n"
       << comment << " gives the steady state under this position's loads, not these temperatures\n";
+  if (!net.thermal)
+    h << comment << " NO TEMPERATURES: the result has none (its case has no thermal: block); the nodes carry\n"
+      << comment << " the absorbed loads of /loads only (no capacitance, no dissipation): give T, C and QI\n";
   if (net.dropped_gr_share > 0)
     h << comment << " GR below the --min-gr threshold left out: at most " << number(100 * net.dropped_gr_share)
       << " % of a node's sum of GR\n";
@@ -231,6 +242,11 @@ std::string header(const ExportedNetwork& net, const char* comment) {
 }
 
 }  // namespace
+
+int deckNodeNumber(const ExportedNetwork& net, int i) {
+  const int n = static_cast<int>(net.nodes.size());
+  return i == n ? std::max(99999, n + 1) : i + 1;
+}
 
 ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& o) {
   if (!(o.min_gr >= 0 && o.min_gr < 1)) throw InputError(h5.path(), 0, 0, "--min-gr must be in [0, 1)");
@@ -241,7 +257,9 @@ ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& o
   if (n == 0) malformed(h5, "/nodes/name", "no node");
   net.thermal = h5.has("/solution/temperature");
   net.transient = h5.textAttribute("/solution/temperature", "mode", "steady") == "transient";
-  const int positions = net.thermal ? static_cast<int>(h5.matrix("/solution/temperature").rows()) : 1;
+  const int positions = net.thermal            ? static_cast<int>(h5.matrix("/solution/temperature").rows())
+                        : h5.has("/loads/solar") ? static_cast<int>(h5.matrix("/loads/solar").rows())
+                                                 : 1;
   const std::string gr_group = selectCase(h5, o, net, positions);
   const Eigen::Index radiative = h5.matrix("/network/radiative_exchange").rows();
   for (Eigen::Index i = 0; i < n; ++i) net.lumped.push_back(i >= radiative);
@@ -259,10 +277,12 @@ ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& o
   }
   if (net.thermal) {
     readThermal(h5, net);
-  } else {
+  } else {  // loads only: the absorbed loads of /loads, no temperature, no dissipation (no thermal: block)
     net.temperature_k = net.fixed_temperature_k = Eigen::VectorXd::Constant(n, NAN);
-    net.capacitance_j_k = net.q_solar_w = net.q_albedo_w = net.q_earth_ir_w = net.q_internal_w =
-        Eigen::VectorXd::Zero(n);
+    net.capacitance_j_k = net.q_internal_w = Eigen::VectorXd::Zero(n);
+    net.q_solar_w = loadRow(h5, "/loads/solar", net.position, n);
+    net.q_albedo_w = loadRow(h5, "/loads/albedo", net.position, n);
+    net.q_earth_ir_w = loadRow(h5, "/loads/earth_ir", net.position, n);
   }
   readCouplings(h5, gr_group, net, o.min_gr);
   return net;
@@ -279,7 +299,8 @@ std::string esatanDeck(const ExportedNetwork& net) {
     const auto i = static_cast<Eigen::Index>(k);
     const double c = net.capacitance_j_k[i];
     const char kind = isFixed(net, i) ? 'B' : c > 0 ? 'D' : 'X';  // boundary, diffusion, arithmetic
-    d << "  " << kind << k + 1 << " = '" << quoted(net.nodes[k], '\'') << "', T = " << celsius(startTemperature(net, i));
+    d << "  " << kind << k + 1 << " = '" << quoted(net.nodes[k], '\'') << "'";
+    if (net.thermal) d << ", T = " << celsius(startTemperature(net, i));
     if (kind == 'D') d << ", C = " << number(c);
     if (!net.lumped[k])
       d << ", A = " << number(net.area_m2[i]) << ", ALP = " << number(net.absorptivity[i])
@@ -344,7 +365,7 @@ std::vector<std::string> csvTables(const ExportedNetwork& net) {
     const auto i = static_cast<Eigen::Index>(k);
     nodes << k << ",\"" << quoted(net.nodes[k], '"') << "\"," << (net.lumped[k] ? "lumped" : "surface") << ","
           << number(net.area_m2[i]) << "," << number(net.emissivity[i]) << "," << number(net.absorptivity[i]) << ","
-          << number(net.capacitance_j_k[i]) << "," << number(startTemperature(net, i)) << ","
+          << number(net.capacitance_j_k[i]) << "," << (net.thermal ? number(startTemperature(net, i)) : "") << ","
           << (isFixed(net, i) ? 1 : 0) << "," << number(net.q_solar_w[i]) << "," << number(net.q_albedo_w[i]) << ","
           << number(net.q_earth_ir_w[i]) << "," << number(net.q_internal_w[i]) << "\n";
   }
@@ -367,8 +388,17 @@ std::vector<std::string> exportResult(const std::string& h5_path, const ExportOp
     writeTextFilesAtomically({{(dir / "nodes.csv").string(), tables[0]}, {(dir / "conductors.csv").string(), tables[1]}});
     return {(dir / "nodes.csv").string(), (dir / "conductors.csv").string()};
   }
+  if (o.format == "tmd") {
+    const std::string out = o.output.empty() ? stem.string() + ".TMD" : o.output;
+    checkOutputTarget(out, {h5_path}, false);
+    writeTmdExport(h5, o, out);
+    return {out};
+  }
   if (o.format != "esatan" && o.format != "sinda")
-    throw InputError(h5_path, 0, 0, "--format '" + o.format + "': expected esatan, sinda or csv");
+    throw InputError(h5_path, 0, 0, "--format '" + o.format + "': expected esatan, sinda, csv or tmd");
+  if (o.format == "sinda" && !net.thermal)
+    throw InputError(h5_path, 0, 0, "the result has no temperatures (its case has no thermal: block) and a SINDA/FLUINT "
+                                    "node needs one: export --format esatan or csv for its loads");
   const std::string out = o.output.empty() ? stem.string() + (o.format == "esatan" ? ".d" : ".sin") : o.output;
   checkOutputTarget(out, {h5_path}, false);
   writeTextAtomically(out, o.format == "esatan" ? esatanDeck(net) : sindaDeck(net));

@@ -16,6 +16,7 @@ struct ExportedNetwork {
   std::string name;
   std::string design_case;   ///< "" without design cases
   int position = 0;          ///< global position index (row of /solution/temperature)
+  int case_first = 0, case_end = 1;  ///< the design case's positions: case_first … case_end − 1
   double time_s = 0.0;       ///< of that position within its orbit case
   std::vector<std::string> nodes;
   std::vector<bool> lumped;
@@ -46,6 +47,10 @@ struct ExportOptions {
 
 /// Reads the network to export. @throws InputError on an unknown case, a position outside it, or min_gr ∉ [0, 1)
 ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& options);
+
+/// Node numbers in every deck and TMD: radnet node i is i + 1; the space node (index n) is
+/// 99999, or n + 1 on a model that large.
+int deckNodeNumber(const ExportedNetwork& net, int i);
 
 std::string esatanDeck(const ExportedNetwork& net);
 std::string sindaDeck(const ExportedNetwork& net);

@@ -314,6 +314,34 @@ void Hdf5Writer::writeText(const std::string& path, const std::string& text) {
   addUnits(ds.id, "");
 }
 
+namespace {
+hid_t fixedStringType(size_t width) {
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  if (type < 0 || H5Tset_size(type, std::max<size_t>(width, 1)) < 0 || H5Tset_strpad(type, H5T_STR_SPACEPAD) < 0)
+    throw OutputError("HDF5: fixed-length string type of " + std::to_string(width) + " bytes");
+  return type;
+}
+}  // namespace
+
+void Hdf5Writer::writeFixedStrings(const std::string& path, const std::vector<unsigned long long>& dims,
+                                   const std::vector<std::string>& values, size_t width) {
+  Handle type{fixedStringType(width), H5Tclose};
+  std::string data(values.size() * width, ' ');
+  for (size_t k = 0; k < values.size(); ++k) data.replace(k * width, std::min(width, values[k].size()), values[k], 0, width);
+  writeArray(path, type.id, type.id, static_cast<int>(dims.size()), dims.data(), data.data(), "");
+}
+
+void Hdf5Writer::fixedStringAttribute(const std::string& object, const std::string& name, const std::string& value) {
+  Handle type{fixedStringType(value.size()), H5Tclose};
+  Handle obj{static_cast<hid_t>(ensureGroup(object)), H5Oclose};
+  const hsize_t one[1] = {1};
+  Handle space{checkId(H5Screate_simple(1, one, nullptr), "attribute space"), H5Sclose};
+  if (H5Aexists(obj.id, name.c_str()) > 0) H5Adelete(obj.id, name.c_str());
+  Handle attr{checkId(H5Acreate2(obj.id, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), name), H5Aclose};
+  const std::string padded = value.empty() ? " " : value;
+  check(H5Awrite(attr.id, type.id, padded.data()), "write attribute " + name);
+}
+
 void Hdf5Writer::attribute(const std::string& object, const std::string& name, const std::string& value) {
   Handle obj{static_cast<hid_t>(ensureGroup(object)), H5Oclose};
   writeStringAttribute(obj.id, name, value);

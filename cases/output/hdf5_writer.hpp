@@ -44,6 +44,12 @@ class Hdf5Writer {
   void writeBooleans(const std::string& path, const std::vector<bool>& values);
   void writeStrings(const std::string& path, const std::vector<std::string>& values, const std::string& units = "");
   void writeText(const std::string& path, const std::string& text);
+  /// Fixed-length ASCII strings padded with spaces to `width` bytes (longer ones cut), of shape
+  /// `dims` (rank 1–3, row-major): the layout of ESATAN's TMD files. Its units attribute is empty.
+  void writeFixedStrings(const std::string& path, const std::vector<unsigned long long>& dims,
+                         const std::vector<std::string>& values, size_t width);
+  /// A one-element fixed-length string attribute (as ESATAN writes Description and Date).
+  void fixedStringAttribute(const std::string& object, const std::string& name, const std::string& value);
 
   /// Attributes on an object (group or dataset); groups are created as needed.
   void attribute(const std::string& object, const std::string& name, const std::string& value);

@@ -144,9 +144,13 @@ Eigen::VectorXd capacitanceSlope(const ThermalNetwork& net, const Eigen::VectorX
   return s;
 }
 
-Eigen::VectorXd dissipationAt(const ThermalNetwork& net, double t_s, double sunlit_fraction, double period_s) {
+Eigen::VectorXd dissipationAt(const ThermalNetwork& net, double t_s, double sunlit_fraction, double period_s,
+                              double interpolated_at_s) {
   Eigen::VectorXd q = net.dissipation;
-  for (const DissipationSchedule& s : net.schedules) q[s.node] += s.at(t_s, sunlit_fraction, period_s);
+  for (const DissipationSchedule& s : net.schedules) {
+    const bool end = s.kind == DissipationSchedule::Kind::Interpolated && std::isfinite(interpolated_at_s);
+    q[s.node] += s.at(end ? interpolated_at_s : t_s, sunlit_fraction, period_s);
+  }
   return q;
 }
 

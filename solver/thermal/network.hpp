@@ -8,6 +8,7 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -84,7 +85,11 @@ Eigen::VectorXd capacitanceAt(const ThermalNetwork& net, const Eigen::VectorXd& 
 Eigen::VectorXd capacitanceSlope(const ThermalNetwork& net, const Eigen::VectorXd& t);
 
 /// Scheduled plus constant dissipation of every node at time t_s, W.
-Eigen::VectorXd dissipationAt(const ThermalNetwork& net, double t_s, double sunlit_fraction, double period_s);
+/// @param interpolated_at_s  where Interpolated schedules are taken instead (a transient step's
+///                           end, like the environment loads: a ramp evaluated at the step's
+///                           middle would lag by half a step); NaN: at t_s
+Eigen::VectorXd dissipationAt(const ThermalNetwork& net, double t_s, double sunlit_fraction, double period_s,
+                              double interpolated_at_s = std::numeric_limits<double>::quiet_NaN());
 
 /// Heat balance G(T) of every node, W, for applied powers q (environment + dissipation +
 /// heaters) (n), W.

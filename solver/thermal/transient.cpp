@@ -87,7 +87,7 @@ class Integrator {
 // end (implicit), dissipation tables at its middle (a step never straddles a table entry:
 // at an output time on an entry, the step's value is the one before it), heaters as they are.
 Eigen::VectorXd Integrator::applied(const TransientState& s, double h, Eigen::VectorXd& dissipation) const {
-  dissipation = dissipationAt(net_, s.clock + 0.5 * h, f_.sunlitAt(s.clock + h), f_.schedule_period_s);
+  dissipation = dissipationAt(net_, s.clock + 0.5 * h, f_.sunlitAt(s.clock + h), f_.schedule_period_s, s.clock + h);
   Eigen::VectorXd q = f_.loadAt(s.clock + h) + dissipation;
   for (size_t k = 0; k < net_.heaters.size(); ++k)
     if (s.heater_on[k]) q[net_.heaters[k].node] += net_.heaters[k].power_w;
