@@ -1,0 +1,235 @@
+#include "cases/output/export.hpp"
+
+#include "cases/config/errors.hpp"
+#include "cases/output/hdf5_reader.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+// Reading the network to export back from a result: every dataset checked before it is used.
+namespace radnet::cases {
+namespace {
+
+// A result that is not what radnet writes (damaged, edited, foreign) is refused naming the
+// dataset, before any of it is used: indices, shapes and values all checked.
+[[noreturn]] void malformed(const Hdf5Reader& h5, const std::string& path, const std::string& what) {
+  throw InputError(h5.path(), 0, 0, path + ": " + what + " (not a result radnet wrote, or a damaged one)");
+}
+
+std::string shape(const Eigen::MatrixXd& m) { return std::to_string(m.rows()) + " × " + std::to_string(m.cols()); }
+
+// Every value finite: a NaN or ∞ would reach a deck as a plausible number or as text.
+template <class M>
+const M& finite(const Hdf5Reader& h5, const std::string& path, const M& m) {
+  if (!m.allFinite()) malformed(h5, path, "holds a value that is not finite");
+  return m;
+}
+
+// A node index stored as a double: integral and in [0, n).
+int nodeIndexAt(const Hdf5Reader& h5, const std::string& path, double value, Eigen::Index n) {
+  if (!(value >= 0 && value < static_cast<double>(n) && value == std::floor(value)))
+    malformed(h5, path, "holds node index " + std::to_string(value) + ", not one of the " + std::to_string(n) + " nodes");
+  return static_cast<int>(value);
+}
+
+Eigen::VectorXd orZeros(const Hdf5Reader& h5, const std::string& path, Eigen::Index n) {
+  if (!h5.has(path)) return Eigen::VectorXd::Zero(n);
+  const Eigen::VectorXd stored = finite(h5, path, h5.vector(path));  // optics sets hold the radiative nodes only
+  if (stored.size() > n) malformed(h5, path, std::to_string(stored.size()) + " values for " + std::to_string(n) + " nodes");
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(n);
+  v.head(std::min(n, stored.size())) = stored.head(std::min(n, stored.size()));
+  return v;
+}
+
+// Row p of a (P, n) dataset, or zeros when the result does not have it.
+Eigen::VectorXd rowOf(const Hdf5Reader& h5, const std::string& path, int p, Eigen::Index n) {
+  if (!h5.has(path)) return Eigen::VectorXd::Zero(n);
+  const Eigen::MatrixXd m = h5.matrix(path);
+  if (m.cols() != n) malformed(h5, path, "shape " + shape(m) + " for " + std::to_string(n) + " nodes");
+  if (p >= m.rows()) throw InputError(h5.path(), 0, 0, path + " does not have position " + std::to_string(p));
+  return finite(h5, path, Eigen::VectorXd(m.row(p).transpose()));
+}
+
+// Row p of a (P, n_radiative) load dataset padded to n nodes, or zeros without it.
+Eigen::VectorXd loadRow(const Hdf5Reader& h5, const std::string& path, int p, Eigen::Index n) {
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(n);
+  if (!h5.has(path)) return v;
+  const Eigen::MatrixXd m = h5.matrix(path);
+  if (m.cols() > n || p >= m.rows()) malformed(h5, path, "shape " + shape(m) + " for " + std::to_string(n) + " nodes");
+  v.head(m.cols()) = finite(h5, path, Eigen::VectorXd(m.row(p).transpose()));
+  return v;
+}
+
+// Picks the design case and the position, and the optics set whose GR the case uses.
+std::string selectCase(const Hdf5Reader& h5, const ExportOptions& o, ExportedNetwork& net, int positions) {
+  int first = 0, end = positions, k = 0;
+  std::string optics = "base";
+  if (h5.has("/cases/name")) {
+    const std::vector<std::string> names = h5.strings("/cases/name");
+    if (!o.design_case.empty()) {
+      const auto it = std::find(names.begin(), names.end(), o.design_case);
+      if (it == names.end()) {
+        std::string list;
+        for (const std::string& name : names) list += (list.empty() ? "" : ", ") + name;
+        throw InputError(h5.path(), 0, 0, "no design case '" + o.design_case + "' (the result has: " + list + ")");
+      }
+      k = static_cast<int>(it - names.begin());
+    }
+    const Eigen::VectorXd start = h5.vector("/cases/position_start");
+    const std::vector<std::string> optics_of = h5.strings("/cases/optics");
+    if (start.size() != static_cast<Eigen::Index>(names.size()) + 1 || optics_of.size() != names.size())
+      malformed(h5, "/cases", "position_start, optics and name disagree on the number of cases");
+    for (Eigen::Index i = 0; i < start.size(); ++i)
+      if (!(start[i] >= 0 && start[i] <= positions && start[i] == std::floor(start[i]) && (i == 0 || start[i] >= start[i - 1])))
+        malformed(h5, "/cases/position_start", "not increasing positions within the run's " + std::to_string(positions));
+    first = static_cast<int>(start[k]), end = static_cast<int>(start[k + 1]);
+    optics = optics_of[static_cast<size_t>(k)];
+    net.design_case = names[static_cast<size_t>(k)];
+  } else if (!o.design_case.empty()) {
+    throw InputError(h5.path(), 0, 0, "--case '" + o.design_case + "': the result has no design cases");
+  }
+  net.case_first = first, net.case_end = end;
+  net.position = o.position < 0 ? first : o.position;
+  if (net.position < first || net.position >= end)
+    throw InputError(h5.path(), 0, 0,
+                     "--position " + std::to_string(net.position) + " is not a position of " +
+                         (net.design_case.empty() ? "the run" : "case '" + net.design_case + "'") + " (" +
+                         std::to_string(first) + " … " + std::to_string(end - 1) + ")");
+  const std::string set = "/optics/" + optics + "/";
+  return h5.has(set + "radiative_exchange") ? set : "/network/";
+}
+
+// GR between nodes (i < j) and to space (j = n), user couplings and MLI added.
+void readCouplings(const Hdf5Reader& h5, const std::string& gr_group, ExportedNetwork& net, double min_gr) {
+  const auto n = static_cast<Eigen::Index>(net.nodes.size());
+  const Eigen::MatrixXd exchange = finite(h5, gr_group + "radiative_exchange", h5.matrix(gr_group + "radiative_exchange"));
+  const Eigen::VectorXd to_space = finite(h5, gr_group + "gr_space", h5.vector(gr_group + "gr_space"));
+  if (exchange.rows() != exchange.cols() || exchange.rows() > n)
+    malformed(h5, gr_group + "radiative_exchange", "shape " + shape(exchange) + " for " + std::to_string(n) + " nodes");
+  if (to_space.size() != exchange.rows())
+    malformed(h5, gr_group + "gr_space", std::to_string(to_space.size()) + " values for " +
+                                             std::to_string(exchange.rows()) + " radiative nodes");
+  Eigen::MatrixXd gr = Eigen::MatrixXd::Zero(n, n + 1);
+  gr.topLeftCorner(exchange.rows(), exchange.cols()) = exchange;
+  gr.col(n).head(to_space.size()) = to_space;
+  if (h5.has("/thermal/coupling_nodes") && h5.vector("/thermal/coupling_gr").size()) {
+    const Eigen::MatrixXd pairs = h5.matrix("/thermal/coupling_nodes");
+    const Eigen::VectorXd value = finite(h5, "/thermal/coupling_gr", h5.vector("/thermal/coupling_gr"));
+    if (pairs.cols() != 2 || pairs.rows() != value.size())
+      malformed(h5, "/thermal/coupling_nodes", "shape " + shape(pairs) + " for " + std::to_string(value.size()) + " couplings");
+    for (Eigen::Index k = 0; k < pairs.rows(); ++k) {
+      const Eigen::Index i = nodeIndexAt(h5, "/thermal/coupling_nodes", pairs(k, 0), n);
+      const Eigen::Index j = nodeIndexAt(h5, "/thermal/coupling_nodes", pairs(k, 1), n);
+      gr(i, j) += value[k], gr(j, i) += value[k];
+    }
+  }
+  Eigen::VectorXd total = gr.leftCols(n).rowwise().sum() - gr.leftCols(n).diagonal();
+  total += gr.col(n);
+  Eigen::VectorXd dropped = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (Eigen::Index j = i + 1; j < n; ++j) {
+      const double g = gr(i, j);
+      if (!(g > 0)) continue;
+      if (g < min_gr * total[i] && g < min_gr * total[j]) {
+        dropped[i] += g, dropped[j] += g;
+        continue;
+      }
+      net.gr.push_back({static_cast<int>(i), static_cast<int>(j), g});
+    }
+    if (gr(i, n) > 0) net.gr.push_back({static_cast<int>(i), static_cast<int>(n), gr(i, n)});
+  }
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (total[i] > 0) net.dropped_gr_share = std::max(net.dropped_gr_share, dropped[i] / total[i]);
+}
+
+void readThermal(const Hdf5Reader& h5, ExportedNetwork& net) {
+  // Without /thermal the deck would lack every conductor and boundary node, and look fine.
+  if (!h5.has("/thermal/conductor_nodes"))
+    throw InputError(h5.path(), 0, 0,
+                     "the result has temperatures but no /thermal group (written by an older radnet): run the case "
+                     "again to export its conductors");
+  const auto n = static_cast<Eigen::Index>(net.nodes.size());
+  const int p = net.position;
+  net.temperature_k = rowOf(h5, "/solution/temperature", p, n);
+  net.capacitance_j_k = orZeros(h5, "/nodes/capacitance", n);
+  net.q_solar_w = rowOf(h5, "/solution/heat/solar", p, n);
+  net.q_albedo_w = rowOf(h5, "/solution/heat/albedo", p, n);
+  net.q_earth_ir_w = rowOf(h5, "/solution/heat/earth_ir", p, n);
+  net.q_internal_w = rowOf(h5, "/solution/heat/dissipation", p, n) + rowOf(h5, "/solution/heat/heater", p, n);
+  net.fixed_temperature_k = Eigen::VectorXd::Constant(n, NAN);
+  if (h5.has("/thermal/fixed_temperature")) {
+    const Eigen::VectorXd t = h5.vector("/thermal/fixed_temperature");
+    // /thermal/fixed marks the held nodes; results before it had NaN for free nodes.
+    const Eigen::VectorXd held = h5.has("/thermal/fixed") ? h5.vector("/thermal/fixed") : t.array().isFinite().cast<double>();
+    if (t.size() != n || held.size() != n)
+      malformed(h5, "/thermal/fixed", std::to_string(held.size()) + " flags and " + std::to_string(t.size()) +
+                                          " temperatures for " + std::to_string(n) + " nodes");
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (held[i] != 0) {
+        if (!(std::isfinite(t[i]) && t[i] > 0)) malformed(h5, "/thermal/fixed_temperature", "a held node without a temperature in K");
+        net.fixed_temperature_k[i] = t[i];
+      }
+  }
+  net.space_temperature_k = h5.attribute("/thermal", "space_temperature", 3.0);
+  if (!(std::isfinite(net.space_temperature_k) && net.space_temperature_k >= 0))
+    malformed(h5, "/thermal", "space_temperature is not a temperature in K");
+  if (h5.has("/thermal/conductor_nodes") && h5.matrix("/thermal/conductance").size()) {
+    const Eigen::MatrixXd pairs = h5.matrix("/thermal/conductor_nodes");
+    const Eigen::MatrixXd g = finite(h5, "/thermal/conductance", h5.matrix("/thermal/conductance"));
+    if (pairs.cols() != 2 || g.cols() != pairs.rows() || p >= g.rows())
+      malformed(h5, "/thermal/conductance", "shape " + shape(g) + " for " + std::to_string(pairs.rows()) +
+                                                " conductors at position " + std::to_string(p));
+    for (Eigen::Index k = 0; k < pairs.rows(); ++k)
+      net.gl.push_back({nodeIndexAt(h5, "/thermal/conductor_nodes", pairs(k, 0), n),
+                        nodeIndexAt(h5, "/thermal/conductor_nodes", pairs(k, 1), n), g(p, k)});
+  }
+}
+
+}  // namespace
+
+int deckNodeNumber(const ExportedNetwork& net, int i) {
+  const int n = static_cast<int>(net.nodes.size());
+  return i == n ? std::max(99999, n + 1) : i + 1;
+}
+
+ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& o) {
+  if (!(o.min_gr >= 0 && o.min_gr < 1)) throw InputError(h5.path(), 0, 0, "--min-gr must be in [0, 1)");
+  ExportedNetwork net;
+  net.name = h5.textAttribute("/meta", "case_name", "radnet");
+  net.nodes = h5.strings("/nodes/name");
+  const auto n = static_cast<Eigen::Index>(net.nodes.size());
+  if (n == 0) malformed(h5, "/nodes/name", "no node");
+  net.thermal = h5.has("/solution/temperature");
+  net.transient = h5.textAttribute("/solution/temperature", "mode", "steady") == "transient";
+  const int positions = net.thermal            ? static_cast<int>(h5.matrix("/solution/temperature").rows())
+                        : h5.has("/loads/solar") ? static_cast<int>(h5.matrix("/loads/solar").rows())
+                                                 : 1;
+  const std::string gr_group = selectCase(h5, o, net, positions);
+  const Eigen::Index radiative = h5.matrix("/network/radiative_exchange").rows();
+  for (Eigen::Index i = 0; i < n; ++i) net.lumped.push_back(i >= radiative);
+  // Every result has one area per node (lumped nodes 0): missing or short is a foreign file,
+  // not zeros to write into a deck.
+  if (!h5.has("/nodes/area") || h5.vector("/nodes/area").size() != n)
+    malformed(h5, "/nodes/area", "missing or not one value per node (" + std::to_string(n) + ")");
+  net.area_m2 = orZeros(h5, "/nodes/area", n);
+  net.emissivity = orZeros(h5, gr_group == "/network/" ? "/nodes/emissivity" : gr_group + "emissivity", n);
+  net.absorptivity = orZeros(h5, gr_group == "/network/" ? "/nodes/absorptivity" : gr_group + "absorptivity", n);
+  if (h5.has("/orbit/time")) {
+    const Eigen::VectorXd time = h5.vector("/orbit/time");
+    if (net.position >= time.size()) malformed(h5, "/orbit/time", std::to_string(time.size()) + " times for position " + std::to_string(net.position));
+    net.time_s = time[net.position];
+  }
+  if (net.thermal) {
+    readThermal(h5, net);
+  } else {  // loads only: the absorbed loads of /loads, no temperature, no dissipation (no thermal: block)
+    net.temperature_k = net.fixed_temperature_k = Eigen::VectorXd::Constant(n, NAN);
+    net.capacitance_j_k = net.q_internal_w = Eigen::VectorXd::Zero(n);
+    net.q_solar_w = loadRow(h5, "/loads/solar", net.position, n);
+    net.q_albedo_w = loadRow(h5, "/loads/albedo", net.position, n);
+    net.q_earth_ir_w = loadRow(h5, "/loads/earth_ir", net.position, n);
+  }
+  readCouplings(h5, gr_group, net, o.min_gr);
+  return net;
+}
+
+}  // namespace radnet::cases
