@@ -2,6 +2,7 @@
 
 #include "cases/config/errors.hpp"
 #include "cases/output/damaged_file_guard.hpp"
+#include "cases/output/deck_text.hpp"
 #include "cases/output/hdf5_reader.hpp"
 #include "cases/output/output_guard.hpp"
 #include "cases/output/tmd_export.hpp"
@@ -18,34 +19,7 @@
 namespace radnet::cases {
 namespace {
 
-constexpr double kStefanBoltzmann = 5.670374419e-8;  // W/(m² K⁴), CODATA 2018 (exact in SI)
-constexpr double kZeroCelsius = 273.15;
-
-std::string number(double v) {
-  std::ostringstream s;
-  s << std::setprecision(12) << v;
-  return s.str();
-}
-
-std::string celsius(double k) { return number(k - kZeroCelsius); }
-
-int deckNumber(const ExportedNetwork& net, int i) { return deckNodeNumber(net, i); }
-
-// A node name inside a quoted label or field: the quote it would end is replaced.
-std::string quoted(const std::string& name, char quote) {
-  std::string s = name;
-  std::replace(s.begin(), s.end(), quote, '_');
-  return s;
-}
-
-bool isFixed(const ExportedNetwork& net, Eigen::Index i) { return std::isfinite(net.fixed_temperature_k[i]); }
-
-// The temperature a node starts from (or is held at): radnet's; NaN for a result without
-// temperatures (never a made-up 20 °C: the decks then say that none exist).
-double startTemperature(const ExportedNetwork& net, Eigen::Index i) {
-  if (isFixed(net, i)) return net.fixed_temperature_k[i];
-  return net.thermal ? net.temperature_k[i] : NAN;
-}
+using namespace deck;
 
 std::string header(const ExportedNetwork& net, const char* comment) {
   std::ostringstream h;
@@ -68,13 +42,9 @@ std::string header(const ExportedNetwork& net, const char* comment) {
 
 }  // namespace
 
-std::string esatanDeck(const ExportedNetwork& net) {
-  std::ostringstream d;
-  const int space = deckNumber(net, static_cast<int>(net.nodes.size()));
-  d << header(net, "#") << "# Node n is radnet node n−1; temperatures in °C (TABS = 273.15); GR in m²,\n"
-    << "# ESATAN applies STEFAN itself; QS, QA, QE: absorbed solar, albedo and Earth IR, W;\n"
-    << "# QI: dissipation and heater power at this position, W.\n"
-    << "$MODEL RADNET\n$NODES\n";
+void deck::esatanNodesAndConductors(const ExportedNetwork& net, std::ostream& d) {
+  const int space = deckNodeNumber(net, static_cast<int>(net.nodes.size()));
+  d << "$MODEL RADNET\n$NODES\n";
   for (size_t k = 0; k < net.nodes.size(); ++k) {
     const auto i = static_cast<Eigen::Index>(k);
     const double c = net.capacitance_j_k[i];
@@ -91,24 +61,26 @@ std::string esatanDeck(const ExportedNetwork& net) {
     d << ";\n";
   }
   d << "  B" << space << " = 'SPACE', T = " << celsius(net.space_temperature_k) << ";\n$CONDUCTORS\n";
-  const auto id = [&](int i) { return deckNumber(net, i); };
+  const auto id = [&](int i) { return deckNodeNumber(net, i); };
   for (const auto& c : net.gl) d << "  GL(" << id(c.i) << ", " << id(c.j) << ") = " << number(c.value) << ";\n";
   for (const auto& c : net.gr) d << "  GR(" << id(c.i) << ", " << id(c.j) << ") = " << number(c.value) << ";\n";
+}
+
+std::string esatanDeck(const ExportedNetwork& net) {
+  std::ostringstream d;
+  d << header(net, "#") << "# Node n is radnet node n−1; temperatures in °C (TABS = 273.15); GR in m²,\n"
+    << "# ESATAN applies STEFAN itself; QS, QA, QE: absorbed solar, albedo and Earth IR, W;\n"
+    << "# QI: dissipation and heater power at this position, W.\n";
+  esatanNodesAndConductors(net, d);
   d << "$CONSTANTS\n$CONTROL\n  TABS = 273.15;\n  STEFAN = " << number(kStefanBoltzmann) << ";\n"
     << "  RELXCA = 1.0E-6;\n  NLOOP = 1000;\n$EXECUTION\n  CALL SOLVFM;\n$OUTPUTS\n"
     << "  CALL PRNDTB(' ', 'L, T, QI', CURRENT);\n$ENDMODEL RADNET\n";
   return d.str();
 }
 
-std::string sindaDeck(const ExportedNetwork& net) {
-  std::ostringstream d;
-  const int space = deckNumber(net, static_cast<int>(net.nodes.size()));
-  d << header(net, "C") << "C Node n is radnet node n-1; temperatures in deg C (ABSZRO = -273.15).\n"
-    << "C Radiation conductors (negative ids) hold sigma * GR, W/K^4, so SIGMA = 1.0 below.\n"
-    << "HEADER OPTIONS DATA\nTITLE radnet export: " << net.name << "\n"
-    << "HEADER CONTROL DATA, GLOBAL\n    UID = SI\n    ABSZRO = -273.15\n    SIGMA = 1.0\n"
-    << "    NLOOPS = 1000\n    ARLXCA = 1.0E-6\n"
-    << "HEADER NODE DATA, RADNET\n";
+void deck::sindaNodesAndConductors(const ExportedNetwork& net, std::ostream& d) {
+  const int space = deckNodeNumber(net, static_cast<int>(net.nodes.size()));
+  d << "HEADER NODE DATA, RADNET\n";
   for (size_t k = 0; k < net.nodes.size(); ++k) {
     const auto i = static_cast<Eigen::Index>(k);
     const double c = net.capacitance_j_k[i];
@@ -120,13 +92,23 @@ std::string sindaDeck(const ExportedNetwork& net) {
   }
   d << "    -" << space << ", " << celsius(net.space_temperature_k) << ", 0.0    $ SPACE\n";
   d << "HEADER CONDUCTOR DATA, RADNET\n";
-  const auto id = [&](int i) { return deckNumber(net, i); };
+  const auto id = [&](int i) { return deckNodeNumber(net, i); };
   int conductor = 0;
   for (const auto& c : net.gl)
     d << "    " << ++conductor << ", " << id(c.i) << ", " << id(c.j) << ", " << number(c.value) << "    $ GL W/K\n";
   for (const auto& c : net.gr)
     d << "    -" << ++conductor << ", " << id(c.i) << ", " << id(c.j) << ", " << number(kStefanBoltzmann * c.value)
       << "    $ GR " << number(c.value) << " m^2\n";
+}
+
+std::string sindaDeck(const ExportedNetwork& net) {
+  std::ostringstream d;
+  d << header(net, "C") << "C Node n is radnet node n-1; temperatures in deg C (ABSZRO = -273.15).\n"
+    << "C Radiation conductors (negative ids) hold sigma * GR, W/K^4, so SIGMA = 1.0 below.\n"
+    << "HEADER OPTIONS DATA\nTITLE radnet export: " << net.name << "\n"
+    << "HEADER CONTROL DATA, GLOBAL\n    UID = SI\n    ABSZRO = -273.15\n    SIGMA = 1.0\n"
+    << "    NLOOPS = 1000\n    ARLXCA = 1.0E-6\n";
+  sindaNodesAndConductors(net, d);
   d << "HEADER SOURCE DATA, RADNET\n";
   for (size_t k = 0; k < net.nodes.size(); ++k) {
     const auto i = static_cast<Eigen::Index>(k);
@@ -156,33 +138,68 @@ std::vector<std::string> csvTables(const ExportedNetwork& net) {
   return {nodes.str(), couplings.str()};
 }
 
+namespace {
+
+// The design cases to export: the one named, or every one when none is (each to its own file).
+std::vector<std::string> casesToExport(const Hdf5Reader& h5, const ExportOptions& o) {
+  if (!o.design_case.empty() || o.position >= 0 || !h5.has("/cases/name")) return {o.design_case};
+  const std::vector<std::string> names = h5.strings("/cases/name");
+  return names.size() > 1 ? names : std::vector<std::string>{o.design_case};
+}
+
+// FILE.ext, or FILE-<case>.ext when several design cases go to several files.
+std::string caseFile(const std::string& base, const std::string& design_case, bool several) {
+  if (!several) return base;
+  const std::filesystem::path path(base);
+  return (path.parent_path() / (path.stem().string() + "-" + design_case + path.extension().string())).string();
+}
+
+// One deck of a design case: its whole orbit when it has several positions and none was
+// chosen, else the position's network.
+std::string deckText(const Hdf5Reader& h5, const ExportOptions& o) {
+  const ExportedNetwork net = readExportedNetwork(h5, o);
+  if (o.format == "sinda" && !net.thermal)
+    throw InputError(h5.path(), 0, 0, "the result has no temperatures (its case has no thermal: block) and a "
+                                      "SINDA/FLUINT node needs one: export --format esatan or csv for its loads");
+  if (o.position < 0 && net.case_end - net.case_first > 1) {
+    const ExportedHistory history = readExportedHistory(h5, o);
+    return o.format == "esatan" ? esatanOrbitDeck(history) : sindaOrbitDeck(history);
+  }
+  return o.format == "esatan" ? esatanDeck(net) : sindaDeck(net);
+}
+
+}  // namespace
+
 std::vector<std::string> exportResult(const std::string& h5_path, const ExportOptions& o) {
   tryReadInChild(h5_path, [&] { readExportedNetwork(Hdf5Reader(h5_path), o); });
   const Hdf5Reader h5(h5_path);
-  const ExportedNetwork net = readExportedNetwork(h5, o);
   const std::filesystem::path stem = std::filesystem::path(h5_path).stem();
   if (o.format == "csv") {
+    const ExportedNetwork net = readExportedNetwork(h5, o);
     const std::filesystem::path dir = o.output.empty() ? stem.string() + "-export" : o.output;
     std::filesystem::create_directories(dir);
     const std::vector<std::string> tables = csvTables(net);
     writeTextFilesAtomically({{(dir / "nodes.csv").string(), tables[0]}, {(dir / "conductors.csv").string(), tables[1]}});
     return {(dir / "nodes.csv").string(), (dir / "conductors.csv").string()};
   }
-  if (o.format == "tmd") {
-    const std::string out = o.output.empty() ? stem.string() + ".TMD" : o.output;
-    checkOutputTarget(out, {h5_path}, false);
-    writeTmdExport(h5, o, out);
-    return {out};
-  }
-  if (o.format != "esatan" && o.format != "sinda")
+  if (o.format != "esatan" && o.format != "sinda" && o.format != "tmd")
     throw InputError(h5_path, 0, 0, "--format '" + o.format + "': expected esatan, sinda, csv or tmd");
-  if (o.format == "sinda" && !net.thermal)
-    throw InputError(h5_path, 0, 0, "the result has no temperatures (its case has no thermal: block) and a SINDA/FLUINT "
-                                    "node needs one: export --format esatan or csv for its loads");
-  const std::string out = o.output.empty() ? stem.string() + (o.format == "esatan" ? ".d" : ".sin") : o.output;
-  checkOutputTarget(out, {h5_path}, false);
-  writeTextAtomically(out, o.format == "esatan" ? esatanDeck(net) : sindaDeck(net));
-  return {out};
+  const std::string base = !o.output.empty() ? o.output
+                           : stem.string() + (o.format == "esatan" ? ".d" : o.format == "sinda" ? ".sin" : ".TMD");
+  const std::vector<std::string> cases = casesToExport(h5, o);
+  std::vector<std::string> written;
+  std::vector<std::pair<std::string, std::string>> decks;
+  for (const std::string& design_case : cases) {
+    ExportOptions one = o;
+    one.design_case = design_case;
+    const std::string out = caseFile(base, design_case, cases.size() > 1);
+    checkOutputTarget(out, {h5_path}, false);
+    if (o.format == "tmd") writeTmdExport(h5, one, out);  // each TMD is published as it is written
+    else decks.emplace_back(out, deckText(h5, one));
+    written.push_back(out);
+  }
+  writeTextFilesAtomically(decks);  // every deck or none
+  return written;
 }
 
 }  // namespace radnet::cases

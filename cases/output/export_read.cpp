@@ -155,7 +155,8 @@ void readThermal(const Hdf5Reader& h5, ExportedNetwork& net) {
   net.q_solar_w = rowOf(h5, "/solution/heat/solar", p, n);
   net.q_albedo_w = rowOf(h5, "/solution/heat/albedo", p, n);
   net.q_earth_ir_w = rowOf(h5, "/solution/heat/earth_ir", p, n);
-  net.q_internal_w = rowOf(h5, "/solution/heat/dissipation", p, n) + rowOf(h5, "/solution/heat/heater", p, n);
+  net.q_heater_w = rowOf(h5, "/solution/heat/heater", p, n);
+  net.q_internal_w = rowOf(h5, "/solution/heat/dissipation", p, n) + net.q_heater_w;
   net.fixed_temperature_k = Eigen::VectorXd::Constant(n, NAN);
   if (h5.has("/thermal/fixed_temperature")) {
     const Eigen::VectorXd t = h5.vector("/thermal/fixed_temperature");
@@ -223,13 +224,78 @@ ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& o
     readThermal(h5, net);
   } else {  // loads only: the absorbed loads of /loads, no temperature, no dissipation (no thermal: block)
     net.temperature_k = net.fixed_temperature_k = Eigen::VectorXd::Constant(n, NAN);
-    net.capacitance_j_k = net.q_internal_w = Eigen::VectorXd::Zero(n);
+    net.capacitance_j_k = net.q_internal_w = net.q_heater_w = Eigen::VectorXd::Zero(n);
     net.q_solar_w = loadRow(h5, "/loads/solar", net.position, n);
     net.q_albedo_w = loadRow(h5, "/loads/albedo", net.position, n);
     net.q_earth_ir_w = loadRow(h5, "/loads/earth_ir", net.position, n);
   }
   readCouplings(h5, gr_group, net, o.min_gr);
   return net;
+}
+
+namespace {
+
+// The thermostats with their set points; none from a result that does not store them.
+std::vector<ExportedThermostat> readThermostats(const Hdf5Reader& h5, const ExportedNetwork& net) {
+  std::vector<ExportedThermostat> out;
+  if (!h5.has("/heaters/on_below") || !h5.has("/heaters/name")) return out;
+  const std::vector<std::string> name = h5.strings("/heaters/name"), node = h5.strings("/heaters/node"),
+                                 sensor = h5.strings("/heaters/sensor");
+  const Eigen::VectorXd power = finite(h5, "/heaters/rated_power", h5.vector("/heaters/rated_power"));
+  const Eigen::VectorXd on = finite(h5, "/heaters/on_below", h5.vector("/heaters/on_below"));
+  const Eigen::VectorXd off = finite(h5, "/heaters/off_above", h5.vector("/heaters/off_above"));
+  const Eigen::MatrixXd supplied = h5.matrix("/heaters/power");  // (P, h)
+  const auto h = static_cast<Eigen::Index>(name.size());
+  if (node.size() != name.size() || sensor.size() != name.size() || power.size() != h || on.size() != h ||
+      off.size() != h || supplied.cols() != h || supplied.rows() <= net.case_first)
+    malformed(h5, "/heaters", "name, node, sensor, rated_power, on_below, off_above and power disagree");
+  const auto index = [&](const std::string& n) {
+    const auto it = std::find(net.nodes.begin(), net.nodes.end(), n);
+    if (it == net.nodes.end()) malformed(h5, "/heaters/node", "names '" + n + "', not a node");
+    return static_cast<int>(it - net.nodes.begin());
+  };
+  for (Eigen::Index k = 0; k < h; ++k)
+    out.push_back({name[static_cast<size_t>(k)], index(node[static_cast<size_t>(k)]), index(sensor[static_cast<size_t>(k)]),
+                   power[k], on[k], off[k], supplied(net.case_first, k) > 0});
+  return out;
+}
+
+// The span the loads repeat over: the orbit case's nodal period, or whole periods of it.
+double loadPeriod(const Hdf5Reader& h5, const ExportedNetwork& first, double last_time) {
+  if (!h5.has("/orbit/period") || !h5.has("/orbit/case")) return 0.0;
+  const Eigen::VectorXd period = finite(h5, "/orbit/period", h5.vector("/orbit/period"));
+  const Eigen::VectorXd orbit_case = h5.vector("/orbit/case");
+  const double k = orbit_case.size() > first.case_first ? orbit_case[first.case_first] : -1;
+  if (!(k >= 0 && k < static_cast<double>(period.size()) && period[static_cast<Eigen::Index>(k)] > 0))
+    malformed(h5, "/orbit/case", "not an orbit case of /orbit/period");
+  const double one = period[static_cast<Eigen::Index>(k)];
+  return one * std::max(1.0, std::floor(last_time / one) + 1.0);
+}
+
+}  // namespace
+
+ExportedHistory readExportedHistory(const Hdf5Reader& h5, const ExportOptions& o) {
+  ExportOptions at = o;
+  at.position = -1;
+  ExportedHistory history;
+  const ExportedNetwork first = readExportedNetwork(h5, at);
+  const char* time_path = h5.has("/orbit/time") ? "/orbit/time" : h5.has("/solution/time") ? "/solution/time" : nullptr;
+  const Eigen::VectorXd times = time_path ? finite(h5, time_path, h5.vector(time_path)) : Eigen::VectorXd::Zero(1);
+  if (times.size() < first.case_end) malformed(h5, time_path, "fewer times than positions");
+  for (int p = first.case_first; p < first.case_end; ++p) {
+    if (!history.times_s.empty() && !(times[p] > history.times_s.back()))
+      throw InputError(h5.path(), 0, 0, std::string(time_path) + ": the times of " +
+                                            (first.design_case.empty() ? "the run" : "design case '" + first.design_case + "'") +
+                                            " do not increase at position " + std::to_string(p) +
+                                            " (several orbit cases): one deck or TMD holds one time line; give "
+                                            "--position for one position, or run each orbit case on its own");
+    history.times_s.push_back(times[p]);
+    at.position = p;
+    history.at.push_back(p == first.position ? first : readExportedNetwork(h5, at));
+  }
+  if (time_path && std::string(time_path) == "/orbit/time") history.period_s = loadPeriod(h5, first, history.times_s.back());
+  if (first.thermal) history.thermostats = readThermostats(h5, first);
+  return history;
 }
 
 }  // namespace radnet::cases

@@ -203,6 +203,14 @@ void writeHeaters(Hdf5Writer& h5, const ThermalSolution& thermal, const ThermalS
   h5.writeStrings("/heaters/name", thermal.heater_names);
   h5.writeStrings("/heaters/node", nodes);
   h5.writeStrings("/heaters/sensor", sensors);
+  Eigen::VectorXd rated(H), on_below(H), off_above(H);
+  for (Eigen::Index k = 0; k < H; ++k) {
+    const solver::Heater& h = settings.heaters[static_cast<size_t>(k)];
+    rated[k] = h.power_w, on_below[k] = h.on_below_k, off_above[k] = h.off_above_k;
+  }
+  h5.writeVector("/heaters/rated_power", rated, "W");
+  h5.writeVector("/heaters/on_below", on_below, "K");
+  h5.writeVector("/heaters/off_above", off_above, "K");
   h5.writeMatrix("/heaters/power", thermal.solve.heater_power.transpose(), "W");
   h5.writeVector("/heaters/duty", thermal.solve.heater_duty, "1");
   h5.attribute("/heaters/duty", "meaning",

@@ -56,22 +56,6 @@ Eigen::MatrixXd incident(const Hdf5Reader& h5, const char* path, const ExportedN
   return out.array().colwise() * net.area_m2.array();
 }
 
-std::vector<double> caseTimes(const Hdf5Reader& h5, const ExportedNetwork& net) {
-  std::vector<double> times;
-  const char* path = h5.has("/orbit/time") ? "/orbit/time" : h5.has("/solution/time") ? "/solution/time" : nullptr;
-  if (!path) return {0.0};  // one steady state
-  const Eigen::VectorXd t = h5.vector(path);
-  if (t.size() < net.case_end) throw InputError(h5.path(), 0, 0, std::string(path) + ": fewer times than positions");
-  for (int p = net.case_first; p < net.case_end; ++p) {
-    if (!times.empty() && !(t[p] > times.back()))
-      throw InputError(h5.path(), 0, 0, std::string(path) + ": the design case's times do not increase at position " +
-                                            std::to_string(p) + " (several orbit cases in one design case): a TMD "
-                                            "holds one time line; export a run of one orbit case");
-    times.push_back(t[p]);
-  }
-  return times;
-}
-
 // /AnalysisSet1: the nodes, the names of their real attributes and the conductor pairs.
 void writeTables(Hdf5Writer& out, const ExportedNetwork& net) {
   const int n = static_cast<int>(net.nodes.size());
@@ -95,12 +79,13 @@ void writeTables(Hdf5Writer& out, const ExportedNetwork& net) {
 }  // namespace
 
 void writeTmdExport(const Hdf5Reader& h5, const ExportOptions& o, const std::string& path) {
-  ExportOptions at = o;
-  const ExportedNetwork first = readExportedNetwork(h5, at);
-  if (!first.thermal)
+  const ExportedNetwork probe = readExportedNetwork(h5, o);
+  if (!probe.thermal)
     throw InputError(h5.path(), 0, 0, "the result has no temperatures (its case has no thermal: block), and a TMD "
                                       "holds them at every time: export --format esatan, sinda or csv for its loads");
-  const std::vector<double> times = caseTimes(h5, first);
+  const ExportedHistory history = readExportedHistory(h5, o);
+  const ExportedNetwork& first = history.at.front();
+  const std::vector<double>& times = history.times_s;
   const int n = static_cast<int>(first.nodes.size()), N = n + 1;
   const Eigen::Index M_gl = static_cast<Eigen::Index>(first.gl.size()), M_gr = static_cast<Eigen::Index>(first.gr.size());
   const Eigen::MatrixXd xyz = centroids(h5, n);
@@ -109,10 +94,8 @@ void writeTmdExport(const Hdf5Reader& h5, const ExportOptions& o, const std::str
   const Eigen::MatrixXd in_earth = incident(h5, "/loads/incident_earth_ir", first);
   std::vector<Eigen::MatrixXd> real, gl, gr;
   std::vector<std::string> text;
-  for (int p = first.case_first; p < first.case_end; ++p) {
-    at.position = p;
-    const ExportedNetwork net = p == first.position ? first : readExportedNetwork(h5, at);
-    const Eigen::Index k = p - first.case_first;
+  for (size_t k = 0; k < history.at.size(); ++k) {
+    const ExportedNetwork& net = history.at[k];
     Eigen::MatrixXd r = Eigen::MatrixXd::Zero(N, 16);
     for (int i = 0; i < n; ++i) {
       const bool fixed = std::isfinite(net.fixed_temperature_k[i]);
@@ -122,8 +105,9 @@ void writeTmdExport(const Hdf5Reader& h5, const ExportOptions& o, const std::str
       r(i, kTmdInternal) = net.q_internal_w[i], r(i, kTmdSolar) = net.q_solar_w[i];
       r(i, kTmdArea) = net.area_m2[i], r(i, kTmdAbsorptivity) = net.absorptivity[i];
       r(i, kTmdEmissivity) = net.emissivity[i];
-      r(i, kTmdIncidentAlbedo) = in_albedo(i, k), r(i, kTmdIncidentEarth) = in_earth(i, k);
-      r(i, kTmdIncidentSolar) = in_solar(i, k);
+      const auto p = static_cast<Eigen::Index>(k);
+      r(i, kTmdIncidentAlbedo) = in_albedo(i, p), r(i, kTmdIncidentEarth) = in_earth(i, p);
+      r(i, kTmdIncidentSolar) = in_solar(i, p);
       r.block(i, kTmdX, 1, 3) = xyz.row(i);
       text.push_back(fixed ? "B" : "D"), text.push_back(net.nodes[static_cast<size_t>(i)]);
     }
