@@ -165,6 +165,11 @@ def seeds(source):
     step = (source / "tests/data/meshes/box.step").read_bytes()
     out.append(("mesh-box-step", b"name: step-box\nmaterials: {black: {emissivity: 0.9, absorptivity: 0.9}}\n"
                 b"geometry:\n  - mesh: {name: part, file: part.step, front: black}\n", {"part.step": step}))
+    # An imported ESATAN network: the case's keys mutated around a real TMD.
+    tmd = (source / "tests/data/esatan/DISCTR_TRANSIENT.TMD").read_bytes()
+    out.append(("import-disc", b"name: disc\nimport: {esatan_tmd: disc.TMD}\nthermal:\n"
+                b"  nodes: {D1000: {capacitance: 2.0}}\n  lumped: {box: {capacitance: 5.0, dissipation: 0.5}}\n"
+                b"  conductors: [[box, D1000, 0.1]]\n  transient: {time_step: 20.0}\n", {"disc.TMD": tmd}))
     for fmt, data in plate_meshes().items():
         ext = fmt.replace("binary-", "").split("-")[0]
         out.append((f"mesh-plate-{fmt}", mesh_case(ext), {f"part.{ext}": data}))

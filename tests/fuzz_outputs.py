@@ -8,10 +8,12 @@
   files    filesystem tricks: planted symlinks at the output and its temporaries, names over
            255 bytes, a file used as a folder, and (as root) full and read-only tmpfs mounts
            of random sizes. Exit 2 or 4, the victim and the old output unchanged, nothing left.
+  imports  malformed ESATAN TMD files (the real DISCTR one, mutated as the results are) imported
+           by a case: exit 0, 2 or 3 only, never a signal or a traceback, no output on failure.
   signals  catchable signals at random instants of a run over an old result and sidecar: the
            old pair or the new pair stays, never a mix and never a temporary.
 
-Usage: fuzz_outputs.py RADNET SOURCE_DIR WORK_DIR [--seed N] [--results N] [--reports N] [--signals N]
+Usage: fuzz_outputs.py RADNET SOURCE_DIR WORK_DIR [--seed N] [--results N] [--reports N] [--signals N] [--imports N]
 Prints one line per problem and a summary; exit 1 when any contract was broken.
 """
 import argparse
@@ -30,7 +32,8 @@ import h5py
 import numpy as np
 
 CASE = "cases/examples/cubesat-3u.yaml"  # geometry, orbit, heaters, lumped nodes: every group
-FORMATS = {"esatan": "deck.d", "sinda": "deck.sin", "csv": "deck-csv"}
+FORMATS = {"esatan": "deck.d", "sinda": "deck.sin", "csv": "deck-csv", "tmd": "deck.TMD"}
+TMD = "tests/data/esatan/DISCTR_TRANSIENT.TMD"  # a real ESATAN results file, for the imports family
 
 
 def run(cmd, cwd, timeout=120):
@@ -170,6 +173,34 @@ def family_results(args, rng, base, problems):
     return count
 
 
+# ---- imports -------------------------------------------------------------------------------
+
+def family_imports(args, rng, problems):
+    source = args.source / TMD
+    if not source.is_file():
+        return 0
+    names = datasets(source)
+    folder = args.work / "imports"
+    for i in range(args.imports):
+        shutil.rmtree(folder, ignore_errors=True)
+        folder.mkdir(parents=True)
+        what = malformed_result(rng, source, folder / "m.TMD", names)
+        (folder / "m.TMD").chmod(0o644)
+        (folder / "imp.yaml").write_text("name: imp\nimport: {esatan_tmd: m.TMD}\n")
+        cmd = [str(args.radnet), "run", "imp.yaml", "-o", "out.h5", "-q"]
+        rc, out, err = run(cmd, folder)
+        found = contract(rc, out, err, allowed=(0, 2, 3))
+        if rc != 0 and (folder / "out.h5").exists():
+            found.append(f"exit {rc} but out.h5 was written")
+        found += [f"left {t}" for t in temporaries(folder)]
+        if found:
+            (args.work / "failures").mkdir(exist_ok=True)
+            shutil.copy(folder / "m.TMD", args.work / "failures" / f"imports-{i}.TMD")
+        for p in found:
+            problems.append(f"imports #{i} ({what}): {p}: {err.strip()[-200:]}")
+    return args.imports
+
+
 # ---- files ---------------------------------------------------------------------------------
 
 def mount_tmpfs(path, size_kib, readonly=False):
@@ -242,7 +273,7 @@ def family_files(args, rng, base, case, problems):
         try:
             command = rng.choice(["run", "export", "report"])
             fmt = rng.choice(sorted(FORMATS))
-            target = {"run": "out.h5", "export": {"esatan": "out.d", "sinda": "out.sin", "csv": "out-csv"}[fmt],
+            target = {"run": "out.h5", "export": {"esatan": "out.d", "sinda": "out.sin", "csv": "out-csv", "tmd": "out.TMD"}[fmt],
                       "report": "rep"}[command]
             folder_output = target in ("rep", "out-csv")
             old = mount / (target if not folder_output else "out.h5")
@@ -331,6 +362,7 @@ def main():
     ap.add_argument("--results", type=int, default=200)
     ap.add_argument("--reports", type=int, default=10)
     ap.add_argument("--signals", type=int, default=30)
+    ap.add_argument("--imports", type=int, default=60)
     args = ap.parse_args()
     args.radnet = args.radnet.resolve()
     args.work = args.work.resolve()
@@ -347,6 +379,7 @@ def main():
     args.tally = {}
     counts = {"results": family_results(args, rng, base, problems),
               "files": family_files(args, rng, base, case, problems),
+              "imports": family_imports(args, rng, problems),
               "signals": family_signals(args, rng, case, problems)}
     for p in problems:
         print(p)

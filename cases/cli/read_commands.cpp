@@ -2,7 +2,7 @@
 
 #include "cases/config/case_file.hpp"
 #include "cases/config/work_estimate.hpp"
-#include "cases/output/damaged_file_guard.hpp"
+#include "cases/config/damaged_file_guard.hpp"
 #include "cases/output/hdf5_reader.hpp"
 
 #include <sys/wait.h>

@@ -30,7 +30,8 @@ class TmdReader {
   explicit TmdReader(std::string path) : path_(std::move(path)) {
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // the messages here say what is wrong instead
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(path_, ec)) fail("no such file (expected an ESATAN-TMS .TMD file)");
+    if (!std::filesystem::exists(path_, ec)) fail("no such file (expected an ESATAN-TMS .TMD file)");
+    if (!std::filesystem::is_regular_file(path_, ec)) fail("not a regular file (expected an ESATAN-TMS .TMD file)");
     file_bytes_ = static_cast<double>(std::filesystem::file_size(path_, ec));
     if (H5Fis_hdf5(path_.c_str()) <= 0) fail("not an HDF5 file, so not an ESATAN-TMS TMD");
     file_ = H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
@@ -97,12 +98,14 @@ class TmdReader {
 
   // Fixed-length (ESATAN's, space padded) or variable-length strings, trailing blanks cut.
   std::vector<std::string> strings(const std::string& path, std::vector<hsize_t>& d, int max_rank) const {
-    d = dims(path, 1, max_rank, 16.0);
-    size_t count = 1;
-    for (hsize_t v : d) count *= static_cast<size_t>(v);
+    if (!has(path)) fail("not an ESATAN-TMS TMD: it has no " + path);
     Handle ds{H5Dopen2(file_, path.c_str(), H5P_DEFAULT), H5Dclose};
     Handle type{H5Dget_type(ds.id), H5Tclose};
     if (H5Tget_class(type.id) != H5T_STRING) fail(path + ": expected strings");
+    // What reading takes: the fixed width of each string, or a pointer and a short text.
+    d = dims(path, 1, max_rank, H5Tis_variable_str(type.id) > 0 ? 16.0 : std::max(16.0, double(H5Tget_size(type.id))));
+    size_t count = 1;
+    for (hsize_t v : d) count *= static_cast<size_t>(v);
     std::vector<std::string> out;
     if (H5Tis_variable_str(type.id) > 0) {
       Handle mem{H5Tcopy(H5T_C_S1), H5Tclose};

@@ -20,6 +20,9 @@ Expectation parseExpectation(const YamlDocument& doc, const YAML::Node& e, const
     throw doc.error(q, msg);
   }
   x.quantity = *quantity;
+  if (radiative_names.empty() && x.quantity != ExpectQuantity::Temperature)
+    throw doc.error(q, what + ".quantity: '" + word + "' needs radiative nodes and this case has none (an imported "
+                                                      "network: its GR came with the file); expect temperatures");
   const std::vector<std::string>& names = x.quantity == ExpectQuantity::Temperature ? thermal_names : radiative_names;
   auto nodeName = [&](const char* key) {
     const YAML::Node n = doc.required(e, key, what);

@@ -1,5 +1,6 @@
 #include "cases/config/import_case.hpp"
 
+#include "cases/config/damaged_file_guard.hpp"
 #include "cases/config/errors.hpp"
 #include "cases/config/expect_block.hpp"
 
@@ -144,6 +145,7 @@ ImportedCase loadImportedCase(const YamlDocument& doc) {
   std::vector<std::string> warnings;
   ThermalSettings imported;
   try {
+    tryReadInChild(c.source, [&] { readTmd(c.source); });  // a file that crashes HDF5 is refused, not a crash
     f = readTmd(c.source);
     imported = thermalFromTmd(f, c.source, warnings);
   } catch (const InputError& e) {

@@ -1,7 +1,7 @@
 #include "cases/output/export.hpp"
 
 #include "cases/config/errors.hpp"
-#include "cases/output/damaged_file_guard.hpp"
+#include "cases/config/damaged_file_guard.hpp"
 #include "cases/output/deck_text.hpp"
 #include "cases/output/hdf5_reader.hpp"
 #include "cases/output/output_guard.hpp"
@@ -177,9 +177,16 @@ std::vector<std::string> exportResult(const std::string& h5_path, const ExportOp
   if (o.format == "csv") {
     const ExportedNetwork net = readExportedNetwork(h5, o);
     const std::filesystem::path dir = o.output.empty() ? stem.string() + "-export" : o.output;
-    std::filesystem::create_directories(dir);
     const std::vector<std::string> tables = csvTables(net);
-    writeTextFilesAtomically({{(dir / "nodes.csv").string(), tables[0]}, {(dir / "conductors.csv").string(), tables[1]}});
+    std::error_code ec;
+    const bool fresh = !std::filesystem::exists(dir, ec);
+    std::filesystem::create_directories(dir);
+    try {
+      writeTextFilesAtomically({{(dir / "nodes.csv").string(), tables[0]}, {(dir / "conductors.csv").string(), tables[1]}});
+    } catch (...) {
+      if (fresh) std::filesystem::remove(dir, ec);  // a folder made for a failed export goes too (it is empty)
+      throw;
+    }
     return {(dir / "nodes.csv").string(), (dir / "conductors.csv").string()};
   }
   if (o.format != "esatan" && o.format != "sinda" && o.format != "tmd")

@@ -27,7 +27,7 @@ class Hdf5Reader {
   std::string textAttribute(const std::string& object, const std::string& name, const std::string& fallback) const;
   const std::string& path() const { return path_; }
   /// Reads every dataset and attribute once and discards it: run in a child process
-  /// (damaged_file_guard.hpp) it shows whether the HDF5 library survives the file at all.
+  /// (cases/config/damaged_file_guard.hpp) it shows whether the HDF5 library survives the file at all.
   void readEverything() const;
   /// InputError when dataset `path` declares more bytes than the file could hold.
   void checkLogicalSize(const std::string& path, double bytes) const;

@@ -1,4 +1,4 @@
-#include "cases/output/damaged_file_guard.hpp"
+#include "cases/config/damaged_file_guard.hpp"
 
 #include "cases/config/errors.hpp"
 
@@ -37,7 +37,7 @@ void tryReadInChild(const std::string& path, const std::function<void()>& read) 
   if (crashed)
     throw InputError(path, 0, 0,
                      std::string("the file is damaged: reading it crashed the HDF5 library (") +
-                         strsignal(WTERMSIG(status)) + "); not a readable radnet result");
+                         strsignal(WTERMSIG(status)) + "); it cannot be read");
 }
 
 }  // namespace radnet::cases
