@@ -43,11 +43,15 @@ void importNode(const TmdFile& f, const std::string& path, Eigen::Index i, Eigen
     bad("temperature " + std::to_string(t_k.minCoeff()) + " K, outside " + std::to_string(kMinTemperature) + " … 1e5 K");
   const Eigen::VectorXd c = column(f, i, kTmdCapacitance);
   if (c[0] < 0 || c[0] > kMaxCapacitance) bad("capacitance " + std::to_string(c[0]) + " J/K, outside 0 … 1e12");
-  if (f.type[static_cast<size_t>(i)] == "B") {
-    if (varies(t_k, 1.0))
-      bad("a boundary temperature that changes during the run (" + std::to_string(t_k.minCoeff()) + " … " +
-          std::to_string(t_k.maxCoeff()) + " K): not supported yet; only constant boundary temperatures are imported");
+  if (f.type[static_cast<size_t>(i)] == "B") {  // held at the file's temperature, following it in time
     s.fixed_temperature[k] = t_k[0];
+    if (varies(t_k, 1.0)) {
+      solver::BoundarySchedule b;
+      b.node = static_cast<int>(k);
+      for (size_t t = 0; t < f.times_s.size(); ++t)
+        b.times_s.push_back(f.times_s[t] - f.times_s[0]), b.temperature_k.push_back(t_k[static_cast<Eigen::Index>(t)]);
+      s.boundary_schedules.push_back(b);
+    }
     return;
   }
   s.capacitance[k] = c[0];

@@ -33,7 +33,7 @@ bool isImportedCase(const YamlDocument& doc);
 ImportedCase loadImportedCase(const YamlDocument& doc);
 
 /// The thermal model of a TMD: D nodes (diffusion; capacitance 0: arithmetic) and B nodes
-/// (boundary, held at their temperature) named by type letter and number ("D1000"), X nodes
+/// (boundary, held at their temperature, following it where it changes) named by type letter and number ("D1000"), X nodes
 /// and every conductor touching one dropped; capacitances, GL and GR at the first time
 /// (duplicates summed); each node's heat sources (solar, albedo, Earth, internal, rest)
 /// summed and interpolated linearly between the output times; the transient run from the

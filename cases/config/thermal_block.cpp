@@ -69,9 +69,13 @@ void parseNodeProperties(const YamlDocument& doc, const YAML::Node& props, const
                       s.schedules.end());
     s.dissipation[i] = parseDissipation(doc, props["dissipation"], what + ".dissipation", i, orbit_period_s, s);
   }
-  if (props["temperature"])
+  if (props["temperature"]) {  // a constant one replaces any history the node had (an imported one)
+    s.boundary_schedules.erase(std::remove_if(s.boundary_schedules.begin(), s.boundary_schedules.end(),
+                                              [i](const auto& b) { return b.node == i; }),
+                               s.boundary_schedules.end());
     s.fixed_temperature[i] =
         doc.number(props["temperature"], what + ".temperature (K, boundary node)", kMinTemperature, kMaxTemperature);
+  }
   if (props["initial_temperature"])
     s.initial_temperature[i] =
         doc.number(props["initial_temperature"], what + ".initial_temperature (K)", kMinTemperature, kMaxTemperature);

@@ -26,6 +26,7 @@ struct ThermalSettings {
   Eigen::VectorXd dissipation;                                               ///< constant part, W
   std::vector<solver::DissipationSchedule> schedules;                        ///< by illumination or time table, W
   Eigen::VectorXd fixed_temperature;                                         ///< K, NaN for free nodes
+  std::vector<solver::BoundarySchedule> boundary_schedules;                  ///< boundary nodes following a history (imported)
   Eigen::VectorXd initial_temperature;                                       ///< K, where a transient starts
   std::vector<Eigen::Triplet<double>> conductors;           ///< (i, j, W/K), both directions
   std::vector<solver::TabledConductor> tabled_conductors;   ///< W/K against the mean temperature

@@ -180,6 +180,7 @@ solver::ThermalNetwork thermalNetwork(const ThermalSettings& ts, const solver::E
   net.schedules = ts.schedules;
   net.heaters = ts.heaters;
   net.fixed_temperature = ts.fixed_temperature;
+  net.boundary_schedules = ts.boundary_schedules;
   net.space_temperature = ts.space_temperature;
   return net;
 }

@@ -86,18 +86,22 @@ void TemperatureTable::validate(const std::string& what) const {
 
 double DissipationSchedule::at(double t, double sunlit_fraction, double period) const {
   if (kind == Kind::Illumination) return eclipse_w + sunlit_fraction * (sunlit_w - eclipse_w);
-  if (kind == Kind::Interpolated) {
-    const auto hi = std::upper_bound(times_s.begin(), times_s.end(), t);
-    if (hi == times_s.begin()) return power_w.front();
-    if (hi == times_s.end()) return power_w.back();
-    const size_t k = static_cast<size_t>(hi - times_s.begin());
-    const double w = (t - times_s[k - 1]) / (times_s[k] - times_s[k - 1]);
-    return (1 - w) * power_w[k - 1] + w * power_w[k];
-  }
+  if (kind == Kind::Interpolated) return interpolateHeld(times_s, power_w, t);
   const double tau = period > 0 ? t - period * std::floor(t / period) : t;
   const auto it = std::upper_bound(times_s.begin(), times_s.end(), tau);
   return it == times_s.begin() ? power_w.front() : power_w[static_cast<size_t>(it - times_s.begin()) - 1];
 }
+
+double interpolateHeld(const std::vector<double>& x, const std::vector<double>& y, double at) {
+  const auto hi = std::upper_bound(x.begin(), x.end(), at);
+  if (hi == x.begin()) return y.front();
+  if (hi == x.end()) return y.back();
+  const size_t k = static_cast<size_t>(hi - x.begin());
+  const double w = (at - x[k - 1]) / (x[k] - x[k - 1]);
+  return (1 - w) * y[k - 1] + w * y[k];
+}
+
+double BoundarySchedule::at(double t_s) const { return interpolateHeld(times_s, temperature_k, t_s); }
 
 bool ThermalNetwork::isFixed(Eigen::Index i) const { return !std::isnan(fixed_temperature[i]); }
 
@@ -115,6 +119,14 @@ void ThermalNetwork::validate() const {
   for (Eigen::Index i = 0; i < n; ++i)
     if (isFixed(i) && !finitePositive(fixed_temperature[i]))
       throw std::invalid_argument("fixed temperatures must be finite and > 0 K");
+  for (const BoundarySchedule& b : boundary_schedules) {
+    bool increasing = !b.times_s.empty() && b.times_s.size() == b.temperature_k.size();
+    for (size_t k = 0; increasing && k < b.times_s.size(); ++k)
+      increasing = std::isfinite(b.times_s[k]) && finitePositive(b.temperature_k[k]) &&
+                   (k == 0 || b.times_s[k] > b.times_s[k - 1]);
+    if (b.node < 0 || b.node >= n || !isFixed(b.node) || !increasing)
+      throw std::invalid_argument("boundary schedule: a boundary node, increasing times and temperatures > 0 K");
+  }
   for (const auto& [i, table] : capacitance_tables) {
     if (i < 0 || i >= n) throw std::invalid_argument("capacitance table: node index out of range");
     table.validate("capacitance table");

@@ -45,6 +45,18 @@ struct DissipationSchedule {
   double at(double t_s, double sunlit_fraction, double period_s) const;
 };
 
+/// A boundary node whose held temperature follows a history (an imported file's): linear
+/// between the entries, held beyond them, never repeating.
+struct BoundarySchedule {
+  int node = -1;
+  std::vector<double> times_s;        ///< increasing, s from the start
+  std::vector<double> temperature_k;  ///< K
+  double at(double t_s) const;
+};
+
+/// Linear interpolation in (x, y), held at the end values beyond them; x increasing.
+double interpolateHeld(const std::vector<double>& x, const std::vector<double>& y, double at);
+
 /// An on/off thermostat with hysteresis: on when its sensor falls below on_below_k, off
 /// when it rises above off_above_k (a dead band, so it cannot chatter).
 struct Heater {
@@ -72,6 +84,7 @@ struct ThermalNetwork {
   std::vector<DissipationSchedule> schedules;                        ///< added to the constant dissipation
   std::vector<Heater> heaters;
   Eigen::VectorXd fixed_temperature;  ///< K, NaN where the node is free (boundary nodes otherwise)
+  std::vector<BoundarySchedule> boundary_schedules;  ///< in a transient, these boundary nodes follow a history
   double space_temperature = 3.0;     ///< K
 
   Eigen::Index size() const { return gr.rows(); }

@@ -50,7 +50,10 @@ double nextStep(double h_prev, double max_step, double remaining) {
 class Integrator {
  public:
   Integrator(const ThermalNetwork& net, const ThermalForcing& f, const ThermalOptions& opt, ThermalResult& res)
-      : net_(net), f_(f), opt_(opt), res_(res) {}
+      : moving_(net.boundary_schedules.empty() ? ThermalNetwork{} : net),
+        net_(net.boundary_schedules.empty() ? net : moving_), f_(f), opt_(opt), res_(res) {
+    holdBoundaries(0.0);
+  }
 
   TransientState start(const Eigen::VectorXd& initial) const;
   // Marches to `target`, landing on every dissipation-table entry on the way. False when a
@@ -76,6 +79,12 @@ class Integrator {
   static constexpr int kMaxSwitchesPerOutput = 10000;
   std::vector<int> output_switches_;  // per heater, since the last output time
 
+  // Boundary nodes that follow a history are held at its value at each step's end, in a
+  // copy of the network made only when there are some.
+  void holdBoundaries(double t) {
+    for (const BoundarySchedule& b : moving_.boundary_schedules) moving_.fixed_temperature[b.node] = b.at(t);
+  }
+  ThermalNetwork moving_;
   const ThermalNetwork& net_;
   const ThermalForcing& f_;
   const ThermalOptions& opt_;
@@ -95,6 +104,8 @@ Eigen::VectorXd Integrator::applied(const TransientState& s, double h, Eigen::Ve
 }
 
 bool Integrator::step(const TransientState& s, double h, Eigen::VectorXd& t_new, Eigen::VectorXd& dissipation) {
+  holdBoundaries(s.clock + h);
+  holdBoundaries(s.clock + h);
   const auto [a, b, beta] = bdf2Coefficients(h, s.h_prev);
   const detail::ImplicitSystem sys{net_,      applied(s, h, dissipation), a * s.t_now - b * s.t_prev, h * beta, true,
                                    {},        &cache_};
