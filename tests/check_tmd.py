@@ -167,6 +167,13 @@ def moving_boundary():
     print(f"moving boundary: radnet against an independent backward Euler (2 s): {err:.3f} K")
     check(err < 0.05, f"moving boundary: {err} K from the independent solution (bound 0.05 K)")
     check(np.ptp(got[:, names.index("D1099")]) > 10, "the disc responds to its rim")
+    # That run exported as a TMD and imported again: the same network, the same temperatures.
+    run("export", "ramp.h5", "--format", "tmd", "-o", "ramp-out.TMD")
+    write("ramp2.yaml", "name: ramp2\nimport: {esatan_tmd: ramp-out.TMD}\nthermal: {transient: {time_step: 2.0}}\n")
+    run("run", "ramp2.yaml", "-o", "ramp2.h5", "-q")
+    with h5py.File(os.path.join(WORK, "ramp2.h5")) as r:
+        again = r["/solution/temperature"][:, :got.shape[1]]
+    check(np.abs(again - got).max() < 1e-9, f"import → TMD → import moved a temperature by {np.abs(again - got).max()} K")
 
 
 def cubesat_round():

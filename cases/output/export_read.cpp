@@ -102,8 +102,13 @@ std::string selectCase(const Hdf5Reader& h5, const ExportOptions& o, ExportedNet
 // GR between nodes (i < j) and to space (j = n), user couplings and MLI added.
 void readCouplings(const Hdf5Reader& h5, const std::string& gr_group, ExportedNetwork& net, double min_gr) {
   const auto n = static_cast<Eigen::Index>(net.nodes.size());
-  const Eigen::MatrixXd exchange = finite(h5, gr_group + "radiative_exchange", h5.matrix(gr_group + "radiative_exchange"));
-  const Eigen::VectorXd to_space = finite(h5, gr_group + "gr_space", h5.vector(gr_group + "gr_space"));
+  // An imported network has no radiative node of radnet's (its GR are couplings, below).
+  const bool imported = h5.has("/meta") && !h5.textAttribute("/meta", "imported_from", "").empty();
+  const bool has_exchange = !imported || h5.has(gr_group + "radiative_exchange");
+  const Eigen::MatrixXd exchange = has_exchange ? finite(h5, gr_group + "radiative_exchange", h5.matrix(gr_group + "radiative_exchange"))
+                                                : Eigen::MatrixXd(0, 0);
+  const Eigen::VectorXd to_space = has_exchange ? finite(h5, gr_group + "gr_space", h5.vector(gr_group + "gr_space"))
+                                                : Eigen::VectorXd(0);
   if (exchange.rows() != exchange.cols() || exchange.rows() > n)
     malformed(h5, gr_group + "radiative_exchange", "shape " + shape(exchange) + " for " + std::to_string(n) + " nodes");
   if (to_space.size() != exchange.rows())
@@ -206,7 +211,9 @@ ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& o
                         : h5.has("/loads/solar") ? static_cast<int>(h5.matrix("/loads/solar").rows())
                                                  : 1;
   const std::string gr_group = selectCase(h5, o, net, positions);
-  const Eigen::Index radiative = h5.matrix("/network/radiative_exchange").rows();
+  const bool imported = !h5.textAttribute("/meta", "imported_from", "").empty();  // no radiative node of radnet's
+  const Eigen::Index radiative = imported && !h5.has("/network/radiative_exchange")
+                                     ? 0 : h5.matrix("/network/radiative_exchange").rows();
   for (Eigen::Index i = 0; i < n; ++i) net.lumped.push_back(i >= radiative);
   // Every result has one area per node (lumped nodes 0): missing or short is a foreign file,
   // not zeros to write into a deck.

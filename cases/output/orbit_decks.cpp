@@ -15,7 +15,7 @@ using namespace deck;
 
 // One load of one node over the positions, W.
 struct LoadHistory {
-  const char* kind;  ///< QS, QA, QE or QI
+  const char* kind;  ///< QS, QA, QE or QI (W), Q (SINDA's sum, W), or T (a boundary node's, °C)
   int node;
   Eigen::VectorXd value;  ///< per position
 };
@@ -37,7 +37,13 @@ std::vector<LoadHistory> changingLoads(const ExportedHistory& h, bool summed) {
   const auto P = static_cast<Eigen::Index>(h.at.size());
   for (size_t k = 0; k < first.nodes.size(); ++k) {
     const auto i = static_cast<Eigen::Index>(k);
-    if (isFixed(first, i)) continue;
+    if (isFixed(first, i)) {  // a boundary node held at a temperature that changes (an imported history), °C
+      LoadHistory held{"T", static_cast<int>(k), Eigen::VectorXd(P)};
+      for (Eigen::Index p = 0; p < P && first.thermal; ++p) held.value[p] = h.at[static_cast<size_t>(p)].temperature_k[i] - kZeroCelsius;
+      if (first.thermal && held.value.maxCoeff() - held.value.minCoeff() > 1e-12 * std::max(1.0, held.value.cwiseAbs().maxCoeff()))
+        out.push_back(held);
+      continue;
+    }
     std::vector<LoadHistory> node = {{"QS", static_cast<int>(k), Eigen::VectorXd(P)}, {"QA", static_cast<int>(k), Eigen::VectorXd(P)},
                                      {"QE", static_cast<int>(k), Eigen::VectorXd(P)}, {"QI", static_cast<int>(k), Eigen::VectorXd(P)}};
     for (Eigen::Index p = 0; p < P; ++p) {
@@ -164,7 +170,8 @@ std::string sindaOrbitDeck(const ExportedHistory& h) {
   std::ostringstream d;
   d << orbitHeader(h, "C") << "C Node n is radnet node n-1; temperatures in deg C (ABSZRO = -273.15).\n"
     << "C Radiation conductors (negative ids) hold sigma * GR, W/K^4, so SIGMA = 1.0 below.\n"
-    << "C Array 1000 + n: node n's total source (solar + albedo + Earth IR + dissipation), (time s, W).\n"
+    << "C Array 1000 + n: node n's total source (solar + albedo + Earth IR + dissipation), (time s, W);\n"
+    << "C array 2000 + n: boundary node n's temperature where it changes, (time s, deg C).\n"
     << "HEADER OPTIONS DATA\nTITLE radnet whole-orbit export: " << first.name << "\n"
     << "HEADER CONTROL DATA, GLOBAL\n    UID = SI\n    ABSZRO = -273.15\n    SIGMA = 1.0\n"
     << "    NLOOPS = 1000\n    ARLXCA = 1.0E-6\n    TIMEO = " << number(h.times_s.front()) << "\n    TIMEND = "
@@ -187,14 +194,15 @@ std::string sindaOrbitDeck(const ExportedHistory& h) {
     if (!tabled && q != 0 && !isFixed(first, i)) d << "    " << k + 1 << ", " << number(q) << "    $ W, constant\n";
   }
   d << "HEADER ARRAY DATA, RADNET\n";
+  const auto array = [](const LoadHistory& l) { return (std::string(l.kind) == "T" ? 2000 : 1000) + l.node + 1; };
   for (const LoadHistory& l : loads) {
-    d << "    " << 1000 + l.node + 1 << " =\n";
+    d << "    " << array(l) << " =\n";
     doublets(h, l, d, "        ");
     d << "\n";
   }
   d << "HEADER VARIABLES 1, RADNET\n"
     << (h.period_s > 0 ? "    TCYC = T0 + MOD(TIMEN - T0, PERIOD)\n" : "    TCYC = TIMEN\n");
-  for (const LoadHistory& l : loads) d << "    Q" << l.node + 1 << " = D1DEG1(TCYC, A" << 1000 + l.node + 1 << ")\n";
+  for (const LoadHistory& l : loads) d << "    " << l.kind << l.node + 1 << " = D1DEG1(TCYC, A" << array(l) << ")\n";
   for (size_t k = 0; k < h.thermostats.size(); ++k) {
     const ExportedThermostat& t = h.thermostats[k];
     d << "C thermostat '" << t.name << "'\n    IF (T" << t.sensor + 1 << " .LT. HTON" << k + 1 << ") HTR" << k + 1

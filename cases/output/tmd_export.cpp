@@ -99,7 +99,7 @@ void writeTmdExport(const Hdf5Reader& h5, const ExportOptions& o, const std::str
     Eigen::MatrixXd r = Eigen::MatrixXd::Zero(N, 16);
     for (int i = 0; i < n; ++i) {
       const bool fixed = std::isfinite(net.fixed_temperature_k[i]);
-      r(i, kTmdTemperature) = (fixed ? net.fixed_temperature_k[i] : net.temperature_k[i]) - kCelsiusOffset;
+      r(i, kTmdTemperature) = net.temperature_k[i] - kCelsiusOffset;  // a boundary node's held value (it may follow a history)
       r(i, kTmdCapacitance) = fixed ? 0.0 : net.capacitance_j_k[i];
       r(i, kTmdAlbedo) = net.q_albedo_w[i], r(i, kTmdEarth) = net.q_earth_ir_w[i];
       r(i, kTmdInternal) = net.q_internal_w[i], r(i, kTmdSolar) = net.q_solar_w[i];
