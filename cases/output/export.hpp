@@ -49,7 +49,7 @@ struct ExportedThermostat {
 
 /// Every position of one design case: what a whole-orbit deck and a TMD hold.
 struct ExportedHistory {
-  std::vector<ExportedNetwork> at;  ///< per position, in order
+  std::vector<ExportedNetwork> at;  ///< per position, in order; GR in the first only (the case's optical set)
   std::vector<double> times_s;      ///< their times, increasing, s
   double period_s = 0.0;            ///< the loads repeat with it (the orbit sweep's span), s; 0: they do not
   std::vector<ExportedThermostat> thermostats;
@@ -65,7 +65,8 @@ struct ExportOptions {
 };
 
 /// Reads the network to export. @throws InputError on an unknown case, a position outside it, or min_gr ∉ [0, 1)
-ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& options);
+/// @param couplings  false: GR left out (a history reads them once: they do not change over a case)
+ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& options, bool couplings = true);
 
 /// Node numbers in every deck and TMD: radnet node i is i + 1; the space node (index n) is
 /// 99999, or n + 1 on a model that large.

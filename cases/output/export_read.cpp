@@ -198,7 +198,7 @@ int deckNodeNumber(const ExportedNetwork& net, int i) {
   return i == n ? std::max(99999, n + 1) : i + 1;
 }
 
-ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& o) {
+ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& o, bool couplings) {
   if (!(o.min_gr >= 0 && o.min_gr < 1)) throw InputError(h5.path(), 0, 0, "--min-gr must be in [0, 1)");
   ExportedNetwork net;
   net.name = h5.textAttribute("/meta", "case_name", "radnet");
@@ -208,12 +208,12 @@ ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& o
   net.thermal = h5.has("/solution/temperature");
   net.transient = h5.textAttribute("/solution/temperature", "mode", "steady") == "transient";
   const int positions = net.thermal            ? static_cast<int>(h5.matrix("/solution/temperature").rows())
-                        : h5.has("/loads/solar") ? static_cast<int>(h5.matrix("/loads/solar").rows())
+                        : h5.has("/loads/solar") ? static_cast<int>(h5.rows("/loads/solar"))
                                                  : 1;
   const std::string gr_group = selectCase(h5, o, net, positions);
   const bool imported = !h5.textAttribute("/meta", "imported_from", "").empty();  // no radiative node of radnet's
   const Eigen::Index radiative = imported && !h5.has("/network/radiative_exchange")
-                                     ? 0 : h5.matrix("/network/radiative_exchange").rows();
+                                     ? 0 : h5.rows("/network/radiative_exchange");
   for (Eigen::Index i = 0; i < n; ++i) net.lumped.push_back(i >= radiative);
   // Every result has one area per node (lumped nodes 0): missing or short is a foreign file,
   // not zeros to write into a deck.
@@ -236,7 +236,7 @@ ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& o
     net.q_albedo_w = loadRow(h5, "/loads/albedo", net.position, n);
     net.q_earth_ir_w = loadRow(h5, "/loads/earth_ir", net.position, n);
   }
-  readCouplings(h5, gr_group, net, o.min_gr);
+  if (couplings) readCouplings(h5, gr_group, net, o.min_gr);
   return net;
 }
 
@@ -285,6 +285,7 @@ ExportedHistory readExportedHistory(const Hdf5Reader& h5, const ExportOptions& o
   ExportOptions at = o;
   at.position = -1;
   ExportedHistory history;
+  h5.keepMatricesUnder({"/solution/", "/thermal/", "/loads/"});  // each (P × n) dataset read once, not per position
   const ExportedNetwork first = readExportedNetwork(h5, at);
   const char* time_path = h5.has("/orbit/time") ? "/orbit/time" : h5.has("/solution/time") ? "/solution/time" : nullptr;
   const Eigen::VectorXd times = time_path ? finite(h5, time_path, h5.vector(time_path)) : Eigen::VectorXd::Zero(1);
@@ -298,10 +299,11 @@ ExportedHistory readExportedHistory(const Hdf5Reader& h5, const ExportOptions& o
                                             "--position for one position, or run each orbit case on its own");
     history.times_s.push_back(times[p]);
     at.position = p;
-    history.at.push_back(p == first.position ? first : readExportedNetwork(h5, at));
+    history.at.push_back(p == first.position ? first : readExportedNetwork(h5, at, false));
   }
   if (time_path && std::string(time_path) == "/orbit/time") history.period_s = loadPeriod(h5, first, history.times_s.back());
   if (first.thermal) history.thermostats = readThermostats(h5, first);
+  h5.keepMatricesUnder({});
   return history;
 }
 

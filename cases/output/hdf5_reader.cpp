@@ -88,6 +88,14 @@ bool Hdf5Reader::has(const std::string& path) const {
 }
 
 Eigen::MatrixXd Hdf5Reader::matrix(const std::string& path) const {
+  if (const auto it = kept_.find(path); it != kept_.end()) return it->second;
+  Eigen::MatrixXd m = readMatrix(path);
+  for (const std::string& prefix : keep_prefixes_)
+    if (path.rfind(prefix, 0) == 0) return kept_.emplace(path, std::move(m)).first->second;
+  return m;
+}
+
+Eigen::MatrixXd Hdf5Reader::readMatrix(const std::string& path) const {
   if (!has(path)) throw InputError(path_, 0, 0, "the result has no " + path);
   Handle ds{H5Dopen2(static_cast<hid_t>(file_), path.c_str(), H5P_DEFAULT), H5Dclose};
   Handle space{H5Dget_space(ds.id), H5Sclose};
@@ -111,6 +119,15 @@ void Hdf5Reader::checkLogicalSize(const std::string& path, double bytes) const {
     throw InputError(path_, 0, 0, path + " declares " + std::to_string(static_cast<long long>(bytes)) +
                                       " bytes, more than a " + std::to_string(static_cast<long long>(file_bytes)) +
                                       "-byte file can hold");
+}
+
+Eigen::Index Hdf5Reader::rows(const std::string& path) const {
+  if (!has(path)) throw InputError(path_, 0, 0, "the result has no " + path);
+  Handle ds{H5Dopen2(static_cast<hid_t>(file_), path.c_str(), H5P_DEFAULT), H5Dclose};
+  Handle space{H5Dget_space(ds.id), H5Sclose};
+  hsize_t dims[H5S_MAX_RANK] = {0};
+  if (H5Sget_simple_extent_dims(space.id, dims, nullptr) < 0) throw InputError(path_, 0, 0, "cannot read " + path);
+  return H5Sget_simple_extent_ndims(space.id) > 0 ? static_cast<Eigen::Index>(dims[0]) : 0;
 }
 
 Eigen::VectorXd Hdf5Reader::vector(const std::string& path) const {

@@ -4,6 +4,7 @@
 // the dataset, so the commands exit 2 with a message rather than crash.
 #include <Eigen/Dense>
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -21,11 +22,19 @@ class Hdf5Reader {
   /// A 1-D or 2-D dataset as stored (rows, cols); a 1-D one is (size × 1). Integers are converted.
   Eigen::MatrixXd matrix(const std::string& path) const;
   Eigen::VectorXd vector(const std::string& path) const;
+  /// The first dimension of a dataset, without reading it (0 for a scalar).
+  Eigen::Index rows(const std::string& path) const;
   std::vector<std::string> strings(const std::string& path) const;
   /// A numeric or string attribute of an object; `fallback` when it is absent.
   double attribute(const std::string& object, const std::string& name, double fallback) const;
   std::string textAttribute(const std::string& object, const std::string& name, const std::string& fallback) const;
   const std::string& path() const { return path_; }
+  /// Keeps every matrix read under these prefixes (e.g. "/solution/") for later reads: a
+  /// history of P positions reads each (P × n) dataset once, not P times. Empty: none kept.
+  void keepMatricesUnder(std::vector<std::string> prefixes) const {
+    keep_prefixes_ = std::move(prefixes);
+    kept_.clear();
+  }
   /// Reads every dataset and attribute once and discards it: run in a child process
   /// (cases/config/damaged_file_guard.hpp) it shows whether the HDF5 library survives the file at all.
   void readEverything() const;
@@ -34,8 +43,12 @@ class Hdf5Reader {
 
  private:
 
+  Eigen::MatrixXd readMatrix(const std::string& path) const;
+
   std::string path_;
   long long file_ = -1;
+  mutable std::vector<std::string> keep_prefixes_;
+  mutable std::map<std::string, Eigen::MatrixXd> kept_;
 };
 
 }  // namespace radnet::cases

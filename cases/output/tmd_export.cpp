@@ -79,12 +79,11 @@ void writeTables(Hdf5Writer& out, const ExportedNetwork& net) {
 }  // namespace
 
 void writeTmdExport(const Hdf5Reader& h5, const ExportOptions& o, const std::string& path) {
-  const ExportedNetwork probe = readExportedNetwork(h5, o);
-  if (!probe.thermal)
-    throw InputError(h5.path(), 0, 0, "the result has no temperatures (its case has no thermal: block), and a TMD "
-                                      "holds them at every time: export --format esatan, sinda or csv for its loads");
   const ExportedHistory history = readExportedHistory(h5, o);
   const ExportedNetwork& first = history.at.front();
+  if (!first.thermal)
+    throw InputError(h5.path(), 0, 0, "the result has no temperatures (its case has no thermal: block), and a TMD "
+                                      "holds them at every time: export --format esatan, sinda or csv for its loads");
   const std::vector<double>& times = history.times_s;
   const int n = static_cast<int>(first.nodes.size()), N = n + 1;
   const Eigen::Index M_gl = static_cast<Eigen::Index>(first.gl.size()), M_gr = static_cast<Eigen::Index>(first.gr.size());
@@ -116,7 +115,7 @@ void writeTmdExport(const Hdf5Reader& h5, const ExportOptions& o, const std::str
     real.push_back(r);
     Eigen::MatrixXd g(M_gl, 2), q(M_gr, 2);
     for (Eigen::Index c = 0; c < M_gl; ++c) g.row(c) << net.gl[static_cast<size_t>(c)].value, 1.0;
-    for (Eigen::Index c = 0; c < M_gr; ++c) q.row(c) << net.gr[static_cast<size_t>(c)].value, 1.0;
+    for (Eigen::Index c = 0; c < M_gr; ++c) q.row(c) << first.gr[static_cast<size_t>(c)].value, 1.0;  // one optical set
     gl.push_back(g), gr.push_back(q);
   }
   size_t width = kEsatanStringWidth;
