@@ -137,6 +137,29 @@ def backward_euler(path, dt=2.0):
     return np.array(out)[:, active]
 
 
+def one_time():
+    """A TMD of one output time is solved steady: every node's net heat is zero."""
+    if not os.path.exists(DISC):
+        return
+    path = os.path.join(WORK, "one.TMD")
+    with h5py.File(DISC) as src, h5py.File(path, "w") as dst:
+        a = dst.create_group("AnalysisSet1")
+        for k, v in src["AnalysisSet1"].attrs.items():
+            a.attrs[k] = v
+        for name in ("thermalNodes", "thermalNodesRealAttributes", "thermalNodesStringAttributes", "conductorsGL",
+                     "conductorsGR"):
+            a.create_dataset(name, data=src["AnalysisSet1/" + name][()])
+        for name, data in src["AnalysisSet1/DataGroup1"].items():
+            a.create_dataset("DataGroup1/" + name, data=data[-1:])
+    write("one.yaml", "name: one\nimport: {esatan_tmd: one.TMD}\n")
+    run("run", "one.yaml", "-o", "one.h5", "-q")
+    with h5py.File(os.path.join(WORK, "one.h5")) as r:
+        t = r["/solution/temperature"]
+        check(t.attrs["mode"] == "steady" and t.shape[0] == 1, "one time: one steady state")
+        heat = sum(r["/solution/heat/" + k][0] for k in ("conducted", "radiative", "dissipation", "boundary", "emitted"))
+        check(np.abs(heat).max() < 1e-6, f"one time: the steady state balances ({np.abs(heat).max()} W)")
+
+
 def moving_boundary():
     """B2000 (the disc's 0 °C rim) made to follow a ramp and a step back: radnet's import follows
     it at every output time and matches the independent backward Euler above to 0.05 K (the
@@ -271,6 +294,7 @@ def malformed():
 
 os.makedirs(WORK, exist_ok=True)
 disc_round()
+one_time()
 moving_boundary()
 cubesat_round()
 malformed()
