@@ -200,9 +200,17 @@ class Result:
 
 def limits_of(result, path):
     """Node limits {name: (min_K, max_K)}: the case file's `limits:` (/limits in the result),
-    or, with --limits FILE, lines "node: [min_K, max_K]" of that file."""
+    or, with --limits FILE, lines "node: [min_K, max_K]" of that file, or the same given inline
+    ("battery: [275, 310]; radio: [250, 330]")."""
     limits = {}
-    if path:
+    entry = r"['\"]?([\w.+\-]+)['\"]?\s*:\s*\[\s*([-+0-9.eE]+)\s*,\s*([-+0-9.eE]+)\s*\]"
+    if path and not os.path.exists(path) and ":" in path:  # given inline: "battery: [275, 310]; radio: [250, 330]"
+        entries = re.findall(entry, path)
+        rest = re.sub(entry, "", path).strip(" \t;,{}")
+        if not entries or rest.replace(";", "").replace(",", "").strip():
+            fail(2, f"--limits '{path}': expected 'node: [min_K, max_K]' entries separated by ';' "
+                    "(or the name of a file of such lines)")
+    elif path:
         if not os.path.isfile(path):
             fail(2, f"{path}:0:0: limits file: {'no such file' if not os.path.exists(path) else 'not a regular file'}")
         try:
@@ -210,8 +218,7 @@ def limits_of(result, path):
                 content = limits_file.read()
         except (OSError, UnicodeDecodeError) as e:
             fail(2, f"{path}:0:0: limits file cannot be read as text ({e})")
-        entries = re.findall(r"^\s*['\"]?([\w.+\-]+)['\"]?\s*:\s*\[\s*([-+0-9.eE]+)\s*,\s*([-+0-9.eE]+)\s*\]",
-                             content, re.M)
+        entries = re.findall(r"^\s*" + entry, content, re.M)
         if not entries:
             fail(2, f"{path}:0:0: limits file: no line 'node: [min_K, max_K]'")
     elif "/limits/node" in result.f:

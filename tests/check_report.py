@@ -56,6 +56,16 @@ for row in csv.DictReader(open(os.path.join(out, "envelope.csv"))):
         failures.append(f"envelope: {row['node']} flagged {row['within']}, expected violated={expected[row['node']]}")
 if not any(expected.values()):
     failures.append("the limits chosen violate nothing: the test would not see a missing flag")
+# The same limits given inline flag the same nodes; malformed inline limits exit 2, no traceback.
+inline = "panel_py: [233.15, 343.15]; battery: [273.15, 318.15]; bus.+x: [200.0, 400.0]"
+run = subprocess.run([radnet, "report", h5, "-o", out + "-inline", "--limits", inline], capture_output=True, text=True)
+if run.returncode != 0 or open(os.path.join(out + "-inline", "envelope.csv")).read() != \
+        open(os.path.join(out, "envelope.csv")).read():
+    failures.append(f"inline --limits: exit {run.returncode} or another envelope: {run.stderr}")
+for bad in ("battery: [318.15, 273.15]", "battery: 273..318", "nosuch: [1, 2]"):
+    run = subprocess.run([radnet, "report", h5, "-o", out + "-bad", "--limits", bad], capture_output=True, text=True)
+    if run.returncode != 2 or "Traceback" in run.stderr or os.path.exists(out + "-bad"):
+        failures.append(f"--limits '{bad}': exit {run.returncode}, expected 2 with a message: {run.stderr}")
 run = subprocess.run([radnet, "report", limits], capture_output=True, text=True)
 if run.returncode != 2:
     failures.append(f"a YAML file as the result: exit {run.returncode}, expected 2")

@@ -351,7 +351,7 @@ int radnetMain(int argc, char** argv) {
   auto* report = app.add_subcommand("report", "Markdown and CSV tables and PNG figures of a result");
   report->add_option("result", report_result, "radnet result (HDF5)")->required();
   report->add_option("-o,--output", report_dir, "directory (default: <stem>-report beside the result)");
-  report->add_option("--limits", report_limits, "node limits 'node: [min_K, max_K]' (default: the case's limits:)");
+  report->add_option("--limits", report_limits, "node limits: inline 'node: [min_K, max_K]; node: [...]' or a file of such lines (default: the case's limits:)");
 
   try {
     app.parse(argc, argv);
