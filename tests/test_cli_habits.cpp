@@ -31,7 +31,7 @@ TEST_CASE("cli: --version names the program and its version") {
   CHECK(r.out.rfind("radnet ", 0) == 0);
 }
 
-TEST_CASE("cli: validate and run take several files; the worst outcome decides the exit code") {
+TEST_CASE("cli: validate and run take several files, the worst outcome decides the exit code") {
   TempDir dir;
   const std::string good = source("cases/analytic/lumped-nodes.yaml"), other = source("cases/analytic/parallel-plates-temperature.yaml");
   const Run v = runRadnet("validate '" + good + "' '" + other + "' '" + source("tests/data/bad/accuracy-too-large.yaml") + "'", dir);
@@ -367,4 +367,45 @@ geometry:
   CHECK(readStringAttribute(file, "/eigen", "rank_rule").rfind("a posteriori", 0) == 0);
   CHECK(readDoubleAttribute(file, "/eigen", "probe_residual") <= 1e-2);  // kRefinedStartResidual
   H5Fclose(file);
+}
+
+TEST_CASE("cli: temperatures likelier °C than K are warned at validate with file:line, limits names get a did-you-mean") {
+  TempDir dir;
+  // A plate case written in °C: its initial temperature, a boundary node and the limits.
+  dir.write("celsius.yaml",
+            "name: celsius\n"
+            "network:\n"
+            "  nodes: [{name: plate, area: 1.0, emissivity: 0.8}, {name: wall, area: 1.0, emissivity: 0.8}]\n"
+            "  view_factors: [[0.0, 0.5], [0.5, 0.0]]\n"
+            "thermal:\n"
+            "  nodes: {plate: {capacitance: 10.0, dissipation: 5.0}, wall: {temperature: -20.0e-0}}\n"
+            "  initial_temperature: 20\n");
+  const Run v = runRadnet("validate celsius.yaml", dir);
+  INFO(v.err);
+  CHECK(v.exit_code == 2);  // −20 is no temperature in K at all: refused, located
+  CHECK(v.err.find("celsius.yaml:6:") != std::string::npos);
+  dir.write("celsius.yaml",
+            "name: celsius\n"
+            "network:\n"
+            "  nodes: [{name: plate, area: 1.0, emissivity: 0.8}, {name: wall, area: 1.0, emissivity: 0.8}]\n"
+            "  view_factors: [[0.0, 0.5], [0.5, 0.0]]\n"
+            "thermal:\n"
+            "  nodes: {plate: {capacitance: 10.0, dissipation: 5.0}, wall: {temperature: 20.0}}\n"
+            "  initial_temperature: 20\n");
+  const Run w = runRadnet("validate celsius.yaml", dir);
+  INFO(w.err);
+  CHECK(w.exit_code == 0);  // legal (a cryogenic test could mean it), but said, where it was written
+  CHECK(w.err.find("celsius.yaml:6:") != std::string::npos);
+  CHECK(w.err.find("celsius.yaml:7:") != std::string::npos);
+  CHECK(w.err.find("20 °C would be 293.15 K") != std::string::npos);
+  // Limits: a misspelt node is refused with the nearest name.
+  std::string text = slurp(source("cases/examples/cubesat-3u.yaml"));
+  dir.write("limits.yaml", text + "limits:\n  batery: [273.15, 313.15]\n");
+  const Run l = runRadnet("validate limits.yaml", dir);
+  CHECK(l.exit_code == 2);
+  CHECK(l.err.find("did you mean 'battery'") != std::string::npos);
+  dir.write("limits.yaml", text + "limits:\n  battery: [0, 40]\n");
+  const Run c = runRadnet("validate limits.yaml", dir);
+  CHECK(c.exit_code == 0);
+  CHECK(c.err.find("limits.battery[0]: 0 K is below 100 K") != std::string::npos);
 }

@@ -149,7 +149,7 @@ TEST_CASE("exact method: inside a facetted sphere around a facetted ball, F_outâ
   CHECK(std::abs(r.view_factors.coeff(1, 1) - (1 - ratio)) <= std::max(r.standard_error.coeff(1, 1), 1e-12));
 }
 
-TEST_CASE("exact method: bit-identical for any thread count; auto leaves crowded pairs to rays") {
+TEST_CASE("exact method: bit-identical for any thread count, auto leaves crowded pairs to rays") {
   const Scene s = occludedSquares(2);
   ExactOptions one = ExactOptions::withTolerance(1e-6), two = one;
   one.threads = 1;
@@ -253,7 +253,7 @@ TEST_CASE("patches: coplanar triangles of a node merge, a curved surface stays f
   CHECK(can == 12);  // one patch per flat facet strip of the cylinder
 }
 
-TEST_CASE("exact method: cells added one by one weld into one patch; a plate that hides all is no integral") {
+TEST_CASE("exact method: cells added one by one weld into one patch, a plate that hides all is no integral") {
   // One node of 5 Ã— 5 cells, each its own surface whose corners are computed afresh (they
   // differ in the last bits from their neighbours'): one patch of four corners.
   Scene s;

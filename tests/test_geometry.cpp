@@ -241,7 +241,7 @@ std::string bigEndian(std::initializer_list<T> values) {
 
 }  // namespace
 
-TEST_CASE("mesh files: binary OFF and PLY are read; corner and list counts beyond the file are refused before reading") {
+TEST_CASE("mesh files: binary OFF and PLY are read, corner and list counts beyond the file are refused before reading") {
   TempDir dir;
   const std::string quad = bigEndian<float>({0, 0, 0, 2, 0, 0, 2, 2, 0, 0, 2, 0});
   const std::string off = dir.write("b.off", "OFF BINARY\n" + bigEndian<std::int32_t>({4, 2, 0}) + quad +
@@ -265,7 +265,7 @@ TEST_CASE("mesh files: binary OFF and PLY are read; corner and list counts beyon
                     Contains("c.ply") && Contains("face 0 lists 4294967295 entries"));
 }
 
-TEST_CASE("shell adjacency: grid neighbours share their edge at the centroid distance; box faces fold at an edge") {
+TEST_CASE("shell adjacency: grid neighbours share their edge at the centroid distance, box faces fold at an edge") {
   // A two-sided 0.6 × 0.2 m panel in 3 × 1 node cells (2 × 2 subdivisions each, so the shared
   // boundary is made of two triangle edges): L = 0.2 m, d = 0.2 m between cell centroids.
   Scene panel;
@@ -302,7 +302,7 @@ TEST_CASE("shell adjacency: grid neighbours share their edge at the centroid dis
   CHECK(found);
 }
 
-TEST_CASE("a closed shell whose fronts face inward has a negative volume; an open cap is not closed") {
+TEST_CASE("a closed shell whose fronts face inward has a negative volume, an open cap is not closed") {
   // The warning itself (front named, not a cavity) is the case file's: tests/test_mesh_cases.cpp.
   const TriangleSoup ball = sphere(Vec3(0, 0, 0), 1.0, Vec3(0, 0, 1), 0, 180, {}, 6, 12);
   TriangleSoup outward = ball, inward = ball;

@@ -180,7 +180,7 @@ geometry:
   CHECK(space.values[0] == Approx(1.0 - 4.0 * f_quarter).margin(1e-6));
 }
 
-TEST_CASE("a thermostat dead band too narrow to resolve is refused at its line; one that chatters is exit 3") {
+TEST_CASE("a thermostat dead band too narrow to resolve is refused at its line, one that chatters is exit 3") {
   // 50 W into 1000 J/K: a band of 1e-12 K would switch every 2e-11 s (it ran without end):
   // refused at off_above, as is anything below twice the switch tolerance (1e-3 K). 60 kW
   // against 1000 W/K to a 250 K wall across a 0.002 K band (±30 K/s) switches every 7e-5 s,

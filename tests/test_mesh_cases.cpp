@@ -505,7 +505,7 @@ TEST_CASE("Gmsh: a box in MSH 2.2 and 4.1, ASCII and binary, gives the box primi
   CHECK_THAT(h.err, Contains("huge.msh:5: nodes: 900000000000 stated"));
 }
 
-TEST_CASE("a node that falls below 10 K is warned by name; a boundary node is not") {
+TEST_CASE("a node that falls below 10 K is warned by name, a boundary node is not") {
   TempDir dir;
   // Three plates facing +x: `lit` dissipates 10 W and sees only the inactive back of `dark`,
   // which has nothing and no conductor, so in steady state it sits at the 3 K of space;
@@ -528,7 +528,7 @@ thermal:
   CHECK(r.err.find("node 'p.sky' falls to") == std::string::npos);
 }
 
-TEST_CASE("STEP: a box's CAD faces are its nodes with exact areas; a cylinder's within the tessellation's bound") {
+TEST_CASE("STEP: a box's CAD faces are its nodes with exact areas, a cylinder's within the tessellation's bound") {
   TempDir dir;
   const std::string head = "materials: {black: {emissivity: 0.9, absorptivity: 0.9}}\n"
                            "solver: {view_factors: {method: exact}}\ngeometry:\n";

@@ -72,7 +72,7 @@ Scene sceneOf(TriangleSoup soup) {
 
 }  // namespace
 
-TEST_CASE("coincidence: fine meshes at and off the origin, float-rounded, have none; true copies are found") {
+TEST_CASE("coincidence: fine meshes at and off the origin, float-rounded, have none, true copies are found") {
   // Each of these was refused before the shared projection frame (a UV sphere of 19,998
   // triangles "holds two coincident triangles", 3e-10 m² of overlap that is not there).
   const Eigen::Matrix3d tilt = (Eigen::AngleAxisd(0.2, Vec3::UnitX()) * Eigen::AngleAxisd(0.3, Vec3::UnitZ())).matrix();

@@ -74,7 +74,7 @@ TEST_CASE("network: sparse and dense storage agree") {
   CHECK(sparse.spectralBound() == Approx(dense.spectralBound()));
 }
 
-TEST_CASE("network: blocked fraction enters closure; Gershgorin bound covers the spectrum (§12, eq. 38)") {
+TEST_CASE("network: blocked fraction enters closure, Gershgorin bound covers the spectrum (§12, eq. 38)") {
   Eigen::MatrixXd f(2, 2);
   f << 0.0, 0.5, 0.5, 0.0;
   Eigen::VectorXd blocked(2);

@@ -50,7 +50,7 @@ TEST_CASE("Sun declination at the 2026 equinoxes and solstices within 0.01° of 
   CHECK(solarFlux(1361.0, 0.5 * kAstronomicalUnit) == Approx(4 * 1361.0));
 }
 
-TEST_CASE("Kepler's equation to 1e-14 for e up to 0.99; e >= 1 rejected") {
+TEST_CASE("Kepler's equation to 1e-14 for e up to 0.99, e >= 1 rejected") {
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(-10.0, 10.0);
   for (double e : {0.0, 0.1, 0.5, 0.9, 0.99}) {
@@ -237,7 +237,7 @@ TEST_CASE("attitudes: nadir frame, Sun pointing, inertial, spin, and a two-axis 
   CHECK_FALSE(earthFixedInBody(sunpt));
 }
 
-TEST_CASE("sweep: evenly spaced positions plus exact eclipse events; sunlit fraction 0 in eclipse") {
+TEST_CASE("sweep: evenly spaced positions plus exact eclipse events, sunlit fraction 0 in eclipse") {
   const Orbit orbit(betaElements(400e3, 10.0, kEpoch), kEpoch);
   SweepOptions opt;
   opt.positions_per_orbit = 36;

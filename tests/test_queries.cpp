@@ -57,7 +57,7 @@ TEST_CASE("planet rays: Earth view factor of a nadir-facing plate is (R/(R+h))²
   CHECK(std::abs(side[0].view_factor - vertical) <= 3.29 * side[0].standard_error + 1e-12);
 }
 
-TEST_CASE("planet rays: self-shadowing by the spacecraft; ray-sphere geometry") {
+TEST_CASE("planet rays: self-shadowing by the spacecraft, ray-sphere geometry") {
   const double R = 6378137.0, h = 500e3;
   Scene s;
   s.addSurface("plate", "plate", rectangle(Vec3(0, 0, 0), Vec3(0, 0.1, 0), Vec3(0.1, 0, 0), 1, 1), "plate", "");

@@ -109,7 +109,7 @@ TEST_CASE("a-posteriori rank: GR from the pairs within the exchange target on fr
   }
 }
 
-TEST_CASE("a-posteriori rank: Lanczos grows the pairs until the probes are met; explicit ranks are kept") {
+TEST_CASE("a-posteriori rank: Lanczos grows the pairs until the probes are met, explicit ranks are kept") {
   const solver::Network net = facingPlates(12);
   const Eigen::VectorXd rho = test::uniformIn(net.size(), 0.1, 0.9, 3);
   solver::SolverSettings settings;

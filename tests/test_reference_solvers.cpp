@@ -39,7 +39,7 @@ TEST_CASE("reference solvers agree with dense LU") {
   }
 }
 
-TEST_CASE("CG requires ρ > 0; the others accept ρ = 0 nodes (their M_i = M_o,i)") {
+TEST_CASE("CG requires ρ > 0, the others accept ρ = 0 nodes (their M_i = M_o,i)") {
   const solver::Network net = test::randomNetwork(20, 9);
   const Eigen::MatrixXd g = net.denseConductance();
   Eigen::VectorXd rho = Eigen::VectorXd::Constant(20, 0.5);

@@ -107,7 +107,7 @@ TEST_CASE("thermal: a node with no link at all is reported, never NaN") {
   CHECK_FALSE(r.message.empty());
 }
 
-TEST_CASE("heat flows: a node cooling through a conductor stores −C dT/dt = K (T − T_b); the boundary supplies it") {
+TEST_CASE("heat flows: a node cooling through a conductor stores −C dT/dt = K (T − T_b), the boundary supplies it") {
   ThermalNetwork net = emptyNetwork(2);
   net.capacitance << 1000.0, 0.0;
   link(net, 0, 1, 2.0);

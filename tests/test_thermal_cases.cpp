@@ -231,7 +231,7 @@ TEST_CASE("occluder: a surface naming no material blocks rays and belongs to no 
   H5Fclose(file);
 }
 
-TEST_CASE("undetermined temperatures exit 3 naming the node; a stiff shell panel converges") {
+TEST_CASE("undetermined temperatures exit 3 naming the node, a stiff shell panel converges") {
   TempDir dir;
   dir.write("loose.yaml", R"(
 name: loose

@@ -62,8 +62,15 @@ int validateCommand(const std::vector<std::string>& paths, const Guard& guarded)
                        if (c.geometry) {
                          for (const auto& w : c.geometry->scene.warnings())
                            std::cerr << path << ": warning: " << w << "\n";
-                         for (const auto& w : c.geometry->warnings) std::cerr << path << ": warning: " << w << "\n";
+                         for (const auto& w : c.geometry->warnings)  // a located one names its file itself
+                           std::cerr << (w.rfind(path + ":", 0) == 0 ? "radnet" : path) << ": warning: " << w << "\n";
                        }
+                       const ThermalSettings* thermal = c.network && c.network->thermal    ? &*c.network->thermal
+                                                        : c.geometry && c.geometry->thermal ? &*c.geometry->thermal
+                                                        : c.imported                        ? &c.imported->thermal
+                                                                                            : nullptr;
+                       if (thermal)
+                         for (const auto& w : thermal->warnings) std::cerr << "radnet: warning: " << w << "\n";
                        std::cout << path << ": valid (" << c.nodeCount() << " nodes";
                        if (c.geometry)  // cases/config/work_estimate.hpp
                          std::cout << "; about " << std::setprecision(3) << estimateWork(*c.geometry).total() / 1e9

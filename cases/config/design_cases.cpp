@@ -254,16 +254,16 @@ void parseLimits(const YamlDocument& doc, GeometryCase& c) {
   if (!limits.IsMap()) throw doc.error(limits, "limits: expected a map {node: [min_K, max_K]}");
   const std::vector<std::string>& names = c.thermal->node_names;
   for (const auto& entry : limits) {
-    const std::string node = entry.first.as<std::string>();
-    const std::string what = "limits." + node;
-    const auto it = std::find(names.begin(), names.end(), node);
-    if (it == names.end()) throw doc.error(entry.first, what + ": no thermal node '" + node + "'");
+    const int index = doc.nodeIndex(entry.first, "limits", names);  // with a did-you-mean
+    const std::string what = "limits." + names[static_cast<size_t>(index)];
     if (!entry.second.IsSequence() || entry.second.size() != 2)
       throw doc.error(entry.second, what + ": expected [min_K, max_K]");
     const double lo = doc.number(entry.second[0], what + "[0] (K)", 0.0, 1e5);
     const double hi = doc.number(entry.second[1], what + "[1] (K)", 0.0, 1e5);
     if (!(lo < hi)) throw doc.error(entry.second, what + ": the minimum must be below the maximum");
-    c.limits.push_back({static_cast<int>(it - names.begin()), lo, hi});
+    warnIfCelsius(doc, entry.second[0], what + "[0]", lo, c.warnings);
+    if (lo >= kSuspiciousKelvin) warnIfCelsius(doc, entry.second[1], what + "[1]", hi, c.warnings);
+    c.limits.push_back({index, lo, hi});
   }
 }
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <sstream>
 
 namespace radnet::cases {
 namespace {
@@ -75,10 +77,13 @@ void parseNodeProperties(const YamlDocument& doc, const YAML::Node& props, const
                                s.boundary_schedules.end());
     s.fixed_temperature[i] =
         doc.number(props["temperature"], what + ".temperature (K, boundary node)", kMinTemperature, kMaxTemperature);
+    warnIfCelsius(doc, props["temperature"], what + ".temperature", s.fixed_temperature[i], s.warnings);
   }
-  if (props["initial_temperature"])
+  if (props["initial_temperature"]) {
     s.initial_temperature[i] =
         doc.number(props["initial_temperature"], what + ".initial_temperature (K)", kMinTemperature, kMaxTemperature);
+    warnIfCelsius(doc, props["initial_temperature"], what + ".initial_temperature", s.initial_temperature[i], s.warnings);
+  }
 }
 
 // `lumped:` nodes without geometry, appended after the radiative nodes.
@@ -98,12 +103,18 @@ void parseLumpedNames(const YamlDocument& doc, const YAML::Node& lumped, Thermal
 void parsePairs(const YamlDocument& doc, const YAML::Node& list, const std::string& key, const char* unit,
                 bool tables, ThermalSettings& s, std::vector<Eigen::Triplet<double>>& out) {
   doc.expectSequence(list, "thermal." + key);
+  std::map<std::pair<int, int>, size_t> seen;  // a pair given twice (either way round) was summed silently
   for (size_t k = 0; k < list.size(); ++k) {
     const std::string what = "thermal." + key + "[" + std::to_string(k) + "]";
     const YAML::Node e = list[k];
     if (!e.IsSequence() || e.size() != 3) throw doc.error(e, what + ": expected [node, node, " + unit + "]");
     const int i = doc.nodeIndex(e[0], what, s.node_names), j = doc.nodeIndex(e[1], what, s.node_names);
     if (i == j) throw doc.error(e, what + ": joins a node to itself; expected two different nodes");
+    const auto [first, fresh] = seen.emplace(std::pair{std::min(i, j), std::max(i, j)}, k);
+    if (!fresh)
+      throw doc.error(e, what + ": joins '" + s.node_names[static_cast<size_t>(i)] + "' and '" +
+                             s.node_names[static_cast<size_t>(j)] + "' again (thermal." + key + "[" +
+                             std::to_string(first->second) + "] does already); give one entry with the sum");
     if (e[2].IsMap() && tables) {
       doc.expectMap(e[2], what, {"table"});
       solver::TabledConductor c{i, j, {}};
@@ -205,6 +216,15 @@ void parseNodes(const YamlDocument& doc, const YAML::Node& t, const std::vector<
 
 }  // namespace
 
+void warnIfCelsius(const YamlDocument& doc, const YAML::Node& value, const std::string& what, double k,
+                   std::vector<std::string>& warnings) {
+  if (!(k < kSuspiciousKelvin)) return;
+  std::ostringstream msg;
+  msg << what << ": " << k << " K is below " << kSuspiciousKelvin << " K; temperatures are in kelvin (" << k
+      << " °C would be " << k + 273.15 << " K)";
+  warnings.push_back(doc.located(value, msg.str()));
+}
+
 std::optional<ThermalSettings> parseThermalSettings(const YamlDocument& doc, const std::vector<std::string>& names,
                                                     const Eigen::VectorXd& area, std::optional<double> orbit_period_s,
                                                     const ThermalSettings* imported) {
@@ -230,7 +250,10 @@ std::optional<ThermalSettings> parseThermalSettings(const YamlDocument& doc, con
   s.fixed_temperature.conservativeResize(n);
   s.fixed_temperature.tail(fresh).setConstant(std::numeric_limits<double>::quiet_NaN());
   s.initial_temperature.conservativeResize(n), s.initial_temperature.tail(fresh).setConstant(initial);
-  if (t["initial_temperature"]) s.initial_temperature.setConstant(initial);
+  if (t["initial_temperature"]) {
+    s.initial_temperature.setConstant(initial);
+    warnIfCelsius(doc, t["initial_temperature"], "thermal.initial_temperature", initial, s.warnings);
+  }
   parseNodes(doc, t, names, orbit_period_s, first_lumped, s);
   if (t["conductors"]) parsePairs(doc, t["conductors"], "conductors", "W/K", true, s, s.conductors);
   if (t["radiative_couplings"])

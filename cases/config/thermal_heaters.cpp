@@ -65,9 +65,7 @@ void parseHeaters(const YamlDocument& doc, const YAML::Node& list, ThermalSettin
           << " K about each set point); widen it to at least " << min_band_k << " K";
       throw doc.error(off, msg.str());
     }
-    if (h.on_below_k < 100.0)  // legal for a cryogenic stage, but far likelier °C written for K
-      s.warnings.push_back(what + ": on_below " + std::to_string(h.on_below_k) +
-                           " K is below 100 K; temperatures are in kelvin (5 °C is 278.15)");
+    warnIfCelsius(doc, e["on_below"], what + ".on_below", h.on_below_k, s.warnings);
     s.heaters.push_back(h);
   }
 }

@@ -45,6 +45,14 @@ struct ThermalSettings {
   bool isTransient() const { return transient_orbits || periodic || duration_s; }
 };
 
+/// Below it a temperature is legal (a cryogenic stage, a shroud) but far likelier °C written
+/// for K: it is run, with a warning located at the value.
+inline constexpr double kSuspiciousKelvin = 100.0;  // K
+
+/// Appends "FILE:LINE:COLUMN: <what> <k> K is below 100 K; …" to `warnings` when k < 100 K.
+void warnIfCelsius(const YamlDocument& doc, const YAML::Node& value, const std::string& what, double k,
+                   std::vector<std::string>& warnings);
+
 /// Parses `thermal:` against the case's radiative nodes; nullopt when absent.
 /// @param names   the radiative nodes, in case order
 /// @param area    their areas, m² (MLI couplings are A_outer ε*)

@@ -27,6 +27,8 @@ class YamlDocument {
 
   /// An InputError located at `node` (1-based line/column).
   [[nodiscard]] InputError error(const YAML::Node& node, const std::string& message) const;
+  /// "FILE:LINE:COLUMN: message", for a warning about what `node` holds.
+  std::string located(const YAML::Node& node, const std::string& message) const { return error(node, message).what(); }
 
   /// Requires a mapping and rejects keys outside `allowed`, suggesting the nearest one.
   void expectMap(const YAML::Node& node, const std::string& what, std::initializer_list<const char*> allowed) const;
