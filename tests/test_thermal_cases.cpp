@@ -377,6 +377,11 @@ TEST_CASE("a thermostat cycling on its own period, not locked to the orbit: the 
   const Run slow = runRadnet("run slow.yaml -o slow.h5 -q", dir);
   CHECK(slow.exit_code == 3);
   CHECK_THAT(slow.err, Catch::Contains("did not become periodic"));
+  // The failure names the nodes still changing, by name: the wandering battery first, then the
+  // slow plate; the boundary wall, which does not change, is not listed.
+  CHECK_THAT(slow.err, Catch::Contains("still changing most: battery"));
+  CHECK_THAT(slow.err, Catch::Contains(", plate 0.00"));
+  CHECK_THAT(slow.err, !Catch::Contains("wall 0 K"));
 }
 
 TEST_CASE("a thermostat locked to several orbits: the period found and checked by plain transients") {

@@ -288,6 +288,11 @@ TEST_CASE("periodic transient: stops when orbits repeat, and a restart from the 
   const ThermalResult short_run = periodicTransient(net, f, initial, {0.01, 3});
   CHECK(short_run.status == Status::NotConverged);
   CHECK(short_run.message.find("did not become periodic") != std::string::npos);
+  // The nodes still changing most, largest first: their changes are the residual's parts.
+  REQUIRE_FALSE(short_run.worst_changes.empty());
+  CHECK(short_run.worst_changes.front().second == Approx(short_run.periodic_residual_k));
+  for (size_t k = 1; k < short_run.worst_changes.size(); ++k)
+    CHECK(short_run.worst_changes[k].second <= short_run.worst_changes[k - 1].second);
 }
 
 TEST_CASE("undetermined temperatures: an isolated or sealed group with nothing to fix its level is named") {

@@ -79,7 +79,12 @@ ThermalOutcome solveCase(const DesignContext& ctx, int k, const GeometryRunResul
                                   gr_truncation};
   ThermalOutcome out;
   std::ostringstream log;
-  out.thermal = runThermal(*run.settings, exchange, run.sweep ? &*run.sweep : nullptr, out.timings, log, &errors);
+  try {
+    out.thermal = runThermal(*run.settings, exchange, run.sweep ? &*run.sweep : nullptr, out.timings, log, &errors);
+  } catch (const NumericalError& e) {  // which design case failed, by name
+    if (ctx.c.design_cases.size() < 2) throw;
+    throw NumericalError("design case '" + d.name + "': " + e.what());
+  }
   out.log = log.str();
   return out;
 }

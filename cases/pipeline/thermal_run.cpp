@@ -7,6 +7,8 @@
 
 #include <array>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 #include <ostream>
 
 namespace radnet::cases {
@@ -25,6 +27,19 @@ solver::ThermalForcing caseForcing(const SweepResult& sw, const Eigen::MatrixXd&
   f.load_period_s = sw.case_sweep_s[static_cast<size_t>(k)];
   f.schedule_period_s = sw.case_period_s[static_cast<size_t>(k)];
   return f;
+}
+
+// Which orbit case failed, by its name, and the nodes still changing most there.
+std::string failureWhere(const ThermalSettings& ts, const SweepResult& sw, int k, const solver::ThermalResult& part) {
+  std::ostringstream s;
+  s << " (orbit case " << k + 1;
+  if (static_cast<size_t>(k) < sw.case_labels.size() && !sw.case_labels[static_cast<size_t>(k)].empty())
+    s << " '" << sw.case_labels[static_cast<size_t>(k)] << "'";
+  s << ")";
+  for (size_t j = 0; j < part.worst_changes.size(); ++j)
+    s << (j ? ", " : "; still changing most: ") << ts.node_names[static_cast<size_t>(part.worst_changes[j].first)]
+      << " " << std::setprecision(3) << part.worst_changes[j].second << " K";
+  return s.str();
 }
 
 // One transient per orbit case, each periodic over its own swept orbit(s); or one steady
@@ -55,7 +70,7 @@ solver::ThermalResult solvePerCase(const ThermalSettings& ts, const solver::Ther
           k == 0 ? part.periodic_residual_k : std::max(result.periodic_residual_k, part.periodic_residual_k);
     if (part.status != solver::Status::Converged) {
       result.status = part.status;
-      result.message = part.message + " (orbit case " + std::to_string(k + 1) + ")";
+      result.message = part.message + failureWhere(ts, sw, k, part);
       break;
     }
     if (part.notOneOrbitPeriodic()) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <string>
 
 namespace radnet::solver::detail {
@@ -66,7 +67,8 @@ bool PeriodicHistory::addOrbit(const ThermalNetwork& net, ThermalResult& res, in
   bool repeats = false;
   if (!recent_.empty()) {
     // The largest change of any node's temperature history from one orbit to the next.
-    res.periodic_residual_k = (res.temperature - recent_.back()).cwiseAbs().maxCoeff();
+    last_change = (res.temperature - recent_.back()).cwiseAbs().rowwise().maxCoeff();
+    res.periodic_residual_k = last_change.maxCoeff();
     residuals.push_back(res.periodic_residual_k);
     repeats = res.periodic_residual_k <= tolerance_k || lockedPeriod(net, res, recent_, tolerance_k);
   }
@@ -93,6 +95,13 @@ void concludePeriodic(const ThermalNetwork& net, const PeriodicOptions& periodic
                   " orbits); the last orbit is reported";
   } else {
     res.status = Status::NotConverged;
+    std::vector<int> order(static_cast<size_t>(history.last_change.size()));
+    std::iota(order.begin(), order.end(), 0);
+    const size_t shown = std::min<size_t>(5, order.size());
+    std::partial_sort(order.begin(), order.begin() + static_cast<long>(shown), order.end(),
+                      [&](int a, int b) { return history.last_change[a] > history.last_change[b]; });
+    for (size_t k = 0; k < shown && history.last_change[order[k]] > 0; ++k)
+      res.worst_changes.emplace_back(order[k], history.last_change[order[k]]);
     res.message = "the transient did not become periodic in " + std::to_string(res.orbits) +
                   " orbits: the last orbit still changed a temperature by " +
                   std::to_string(res.periodic_residual_k) + " K (periodic_tolerance " +

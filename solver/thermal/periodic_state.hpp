@@ -26,6 +26,7 @@ class PeriodicHistory {
   std::vector<double> residuals;              ///< orbit-to-orbit change after orbits 2, 3, …, K
   std::vector<int> switches;                  ///< heater switchings within each orbit
   std::vector<Eigen::VectorXd> orbit_means;   ///< each node's mean over the positions of each orbit, K
+  Eigen::VectorXd last_change;                ///< each node's largest change from the orbit before to the last, K
 
  private:
   std::deque<Eigen::MatrixXd> recent_;        ///< the last orbits' temperatures, newest last

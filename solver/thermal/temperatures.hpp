@@ -12,6 +12,7 @@
 
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace radnet::solver {
@@ -61,6 +62,9 @@ struct ThermalResult {
   /// several orbits (the last is returned, Converged; periodic_residual_k is then the largest
   /// difference from the other orbits of the period, and `message` says so).
   int orbits_per_period = 1;
+  /// periodic, not converged: the nodes whose temperature history still changed most from the
+  /// orbit before to the last (node index, K), largest first, at most five
+  std::vector<std::pair<int, double>> worst_changes;
   /// The periodic state is not one orbit's: the caller should say so (message).
   bool notOneOrbitPeriodic() const { return heater_cycle_unlocked || orbits_per_period > 1; }
 };
