@@ -498,10 +498,17 @@ def main(f, path, out, limits_path):
             names, node = text(f["/heaters/name"][()]), text(f["/heaters/node"][()])
             power = f["/heaters/power"][()][span]
             duty = f["/heaters/case_duty"][()] if "/heaters/case_duty" in f else None
-            first_orbit_case = f["/cases/orbit_case_start"][()][k] if "/cases/orbit_case_start" in f else 0
-            hrows = [(n, node[h],
-                      f"{100 * (duty[first_orbit_case, h] if duty is not None else 0):.1f} %", f"{w @ power[:, h]:.4g}")
-                     for h, n in enumerate(names)]
+            starts = f["/cases/orbit_case_start"][()] if "/cases/orbit_case_start" in f else None
+            rows = slice(starts[k], starts[k + 1]) if starts is not None else slice(0, None)
+            rated = f["/heaters/rated_power"][()] if "/heaters/rated_power" in f else None
+
+            def heater_row(h, n):
+                # As the console: the duty is the largest of the case's orbit cases, the mean power
+                # duty × the heater's power (its time on, not its samples at the positions).
+                on = duty[rows, h].max() if duty is not None else None
+                mean_w = on * rated[h] if on is not None and rated is not None else w @ power[:, h]
+                return n, node[h], f"{100 * (on if on is not None else 0):.1f} %", f"{mean_w:.4g}"
+            hrows = [heater_row(h, n) for h, n in enumerate(names)]
             heater_rows += [(case, *r) for r in hrows]
             md.append("\nHeaters:\n\n" + md_table(["heater", "node", "duty", "mean power W"], hrows))
     if result.thermal:

@@ -49,6 +49,8 @@ struct Expectation {
   double value = 0.0;
   double tolerance = 0.0;  ///< absolute
   std::string where;       ///< file:line:column of the entry, for messages
+  int design_case = 0;     ///< `case:` (geometry form): whose positions orbit quantities and indices refer to
+  bool case_given = false;
 };
 
 }  // namespace radnet::cases

@@ -358,9 +358,12 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
   applyShells(c);
   applyErrorBudget(c);
   checkWorkEstimate(doc, c);
-  if (root["expect"])
-    c.expectations =
-        parseExpectations(doc, root["expect"], c.node_names, c.thermal ? c.thermal->node_names : c.node_names);
+  if (root["expect"]) {
+    std::vector<std::string> case_names;
+    for (const DesignCase& d : c.design_cases) case_names.push_back(d.name);
+    c.expectations = parseExpectations(doc, root["expect"], c.node_names,
+                                       c.thermal ? c.thermal->node_names : c.node_names, case_names);
+  }
   return c;
 }
 

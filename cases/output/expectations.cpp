@@ -1,5 +1,7 @@
 #include "cases/output/expectations.hpp"
 
+#include "cases/pipeline/case_merge.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -58,10 +60,26 @@ std::optional<double> lookupResult(const ImportRunResult& r, const Expectation& 
 
 std::optional<double> lookupResult(const GeometryRunResult& r, const Expectation& x) {
   const int i = x.node.empty() ? -1 : r.radiative.network->indexOf(x.node);
-  if (x.quantity == Q::OrbitMeanAbsorbed)
-    return r.sweep ? std::optional<double>(r.sweep->absorbed_total.row(i).mean()) : std::nullopt;
-  if (x.quantity == Q::OrbitMaxAbsorbedSolar)
-    return r.sweep ? std::optional<double>(r.sweep->absorbed_solar.row(i).maxCoeff()) : std::nullopt;
+  const DesignCasesResult& c = r.cases;
+  const auto at = [](const std::vector<int>& v, int k) { return v[static_cast<size_t>(k)]; };
+  const bool spans = !c.position_start.empty() && x.design_case + 1 < static_cast<int>(c.position_start.size());
+  if ((x.quantity == Q::OrbitMeanAbsorbed || x.quantity == Q::OrbitMaxAbsorbedSolar) && r.sweep && spans) {
+    // The design case's positions; its orbit mean is time-weighted (the periodic trapezoid per
+    // orbit case), as the console, the report and /solution/case_temperature_mean are.
+    const int k = x.design_case, first = at(c.position_start, k), count = at(c.position_start, k + 1) - first;
+    if (x.quantity == Q::OrbitMaxAbsorbedSolar) return r.sweep->absorbed_solar.row(i).segment(first, count).maxCoeff();
+    std::vector<double> times;
+    for (const auto& p : r.sweep->positions) times.push_back(p.t_s);
+    const Eigen::VectorXd w = timeWeights(&*r.sweep, times, count, at(c.orbit_case_start, k), at(c.orbit_case_start, k + 1));
+    return r.sweep->absorbed_total.row(i).segment(first, count).dot(w);
+  }
+  if (x.quantity == Q::OrbitMeanAbsorbed || x.quantity == Q::OrbitMaxAbsorbedSolar) return std::nullopt;
+  if (x.quantity == Q::Temperature && x.case_given && spans) {  // index: the position within the design case
+    Expectation global = x;
+    global.index = at(c.position_start, x.design_case) + std::max(0, x.index);
+    if (global.index >= at(c.position_start, x.design_case + 1)) return std::nullopt;
+    return lookupShared(r.radiative, r.thermal, global);
+  }
   return lookupShared(r.radiative, r.thermal, x);
 }
 

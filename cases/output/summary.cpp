@@ -40,14 +40,18 @@ void printTimings(const StageTimings& timings, std::ostream& out) {
   out << "\n";
 }
 
-// Node min/mean/max of a (n × P) table, one row per node; ranked by the maximum.
-void printNodeTemperatures(const std::vector<std::string>& names, const Eigen::MatrixXd& t, const Layout& layout,
-                           std::ostream& out) {
+// Node min/mean/max of a (n × P) table, one row per node; ranked by the maximum. The mean is
+// the time-weighted one `w` (P) of /solution/case_temperature_mean and radnet report.
+void printNodeTemperatures(const std::vector<std::string>& names, const Eigen::MatrixXd& t, const Eigen::VectorXd& w,
+                           const Layout& layout, std::ostream& out) {
   layout.print(names,
-               {kelvin("min", t.rowwise().minCoeff(), Aggregate::Min), kelvin("mean", t.rowwise().mean(), Aggregate::Mean),
+               {kelvin("min", t.rowwise().minCoeff(), Aggregate::Min), kelvin("mean", t * w, Aggregate::Mean),
                 kelvin("max", t.rowwise().maxCoeff(), Aggregate::Max)},
                out, 2);
 }
+
+// The time weights of a run without an orbit: the trapezoid of its output times.
+Eigen::VectorXd outputWeights(const ThermalSolution& t) { return timeWeights(nullptr, t.times_s, t.temperature().cols()); }
 
 // The part of a run one design case makes: its orbit cases (rows of case_heater_duty
 // without a sweep) and its positions (columns).
@@ -63,19 +67,27 @@ Span caseSpan(const GeometryRunResult& r, int k) {
           at(c.position_start, k + 1) - at(c.position_start, k)};
 }
 
+// The time weights of a design case's positions (its orbit means).
+Eigen::VectorXd spanWeights(const SweepResult& sw, const Span& span) {
+  std::vector<double> times;
+  for (const auto& p : sw.positions) times.push_back(p.t_s);
+  return timeWeights(&sw, times, span.count, span.first_case, span.end_case);
+}
+
 void printSweepSummary(const std::vector<std::string>& names, const SweepResult& sw, const Span& span,
                        const Layout& layout, std::ostream& out) {
   const auto cols = [&](const Eigen::MatrixXd& m) { return m.middleCols(span.begin, span.count); };
   const Eigen::MatrixXd total = cols(sw.absorbed_total);
+  const Eigen::VectorXd w = spanWeights(sw, span);  // orbit means weighted by time, as everywhere
   out << "orbit: " << span.count << " positions; absorbed environmental power per node, W "
       << "(solar + albedo + Earth IR):\n";
   layout.print(names,
                {{"min", total.rowwise().minCoeff(), Aggregate::Sum},
-                {"mean", total.rowwise().mean(), Aggregate::Sum},
+                {"mean", total * w, Aggregate::Sum},
                 {"max", total.rowwise().maxCoeff(), Aggregate::Sum},
                 {"solar max", cols(sw.absorbed_solar).rowwise().maxCoeff(), Aggregate::Sum},
                 {"albedo max", cols(sw.absorbed_albedo).rowwise().maxCoeff(), Aggregate::Sum},
-                {"IR mean", cols(sw.absorbed_earth_ir).rowwise().mean(), Aggregate::Sum}},
+                {"IR mean", cols(sw.absorbed_earth_ir) * w, Aggregate::Sum}},
                out, 1);
 }
 
@@ -122,8 +134,11 @@ void printHeatBalance(const ThermalSolution& thermal, const SweepResult* sweep, 
   const Eigen::MatrixXd duty = thermal.case_heater_duty.middleRows(span.first_case, span.end_case - span.first_case);
   for (size_t k = 0; k < thermal.heater_names.size(); ++k) {
     const auto h = static_cast<Eigen::Index>(k);
-    out << "heater " << thermal.heater_names[k] << ": duty " << std::setprecision(4) << 100.0 * duty.col(h).maxCoeff()
-        << " %, mean power " << thermal.solve.heater_power.row(h).segment(span.begin, P).dot(w) << " W\n";
+    // One definition: the mean power is the duty (time on, located to the switching) times the
+    // heater's power; the table's heater column samples the power at the positions only.
+    const double on = duty.col(h).maxCoeff();
+    out << "heater " << thermal.heater_names[k] << ": duty " << std::setprecision(4) << 100.0 * on << " %, mean power "
+        << on * (k < thermal.heater_rated_w.size() ? thermal.heater_rated_w[k] : 0.0) << " W\n";
   }
 }
 
@@ -211,7 +226,7 @@ void printNetworkSummary(const NetworkCase& c, const NetworkRunResult& r, std::o
     if (r.thermal->temperature().cols() == 1)
       thermal_layout.print(r.thermal->node_names, {kelvin("T", r.thermal->temperature().col(0), Aggregate::Max, 12)}, out);
     else  // a transient without orbit: its range over the run, not its first output
-      printNodeTemperatures(r.thermal->node_names, r.thermal->temperature(), thermal_layout, out);
+      printNodeTemperatures(r.thermal->node_names, r.thermal->temperature(), outputWeights(*r.thermal), thermal_layout, out);
     printHeatBalance(*r.thermal, nullptr, Span{0, 1, 0, r.thermal->temperature().cols()}, thermal_layout, out);
   }
   if (const auto& ex = r.radiative.exchange)
@@ -227,7 +242,7 @@ void printImportedSummary(const ImportedCase& c, const ImportRunResult& r, std::
   if (t.temperature().cols() == 1)
     layout.print(t.node_names, {kelvin("T", t.temperature().col(0), Aggregate::Max, 12)}, out);
   else
-    printNodeTemperatures(t.node_names, t.temperature(), layout, out);
+    printNodeTemperatures(t.node_names, t.temperature(), outputWeights(t), layout, out);
   printHeatBalance(t, nullptr, Span{0, 1, 0, t.temperature().cols()}, layout, out);
   printTimings(r.timings, out);
 }
@@ -259,7 +274,8 @@ void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std
     if (r.sweep) printSweepSummary(net.names(), *r.sweep, span, layout, out);
     if (r.thermal) {
       out << "temperatures, K (" << temperatureMode(c, r.thermal->solve) << "):\n";
-      printNodeTemperatures(r.thermal->node_names, r.thermal->temperature().middleCols(span.begin, span.count),
+      const Eigen::VectorXd w = r.sweep ? spanWeights(*r.sweep, span) : outputWeights(*r.thermal);
+      printNodeTemperatures(r.thermal->node_names, r.thermal->temperature().middleCols(span.begin, span.count), w,
                             thermal_layout, out);
       printHeatBalance(*r.thermal, r.sweep ? &*r.sweep : nullptr, span, thermal_layout, out);
     }

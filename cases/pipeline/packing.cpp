@@ -16,6 +16,7 @@ class Writer {
   }
   void value(double v) { raw(&v, sizeof v); }
   void value(int v) { raw(&v, sizeof v); }
+  void value(bool v) { value(static_cast<int>(v)); }
   void value(const std::string& s) {
     count(s.size());
     raw(s.data(), s.size());
@@ -59,6 +60,11 @@ class Reader {
   }
   void value(double& v) { raw(&v, sizeof v); }
   void value(int& v) { raw(&v, sizeof v); }
+  void value(bool& v) {
+    int k = 0;
+    value(k);
+    v = k != 0;
+  }
   void value(std::string& s) {
     s.resize(count());
     raw(s.data(), s.size());
@@ -97,12 +103,15 @@ void fields(IO& io, Thermal& t) {
     io.value(*m);
   io.value(s.heater_duty);
   io.value(s.message);
-  for (auto* v : {&s.newton_iterations, &s.factorisations, &s.orbits, &s.heater_switches}) io.value(*v);
+  for (auto* v : {&s.newton_iterations, &s.factorisations, &s.orbits, &s.heater_switches, &s.orbits_per_period})
+    io.value(*v);
+  io.value(s.heater_cycle_unlocked);  // what a periodic transient concluded travels with it
   io.value(s.max_residual_w);
   io.value(s.periodic_residual_k);
   io.value(t.mode);
   io.value(t.times_s);
   io.value(t.heater_names);
+  io.value(t.heater_rated_w);
   io.value(t.case_heater_duty);
   auto& f = t.heat.flows;
   for (auto* m : {&f.emitted, &f.radiative, &f.conducted, &f.dissipation, &f.heater, &f.stored, &f.boundary,

@@ -83,6 +83,7 @@ struct ThermalSolution {
   std::string mode;                     ///< "steady", "transient", "periodic transient" or "transient without orbit"
   std::vector<double> times_s;          ///< the P output times (s; for a transient without an orbit, from its start)
   std::vector<std::string> heater_names;
+  std::vector<double> heater_rated_w;  ///< each heater's power when on, W (mean power = duty × it)
   Eigen::MatrixXd case_heater_duty;  ///< (c × h) duty of each heater in each orbit case (1 row without an orbit), –
   HeatBalance heat;
   Eigen::MatrixXd temperature_stderr;       ///< (n×P) K, with a sweep; empty without

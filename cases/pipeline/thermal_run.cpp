@@ -261,7 +261,7 @@ ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFact
   out.node_names = ts.node_names;
   out.radiative_nodes = ts.radiative_nodes;
   out.mode = modeName(ts);
-  for (const solver::Heater& h : ts.heaters) out.heater_names.push_back(h.name);
+  for (const solver::Heater& h : ts.heaters) out.heater_names.push_back(h.name), out.heater_rated_w.push_back(h.power_w);
   // Lumped nodes absorb nothing from the environment.
   Eigen::MatrixXd q_env;
   if (sweep) {
