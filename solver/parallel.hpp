@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <exception>
 #include <optional>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -64,7 +65,13 @@ void parallelFor(long long count, const Body& body, unsigned threads = 0) {
   std::optional<OneEigenThread> one_eigen_thread;
   if (threads > 1) one_eigen_thread.emplace();
   std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
+  for (unsigned t = 1; t < threads; ++t) {
+    try {  // no thread to spare (a process limit): the ones started and this one do the work
+      pool.emplace_back(work);
+    } catch (const std::system_error&) {
+      break;
+    }
+  }
   work();
   for (auto& t : pool) t.join();
   one_eigen_thread.reset();

@@ -204,6 +204,30 @@ TEST_CASE("output guard: a signal removes the registered temporary files and end
   }
 }
 
+TEST_CASE("output guard: an exception escaping a thread is an exit code and a message, its temporary removed") {
+  // std::terminate (a throw out of a thread, a destructor or a noexcept function) aborted with
+  // "terminate called …" and signal 6, leaving the temporary behind.
+  TempDir dir;
+  const fs::path temp = dir.path / "out.h5.tmp-1";
+  std::ofstream(temp) << "half";
+  const fs::path err = dir.path / "stderr";
+  const pid_t child = fork();
+  REQUIRE(child >= 0);
+  if (child == 0) {
+    if (!std::freopen(err.c_str(), "w", stderr)) _exit(99);
+    radnet::cases::exitOnTerminate(3);
+    radnet::cases::registerTemporary(temp.string());
+    std::thread([] { throw std::runtime_error("a task failed"); }).join();
+    _exit(0);  // not reached
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 3);
+  CHECK_THAT(slurp(err), Catch::Contains("radnet: internal error: a task failed"));
+  CHECK_FALSE(fs::exists(temp));
+}
+
 TEST_CASE("output guard: a signal while a set of files is renamed into place waits for the whole set") {
   // 200 files (a result and its sidecars stand for them) published while another thread sends
   // SIGTERM once the first is in place: the process must end with every file new, never some

@@ -386,6 +386,7 @@ int radnetMain(int argc, char** argv) {
 int main(int argc, char** argv) {
   radnet::cases::Hdf5Writer::noLibraryExitHandler();  // before any HDF5 call (hdf5_writer.hpp)
   removeTemporariesOnSignal();  // Ctrl-C, kill or a closed terminal leave no OUT.h5.tmp-PID
+  exitOnTerminate(kExitNumerical);  // no abort: an exit code and a message
   // Under mpirun: MPI up, and stdout (summaries, check results) from rank 0 only; every
   // rank's errors still reach stderr, so a failure seen by one rank is located (docs/mpi.md).
   radnet::cluster::start(argc, argv);

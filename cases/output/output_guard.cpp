@@ -11,8 +11,11 @@
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <filesystem>
+#include <string>
 
 namespace radnet::cases {
 namespace {
@@ -138,6 +141,35 @@ void removeTemporariesOnSignal() {
   // Past a file-size limit a write fails with EFBIG (exit 4, the old files kept) instead of
   // the process dumping core with its temporary left behind.
   std::signal(SIGXFSZ, SIG_IGN);
+}
+
+namespace {
+int terminate_exit_code = 3;
+
+[[noreturn]] void onTerminate() {
+  const char* what = "std::terminate was called";
+  std::string text;
+  if (const std::exception_ptr e = std::current_exception()) {
+    try {
+      std::rethrow_exception(e);
+    } catch (const std::exception& x) {
+      text = x.what();
+      what = text.c_str();
+    } catch (...) {
+      what = "an exception of unknown type";
+    }
+  }
+  // Straight to the descriptor: _Exit flushes no stdio buffer.
+  const std::string message = std::string("radnet: internal error: ") + what + "; nothing was written\n";
+  [[maybe_unused]] const ssize_t written = ::write(STDERR_FILENO, message.data(), message.size());
+  removeRegistered();
+  std::_Exit(terminate_exit_code);
+}
+}  // namespace
+
+void exitOnTerminate(int exit_code) {
+  terminate_exit_code = exit_code;
+  std::set_terminate(onTerminate);
 }
 
 PendingFiles::~PendingFiles() {

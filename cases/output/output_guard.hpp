@@ -26,6 +26,11 @@ void unregisterTemporary(const std::string& path);
 /// ignored, so a write past the file-size limit fails (exit 4) instead.
 void removeTemporariesOnSignal();
 
+/// Makes std::terminate (an exception escaping a destructor or a thread, a failed noexcept) an
+/// exit with code `exit_code` and a message naming the exception, the registered temporaries
+/// removed: never "terminate called …" and signal 6.
+void exitOnTerminate(int exit_code);
+
 /// A set of files written to temporaries beside their targets and renamed over them together
 /// (publish): an error before publish leaves every old file, and a signal during publish waits
 /// until the whole new set is in place. Temporaries not published are removed on destruction.
