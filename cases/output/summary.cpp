@@ -129,8 +129,6 @@ void printHeatBalance(const ThermalSolution& thermal, const SweepResult* sweep, 
   std::vector<NodeColumn> columns;
   for (size_t k = 0; k < terms.size(); ++k) columns.push_back({headers[k], *terms[k] * w, Aggregate::Sum});
   layout.print(thermal.node_names, columns, out, 0);
-  out << "heat balance: largest imbalance " << thermal.heat.max_imbalance_w << " W ("
-      << thermal.heat.max_relative_imbalance << " of the largest term)\n";
   const Eigen::MatrixXd duty = thermal.case_heater_duty.middleRows(span.first_case, span.end_case - span.first_case);
   for (size_t k = 0; k < thermal.heater_names.size(); ++k) {
     const auto h = static_cast<Eigen::Index>(k);
@@ -140,6 +138,12 @@ void printHeatBalance(const ThermalSolution& thermal, const SweepResult* sweep, 
     out << "heater " << thermal.heater_names[k] << ": duty " << std::setprecision(4) << 100.0 * on << " %, mean power "
         << on * (k < thermal.heater_rated_w.size() ? thermal.heater_rated_w[k] : 0.0) << " W\n";
   }
+}
+
+// Once per run (it is the run's largest over every case and position).
+void printBalanceQuality(const ThermalSolution& thermal, std::ostream& out) {
+  out << "heat balance: largest imbalance " << thermal.heat.max_imbalance_w << " W ("
+      << thermal.heat.max_relative_imbalance << " of the largest term)\n";
 }
 
 std::string temperatureMode(const GeometryCase& c, const solver::ThermalResult& solve) {
@@ -228,6 +232,7 @@ void printNetworkSummary(const NetworkCase& c, const NetworkRunResult& r, std::o
     else  // a transient without orbit: its range over the run, not its first output
       printNodeTemperatures(r.thermal->node_names, r.thermal->temperature(), outputWeights(*r.thermal), thermal_layout, out);
     printHeatBalance(*r.thermal, nullptr, Span{0, 1, 0, r.thermal->temperature().cols()}, thermal_layout, out);
+    printBalanceQuality(*r.thermal, out);
   }
   if (const auto& ex = r.radiative.exchange)
     out << "exchange factors GR (" << ex->method << "), Σ GR_space = " << ex->gr_space.sum() << " m²\n";
@@ -244,6 +249,7 @@ void printImportedSummary(const ImportedCase& c, const ImportRunResult& r, std::
   else
     printNodeTemperatures(t.node_names, t.temperature(), outputWeights(t), layout, out);
   printHeatBalance(t, nullptr, Span{0, 1, 0, t.temperature().cols()}, layout, out);
+  printBalanceQuality(t, out);
   printTimings(r.timings, out);
 }
 
@@ -280,6 +286,7 @@ void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std
       printHeatBalance(*r.thermal, r.sweep ? &*r.sweep : nullptr, span, thermal_layout, out);
     }
   }
+  if (r.thermal) printBalanceQuality(*r.thermal, out);
   if (r.sweep) printSweepQuality(net.names(), *r.sweep, out);
   if (r.optical_uncertainty) printOpticalUncertainty(r, thermal_layout, out);
   out << "view factors: ";
