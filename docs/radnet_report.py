@@ -44,6 +44,8 @@ except ImportError as missing:  # pragma: no cover - a machine without Debian's 
 KINDS = ["solar", "albedo", "earth_ir", "emitted", "radiative", "conducted", "dissipation", "heater", "stored",
          "boundary"]
 MAX_LINES = 14  # nodes drawn one by one; the rest are summed ("others")
+MAX_EQUIPMENT = 24  # signed-off nodes (equipment, nodes with limits) drawn one by one at most
+MAX_GROUPS = 8  # bands of grouped nodes in a temperature figure
 
 
 def text(values):
@@ -238,18 +240,69 @@ def limits_of(result, path):
     return limits
 
 
-def colours(result, key_values):
-    """One colour per node for every figure: the MAX_LINES largest by key, the rest grey."""
-    order = np.argsort(-key_values)[:MAX_LINES]
+def signed_off(result, limits):
+    """The nodes an engineer signs off, always drawn on their own: every lumped node (the
+    equipment: battery, electronics, payload) and every node with limits."""
+    lumped = result.f["/nodes/lumped"][()] if "/nodes/lumped" in result.f else np.zeros(len(result.nodes), bool)
+    return [i for i, name in enumerate(result.nodes) if bool(lumped[i]) or name in limits]
+
+
+def colours(result, key_values, must=()):
+    """One colour per node for every figure: the signed-off nodes first, then the largest by
+    key up to MAX_LINES (MAX_EQUIPMENT at most when there is more equipment than that)."""
+    order = [int(i) for i in must][:MAX_EQUIPMENT]
+    order += [int(i) for i in np.argsort(-key_values) if int(i) not in order][:max(0, MAX_LINES - len(order))]
     palette = plt.get_cmap("tab20").colors
-    return {int(i): palette[(2 * k) % 20 if k < 10 else (2 * (k - 10) + 1) % 20] for k, i in enumerate(order)}
+    return {i: palette[(2 * k) % 20 if k < 10 else (2 * (k - 10) + 1) % 20] for k, i in enumerate(order)}
 
 
 def shade_eclipses(ax, t, sunlit):
+    """Eclipses hatched in dark blue: never the grey of a band of nodes."""
     dark = sunlit < 1.0
     for k in range(len(t) - 1):
         if dark[k] or dark[k + 1]:
-            ax.axvspan(t[k], t[k + 1], color="0.88", lw=0, zorder=0)
+            ax.axvspan(t[k], t[k + 1], facecolor="midnightblue", alpha=0.07, hatch="///", edgecolor="midnightblue",
+                       lw=0, zorder=0)
+
+
+def limit_marks(ax, t, temperature, shown, names, limits):
+    """Each shown node's limits as dashed lines of its colour, and every position outside them
+    marked with a red cross."""
+    violated = False
+    for i, colour in shown.items():
+        if names[i] not in limits:
+            continue
+        lo, hi = limits[names[i]]
+        ax.axhline(lo, color=colour, ls="--", lw=0.9)
+        ax.axhline(hi, color=colour, ls="--", lw=0.9)
+        out = (temperature[:, i] < lo) | (temperature[:, i] > hi)
+        if np.any(out):
+            ax.plot(t[out], temperature[out, i], "x", color="red", ms=6, mew=1.6)
+            violated = True
+    if violated:
+        ax.plot([], [], "x", color="red", label="outside its limits")
+    if any(names[i] in limits for i in shown):
+        ax.plot([], [], ls="--", color="0.3", lw=0.9, label="limits (node's colour)")
+
+
+def group_bands(ax, t, data, rest, names):
+    """The nodes not drawn on their own: one band (min … max) per group of nodes sharing a name
+    prefix, each its own colour; a small model's rest as one band."""
+    if not rest:
+        return
+    groups = {}
+    for i in rest:
+        groups.setdefault(re.sub(r"\.\d+\.\d+(?=(\.back)?$)", "", names[i]) if len(names) > 40 else "other nodes",
+                          []).append(i)
+    if len(groups) > MAX_GROUPS:  # the largest groups by count, the others together
+        keep = sorted(groups, key=lambda g: -len(groups[g]))[:MAX_GROUPS - 1]
+        other = [i for g in groups if g not in keep for i in groups[g]]
+        groups = {g: groups[g] for g in keep} | {"other nodes": other}
+    palette = plt.get_cmap("Set2").colors
+    for g, (name, members) in enumerate(groups.items()):
+        ax.fill_between(t, np.nanmin(data[:, members], axis=1), np.nanmax(data[:, members], axis=1),
+                        color=palette[g % len(palette)] if len(groups) > 1 else "0.6", alpha=0.35, lw=0,
+                        label=f"{name} ({len(members)} nodes, range)")
 
 
 def node_lines(ax, t, data, shown, names):
@@ -259,7 +312,7 @@ def node_lines(ax, t, data, shown, names):
     return rest
 
 
-def case_figures(result, out, shown):
+def case_figures(result, out, shown, limits):
     f, written = result.f, []
     for k, (case, span) in enumerate(zip(result.cases, result.spans)):
         if not result.orbit or len(span) < 2:
@@ -275,11 +328,10 @@ def case_figures(result, out, shown):
             fig, ax = plt.subplots(figsize=(10, 5.5))
             shade_eclipses(ax, t, sunlit)
             rest = node_lines(ax, t, temperature, shown, result.nodes)
-            if rest:
-                ax.fill_between(t, np.nanmin(temperature[:, rest], axis=1), np.nanmax(temperature[:, rest], axis=1),
-                                color="0.6", alpha=0.35, label=f"{len(rest)} other nodes (range)")
+            group_bands(ax, t, temperature, rest, result.nodes)
+            limit_marks(ax, t, temperature, shown, result.nodes, limits)
             ax.set_ylabel("temperature [K]")
-            ax.set_xlabel("time from the orbit case's start [min]  (grey: eclipse)")
+            ax.set_xlabel("time from the orbit case's start [min]  (hatched: eclipse)")
             ax.set_title(f"{result.name}, case {case}: node temperatures")
             ax.grid(alpha=0.3)
             ax.legend(fontsize=7, ncol=2, loc="center left", bbox_to_anchor=(1.01, 0.5))
@@ -304,7 +356,7 @@ def case_figures(result, out, shown):
             ax.grid(alpha=0.3)
         handles, labels = axes[0].get_legend_handles_labels()
         fig.legend(handles, labels, fontsize=7, ncol=1, loc="center left", bbox_to_anchor=(1.0, 0.5))
-        axes[-1].set_xlabel("time from the orbit case's start [min]  (grey: eclipse)")
+        axes[-1].set_xlabel("time from the orbit case's start [min]  (hatched: eclipse)")
         fig.suptitle(f"{result.name}, case {case}: absorbed environmental power")
         fig.tight_layout()
         written.append(save(fig, out, f"{stem}_loads.png"))
@@ -345,33 +397,65 @@ def heat_flows(result):
     return flows
 
 
-def heat_balance_figure(result, flows, out):
-    totals = np.abs(flows).sum(axis=(0, 1))
-    order = np.argsort(-totals)[:20]
+def flow_columns(result, flows, must):
+    """The bars of the heat-flow figure: every signed-off node (equipment, heaters' nodes, nodes
+    with limits) on its own, then, on a large model, the other nodes summed per group (name
+    prefix), else the largest other nodes, up to 20 bars. Returns (labels, (cases, kinds, bars))."""
+    heated = set()
+    if "/heaters/node" in result.f:
+        heated = {result.nodes.index(n) for n in text(result.f["/heaters/node"][()]) if n in result.nodes}
+    own = list(dict.fromkeys([*must, *sorted(heated)]))[:MAX_EQUIPMENT]
+    labels, columns = [result.nodes[i] for i in own], [flows[:, :, i] for i in own]
+    rest = [i for i in range(len(result.nodes)) if i not in own]
+    if len(result.nodes) > 40:
+        groups = {}
+        for i in rest:
+            groups.setdefault(re.sub(r"\.\d+\.\d+(?=(\.back)?$)", "", result.nodes[i]), []).append(i)
+        for name, members in sorted(groups.items(), key=lambda g: -np.abs(flows[:, :, g[1]]).sum())[:max(1, 20 - len(own))]:
+            labels.append(f"{name} ({len(members)})")
+            columns.append(flows[:, :, members].sum(axis=2))
+    else:
+        totals = np.abs(flows[:, :, rest]).sum(axis=(0, 1))
+        for j in np.argsort(-totals)[:max(0, 20 - len(own))]:
+            labels.append(result.nodes[rest[j]])
+            columns.append(flows[:, :, rest[j]])
+    return labels, np.stack(columns, axis=2)
+
+
+def heat_balance_figure(result, flows, out, must=()):
+    labels, bars = flow_columns(result, flows, must)
+    order = np.arange(len(labels))
     fig, axes = plt.subplots(len(result.cases), 1, figsize=(11, 3.2 * len(result.cases) + 1), squeeze=False)
     palette = plt.get_cmap("tab10").colors
     for k, ax in enumerate(axes[:, 0]):
         bottom_pos, bottom_neg = np.zeros(len(order)), np.zeros(len(order))
         for j, kind in enumerate(KINDS):
-            v = flows[k, j, order]
-            if not np.any(flows[:, j, order]):  # a kind some case has gets its colour in every panel
+            v = bars[k, j, order]
+            if not np.any(bars[:, j, order]):  # a kind some case has gets its colour in every panel
                 continue
             base = np.where(v >= 0, bottom_pos, bottom_neg)
             ax.bar(range(len(order)), v, bottom=base, color=palette[j % 10], label=kind)
             bottom_pos += np.maximum(v, 0)
             bottom_neg += np.minimum(v, 0)
         ax.axhline(0, color="k", lw=0.8)
-        ax.set_xticks(range(len(order)), [result.nodes[i] for i in order], rotation=45, ha="right", fontsize=7)
+        ax.margins(y=0.08)
+        ax.set_xticks(range(len(order)), labels, rotation=45, ha="right", fontsize=7)
         ax.set_ylabel("orbit mean [W]")
-        ax.set_title(f"case {result.cases[k]}: heat flows into (+) and out of (−) each node", fontsize=9)
+        ax.set_title(f"case {result.cases[k]}: heat flows into (+) and out of (−) each node"
+                     + (" or group (node count)" if len(result.nodes) > 40 else ""), fontsize=9)
         ax.grid(axis="y", alpha=0.3)
     axes[0, 0].legend(fontsize=7, ncol=5)
     fig.tight_layout()
     return save(fig, out, "heat_balance.png")
 
 
-def envelope_figure(result, low, high, low_case, high_case, limits, out):
-    order = np.argsort(-high)[:40] if len(result.nodes) > 40 else np.arange(len(result.nodes))
+def envelope_figure(result, low, high, low_case, high_case, limits, out, must=()):
+    """Every signed-off node (equipment, nodes with limits), then the hottest others, 40 in all."""
+    if len(result.nodes) > 40:
+        order = list(must)[:40] + [int(i) for i in np.argsort(-high) if int(i) not in must]
+        order = np.array(order[:max(40, len(must[:40]))])
+    else:
+        order = np.arange(len(result.nodes))
     fig, ax = plt.subplots(figsize=(11, 5))
     x = np.arange(len(order))
     ax.vlines(x, low[order], high[order], color="tab:blue", lw=5, alpha=0.7, label="min … max over the design cases")
@@ -381,13 +465,17 @@ def envelope_figure(result, low, high, low_case, high_case, limits, out):
             lo, hi = limits[name]
             bad = low[i] < lo or high[i] > hi
             ax.hlines([lo, hi], xi - 0.35, xi + 0.35, color="tab:red" if bad else "tab:green", lw=2)
-            if bad:
-                ax.annotate("!", (xi, hi), color="tab:red", ha="center", va="bottom", fontsize=12, weight="bold")
+            if high[i] > hi:  # at the end that is violated
+                ax.annotate("!", (xi, high[i]), color="tab:red", ha="center", va="bottom", fontsize=12, weight="bold")
+            if low[i] < lo:
+                ax.annotate("!", (xi, low[i]), color="tab:red", ha="center", va="top", fontsize=12, weight="bold")
     if limits:
         ax.plot([], [], color="tab:green", lw=2, label="limits (red: violated)")
     ax.set_xticks(x, [result.nodes[i] for i in order], rotation=45, ha="right", fontsize=7)
     ax.set_ylabel("temperature [K]")
-    ax.set_title(f"{result.name}: temperature envelope per node" + (" (40 hottest)" if len(result.nodes) > 40 else ""))
+    ax.set_title(f"{result.name}: temperature envelope per node"
+                 + (" (equipment, nodes with limits, then the hottest: 40 of "
+                    f"{len(result.nodes)})" if len(result.nodes) > 40 else ""))
     ax.grid(axis="y", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
@@ -478,7 +566,7 @@ def main(f, path, out, limits_path):
     key = np.abs(f["/loads/solar"][()]).max(axis=0) if result.orbit else np.zeros(len(result.nodes))
     if result.thermal:
         key = np.pad(key, (0, len(result.nodes) - len(key))) + f["/solution/temperature"][()].max(axis=0) * 1e-9
-    shown = colours(result, key)
+    shown = colours(result, key, signed_off(result, limits))
     for k, (case, span, w) in enumerate(zip(result.cases, result.spans, result.weights)):
         md.append(f"\n## Case {case}\n")
         if not result.thermal:
@@ -544,9 +632,10 @@ def main(f, path, out, limits_path):
         write_csv(os.path.join(out, "temperatures.csv"), ["case", "node", "min_K", "mean_K", "max_K"], temp_rows)
         write_csv(os.path.join(out, "heat_flows.csv"), ["case", "node", *[k + "_W" for k in KINDS]], flow_rows)
         write_csv(os.path.join(out, "heaters.csv"), ["case", "heater", "node", "duty", "mean_W"], heater_rows)
-        figures.append(heat_balance_figure(result, flows, out))
-        figures.append(envelope_figure(result, low, high, low_case, high_case, limits, out))
-    figures += case_figures(result, out, shown)
+        must = signed_off(result, limits)
+        figures.append(heat_balance_figure(result, flows, out, must))
+        figures.append(envelope_figure(result, low, high, low_case, high_case, limits, out, must))
+    figures += case_figures(result, out, shown, limits)
     figures.append(budget_figure(result, out))
     modes = modes_figure(result, out)
     if modes:
