@@ -251,7 +251,9 @@ def colours(result, key_values, must=()):
     """One colour per node for every figure: the signed-off nodes first, then the largest by
     key up to MAX_LINES (MAX_EQUIPMENT at most when there is more equipment than that)."""
     order = [int(i) for i in must][:MAX_EQUIPMENT]
-    order += [int(i) for i in np.argsort(-key_values) if int(i) not in order][:max(0, MAX_LINES - len(order))]
+    # A large model's other nodes are its groups' bands; a few of the largest still get a line.
+    others = MAX_LINES - len(order) if len(result.nodes) <= 40 else min(4, MAX_LINES - len(order))
+    order += [int(i) for i in np.argsort(-key_values) if int(i) not in order][:max(0, others)]
     palette = plt.get_cmap("tab20").colors
     return {i: palette[(2 * k) % 20 if k < 10 else (2 * (k - 10) + 1) % 20] for k, i in enumerate(order)}
 
@@ -438,13 +440,14 @@ def heat_balance_figure(result, flows, out, must=()):
             bottom_pos += np.maximum(v, 0)
             bottom_neg += np.minimum(v, 0)
         ax.axhline(0, color="k", lw=0.8)
-        ax.margins(y=0.08)
+        span = max(bottom_pos.max() - bottom_neg.min(), 1e-12)  # room above and below the stacks
+        ax.set_ylim(bottom_neg.min() - 0.06 * span, bottom_pos.max() + 0.06 * span)
         ax.set_xticks(range(len(order)), labels, rotation=45, ha="right", fontsize=7)
         ax.set_ylabel("orbit mean [W]")
         ax.set_title(f"case {result.cases[k]}: heat flows into (+) and out of (−) each node"
                      + (" or group (node count)" if len(result.nodes) > 40 else ""), fontsize=9)
         ax.grid(axis="y", alpha=0.3)
-    axes[0, 0].legend(fontsize=7, ncol=5)
+    axes[0, 0].legend(fontsize=7, ncol=1, loc="upper left", bbox_to_anchor=(1.0, 1.0))  # clear of the bars
     fig.tight_layout()
     return save(fig, out, "heat_balance.png")
 
@@ -567,6 +570,8 @@ def main(f, path, out, limits_path):
     if result.thermal:
         key = np.pad(key, (0, len(result.nodes) - len(key))) + f["/solution/temperature"][()].max(axis=0) * 1e-9
     shown = colours(result, key, signed_off(result, limits))
+    md.append("Drawn on their own in the figures (equipment and nodes with limits first): "
+              + ", ".join(result.nodes[i] for i in shown) + ".\n")
     for k, (case, span, w) in enumerate(zip(result.cases, result.spans, result.weights)):
         md.append(f"\n## Case {case}\n")
         if not result.thermal:

@@ -85,6 +85,14 @@ for k, case in enumerate(cases):
         exact = absorbed[span, nodes.index(node)] @ weight[span]
         if abs(value - exact) > 5e-5 * max(1.0, abs(exact)):
             failures.append(f"console {case} {node}: mean absorbed {value} W, time-weighted {exact} W")
+# The figures draw every lumped node (equipment) and every node with limits on its own.
+with h5py.File(h5) as f:
+    lumped = [n for n, l in zip(nodes, f["nodes/lumped"][()]) if l]
+drawn = next(line for line in open(os.path.join(out, "report.md")) if line.startswith("Drawn on their own"))
+drawn = [n.strip() for n in drawn.split(": ", 1)[1].rstrip(".\n").split(",")]
+for name in lumped + ["panel_py", "battery", "bus.+x"]:
+    if name not in drawn:
+        failures.append(f"{name} (equipment or with limits) is not drawn on its own: {drawn}")
 # Heaters: the report's and the console's mean power are duty × rated power, as its duty says.
 with h5py.File(h5) as f:
     rated, case_duty, orbit_start = f["heaters/rated_power"][()], f["heaters/case_duty"][()], f["cases/orbit_case_start"][()]
