@@ -652,6 +652,10 @@ def main(f, path, out, limits_path):
                             ("heat_balance_max_imbalance_w", "largest heat-balance imbalance, W")):
         if key_name in attrs:
             md.append(f"- {label}: {float(attrs[key_name]):.3g}\n")
+    stages = [(k[5:-2].replace("_", " "), float(attrs[k])) for k in attrs if re.fullmatch(r"time_\w+_s", k)]
+    if stages:  # the times the budget figure draws, as numbers
+        md.append("\nTime per stage, s (the run's wall clock on its machine):\n\n")
+        md.append(md_table(["stage", "s"], [(name, f"{seconds:.3g}") for name, seconds in stages if seconds > 0]))
     if "/report/warnings" in f:
         warnings = text(f["/report/warnings"][()])
         md.append(f"\n## Warnings of the run ({len(warnings)})\n\n")
