@@ -330,3 +330,25 @@ TEST_CASE("forcing: loads and sunlit fraction linear between samples, wrapping w
   CHECK(f.loadAt(1e6)[0] == 40.0);
   CHECK(f.sunlitAt(1e6) == 0.5);
 }
+
+TEST_CASE("a Newton that does not converge names the node furthest from balance") {
+  // Node 0 (1,000 W) radiates mostly through node 1; node 2 hangs on a weak strap. One
+  // iteration from the starting guess balances nothing to 1e-9: a node is named (the one
+  // furthest from its tolerance, relative to its own flows).
+  ThermalNetwork net = network(3);
+  net.gr_space << 0.05, 1.0, 0.0;
+  net.gr(0, 1) = net.gr(1, 0) = 0.5;  // node 0 radiates mostly through node 1
+  setConductors(net, {{1, 2, 0.01}});
+  net.capacitance_tables.push_back({0, TemperatureTable{{100.0, 1000.0}, {1.0, 2.0}}});  // unused in steady states
+  net.dissipation << 1000.0, 1e-3, 0.0;
+  ThermalOptions opt;
+  opt.max_newton_iterations = 1;
+  const ThermalResult r = steadyStates(net, Eigen::MatrixXd::Zero(3, 1), opt);
+  REQUIRE(r.status == Status::NotConverged);
+  CHECK(r.failed_node >= 0);  // the node with the largest residual relative to its own flows
+  CHECK(r.failed_node < 3);
+  // With its iterations, the same network converges and names nothing.
+  const ThermalResult ok = steadyStates(net, Eigen::MatrixXd::Zero(3, 1));
+  CHECK(ok.status == Status::Converged);
+  CHECK(ok.failed_node == -1);
+}

@@ -36,6 +36,8 @@ std::string failureWhere(const ThermalSettings& ts, const SweepResult& sw, int k
   if (static_cast<size_t>(k) < sw.case_labels.size() && !sw.case_labels[static_cast<size_t>(k)].empty())
     s << " '" << sw.case_labels[static_cast<size_t>(k)] << "'";
   s << ")";
+  if (part.failed_node >= 0 && static_cast<size_t>(part.failed_node) < ts.node_names.size())
+    s << "; furthest from balance: node '" << ts.node_names[static_cast<size_t>(part.failed_node)] << "'";
   for (size_t j = 0; j < part.worst_changes.size(); ++j)
     s << (j ? ", " : "; still changing most: ") << ts.node_names[static_cast<size_t>(part.worst_changes[j].first)]
       << " " << std::setprecision(3) << part.worst_changes[j].second << " K";
@@ -76,7 +78,7 @@ solver::ThermalResult solvePerCase(const ThermalSettings& ts, const solver::Ther
     if (part.notOneOrbitPeriodic()) {
       result.heater_cycle_unlocked = result.heater_cycle_unlocked || part.heater_cycle_unlocked;
       result.orbits_per_period = std::max(result.orbits_per_period, part.orbits_per_period);
-      result.message += (result.message.empty() ? "" : "; ") + part.message + " (orbit case " + std::to_string(k + 1) + ")";
+      result.message += (result.message.empty() ? "" : "; ") + part.message + failureWhere(ts, sw, k, part);
     }
     const int begin = sw.case_start[static_cast<size_t>(k)];
     const Eigen::Index count = part.temperature.cols();
@@ -276,8 +278,12 @@ ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFact
   }
   timer.stop();
   const solver::ThermalResult& result = out.solve;
-  if (result.status != solver::Status::Converged)
-    throw NumericalError(std::string("temperatures ") + solver::toString(result.status) + ": " + result.message);
+  if (result.status != solver::Status::Converged) {
+    std::string where;  // a sweep's failure says its case and node already (failureWhere)
+    if (!sweep && result.failed_node >= 0)
+      where = "; furthest from balance: node '" + ts.node_names[static_cast<size_t>(result.failed_node)] + "'";
+    throw NumericalError(std::string("temperatures ") + solver::toString(result.status) + ": " + result.message + where);
+  }
   if (result.notOneOrbitPeriodic()) progress << "radnet: warning: temperatures: " << result.message << "\n";
   out.heat = heatBalance(net, result, q_env);
   warnImplausibleTemperatures(out, progress);

@@ -166,6 +166,7 @@ NewtonOutcome solveImplicit(const ImplicitSystem& s, Eigen::VectorXd& t, Eigen::
     res = lineSearch(s, res, step, opt.tolerance_w, t, u);
   }
   out.status = Status::NotConverged;
+  res.r.cwiseProduct(weights(res, opt.tolerance_w)).cwiseAbs().maxCoeff(&out.worst_node);
   out.message = "thermal Newton did not converge in " + std::to_string(opt.max_newton_iterations) +
                 " iterations (largest heat-balance residual " + std::to_string(worst(res, opt.tolerance_w)) +
                 " times its tolerance)";

@@ -40,6 +40,7 @@ struct NewtonOutcome {
   int iterations = 0;
   int factorisations = 0;   ///< Jacobian LUs computed
   double residual_w = 0.0;  ///< largest |G_i| left, W
+  int worst_node = -1;      ///< not converged: the node whose balance is furthest from its tolerance
   std::string message;
 };
 

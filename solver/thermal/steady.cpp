@@ -141,6 +141,7 @@ ThermalResult steadyStates(const ThermalNetwork& net, const ThermalForcing& forc
     if (s.status != Status::Converged) {
       res.status = s.status;
       res.message = s.message + " (steady state at position " + std::to_string(p) + ")";
+      res.failed_node = s.worst_node;
       return res;
     }
     res.max_residual_w = std::max(res.max_residual_w, s.residual_w);

@@ -65,6 +65,7 @@ struct ThermalResult {
   /// periodic, not converged: the nodes whose temperature history still changed most from the
   /// orbit before to the last (node index, K), largest first, at most five
   std::vector<std::pair<int, double>> worst_changes;
+  int failed_node = -1;  ///< a Newton that did not converge: the node furthest from balance
   /// The periodic state is not one orbit's: the caller should say so (message).
   bool notOneOrbitPeriodic() const { return heater_cycle_unlocked || orbits_per_period > 1; }
 };

@@ -118,6 +118,7 @@ bool Integrator::step(const TransientState& s, double h, Eigen::VectorXd& t_new,
   if (out.status != Status::Converged) {
     res_.status = out.status;
     res_.message = out.message + " (transient step at t = " + std::to_string(s.clock + h) + " s)";
+    res_.failed_node = out.worst_node;
     return false;
   }
   res_.max_residual_w = std::max(res_.max_residual_w, out.residual_w);
