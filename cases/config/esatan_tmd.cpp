@@ -1,6 +1,7 @@
 #include "cases/config/esatan_tmd.hpp"
 
 #include "cases/config/errors.hpp"
+#include "cases/config/hdf5_handle.hpp"
 
 #include <hdf5.h>
 
@@ -11,13 +12,7 @@
 namespace radnet::cases {
 namespace {
 
-struct Handle {
-  hid_t id;
-  herr_t (*close)(hid_t);
-  ~Handle() {
-    if (id >= 0) close(id);
-  }
-};
+using Handle = Hdf5Handle;
 
 constexpr const char* kAnalysis = "/AnalysisSet1";
 constexpr const char* kData = "/AnalysisSet1/DataGroup1";

@@ -1,6 +1,7 @@
 #include "cases/output/hdf5_reader.hpp"
 
 #include "cases/config/errors.hpp"
+#include "cases/config/hdf5_handle.hpp"
 
 #include <hdf5.h>
 
@@ -10,13 +11,7 @@
 namespace radnet::cases {
 namespace {
 
-struct Handle {
-  hid_t id;
-  herr_t (*close)(hid_t);
-  ~Handle() {
-    if (id >= 0) close(id);
-  }
-};
+using Handle = Hdf5Handle;
 
 // HDF5 prints its own error stack on stderr; the messages here say what is wrong instead.
 void quiet() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }

@@ -1,5 +1,6 @@
 #include "cases/output/hdf5_writer.hpp"
 
+#include "cases/config/hdf5_handle.hpp"
 #include "solver/parallel.hpp"
 
 #include <zlib.h>
@@ -31,13 +32,7 @@ hid_t checkId(hid_t id, const std::string& what) {
 }
 
 // Closes an HDF5 identifier at scope exit.
-struct Handle {
-  hid_t id;
-  herr_t (*close)(hid_t);
-  ~Handle() {
-    if (id >= 0) close(id);
-  }
-};
+using Handle = Hdf5Handle;
 
 hid_t createLinkProps() {
   hid_t lcpl = checkId(H5Pcreate(H5P_LINK_CREATE), "link property list");
