@@ -48,10 +48,12 @@ void deck::esatanNodesAndConductors(const ExportedNetwork& net, std::ostream& d)
   for (size_t k = 0; k < net.nodes.size(); ++k) {
     const auto i = static_cast<Eigen::Index>(k);
     const double c = net.capacitance_j_k[i];
-    const char kind = isFixed(net, i) ? 'B' : c > 0 ? 'D' : 'X';  // boundary, diffusion, arithmetic
+    // Boundary or diffusion; an arithmetic node is a diffusion node of zero capacitance (X is
+    // ESATAN's inactive node, which the TMD import drops).
+    const char kind = isFixed(net, i) ? 'B' : 'D';
     d << "  " << kind << k + 1 << " = '" << quoted(net.nodes[k], '\'') << "'";
     if (net.thermal) d << ", T = " << celsius(startTemperature(net, i));
-    if (kind == 'D') d << ", C = " << number(c);
+    if (kind == 'D' && net.thermal) d << ", C = " << number(c);
     if (!net.lumped[k])
       d << ", A = " << number(net.area_m2[i]) << ", ALP = " << number(net.absorptivity[i])
         << ", EPS = " << number(net.emissivity[i]);
