@@ -340,7 +340,12 @@ def case_figures(result, out, shown, limits):
             fig.tight_layout()
             written.append(save(fig, out, f"{stem}_temperature.png"))
         fig, axes = plt.subplots(3, 1, figsize=(10, 9), sharex=True)
+        # Lumped nodes (equipment) absorb no environmental load: not drawn here.
+        lumped = f["/nodes/lumped"][()] if "/nodes/lumped" in f else np.zeros(len(result.nodes), bool)
+        surfaces = {i: c for i, c in shown.items() if not lumped[i]}
         groups = primitive_groups(result.nodes) if len(result.nodes) > 40 else None
+        if groups:
+            groups = {g: m for g, m in ((g, [i for i in m if not lumped[i]]) for g, m in groups.items()) if m}
         for ax, kind, label in zip(axes, ["solar", "albedo", "earth_ir"], ["direct solar", "albedo", "Earth IR"]):
             data = np.insert(f["/loads/" + kind][()][span], breaks, np.nan, axis=0)
             shade_eclipses(ax, t, sunlit)
@@ -350,7 +355,7 @@ def case_figures(result, out, shown, limits):
                     ax.plot(t, data[:, members].sum(axis=1), color=palette[g % 20], lw=1.3,
                             label=f"{name} ({len(members)} nodes)")
             else:
-                rest = node_lines(ax, t, data, shown, result.nodes)
+                rest = [i for i in node_lines(ax, t, data, surfaces, result.nodes) if i < len(lumped) and not lumped[i]]
                 if rest:
                     ax.plot(t, np.nansum(data[:, rest], axis=1), color="0.5", ls="--", lw=1.0,
                             label=f"{len(rest)} other nodes (sum)")
