@@ -24,6 +24,8 @@ import sys
 import h5py
 import numpy as np
 
+from network_step import backward_euler_step
+
 RADNET, SOURCE, WORK = sys.argv[1], sys.argv[2], sys.argv[3]
 TOLERANCE_W = 1e-9
 TRANSIENT_K = 0.05
@@ -131,18 +133,7 @@ def integrate_esatan(text, h5):
             state = 0
         q = loads(now + step)
         q[heated] += state * power
-        new = t.copy()
-        for _ in range(30):  # Newton on C (T − T_old)/dt = q + GL (T_j − T_i) + σ GR (T_j⁴ − T_i⁴)
-            r = q + gl @ new - gl.sum(1) * new + sigma * (gr @ new**4 - gr.sum(1) * new**4) - c * (new - t) / step
-            jac = gl - np.diag(gl.sum(1)) + sigma * (4 * gr * new**3 - np.diag(4 * gr.sum(1) * new**3)) - np.diag(c / step)
-            r[fixed] = 0.0
-            jac[fixed] = 0.0
-            jac[fixed, fixed] = 1.0
-            delta = np.linalg.solve(jac, -r)
-            new += delta
-            if np.abs(delta).max() < 1e-10:
-                break
-        t, now = new, now + step
+        t, now = backward_euler_step(t, t, q, gl, gr, c, sigma, fixed, step), now + step
         if abs(now - times[p]) < 1e-9:
             out.append(t.copy())
             p += 1

@@ -30,6 +30,8 @@ import sys
 import h5py
 import numpy as np
 
+from network_step import backward_euler_step
+
 RADNET, SOURCE, WORK = sys.argv[1], sys.argv[2], sys.argv[3]
 DISC = os.path.join(SOURCE, "tests", "data", "esatan", "DISCTR_TRANSIENT.TMD")
 failures = []
@@ -121,18 +123,7 @@ def backward_euler(path, dt=2.0):
             w = (now - times[p - 1]) / (times[p] - times[p - 1])
             q = (1 - w) * q_all[p - 1] + w * q_all[p]
             boundary = (1 - w) * real[p - 1, :, 0] + w * real[p, :, 0] + tabs
-            new = np.where(fixed, boundary, t)
-            for _ in range(20):
-                r = q + gl @ new - gl.sum(1) * new + sigma * (gr @ new**4 - gr.sum(1) * new**4) - c * (new - t) / step
-                jac = gl - np.diag(gl.sum(1)) + sigma * (4 * gr * new**3 - np.diag(4 * gr.sum(1) * new**3)) - np.diag(c / step)
-                r[fixed] = 0.0
-                jac[fixed] = 0.0
-                jac[fixed, fixed] = 1.0
-                delta = np.linalg.solve(jac, -r)
-                new += delta
-                if np.abs(delta).max() < 1e-10:
-                    break
-            t = new
+            t = backward_euler_step(t, np.where(fixed, boundary, t), q, gl, gr, c, sigma, fixed, step)
         out.append(t.copy())
     return np.array(out)[:, active]
 

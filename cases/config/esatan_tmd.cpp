@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <type_traits>
 
 namespace radnet::cases {
 namespace {
@@ -67,27 +68,20 @@ class TmdReader {
     return d;
   }
 
-  std::vector<double> doubles(const std::string& path, std::vector<hsize_t>& d, int min_rank, int max_rank) const {
-    d = dims(path, min_rank, max_rank, 8.0);
+  // A whole numeric dataset as T (double or int), its dims in `d`; doubles must be finite.
+  template <class T>
+  std::vector<T> numbers(const std::string& path, std::vector<hsize_t>& d, int min_rank, int max_rank) const {
+    d = dims(path, min_rank, max_rank, sizeof(T));
     size_t count = 1;
     for (hsize_t v : d) count *= static_cast<size_t>(v);
-    std::vector<double> out(count);
+    std::vector<T> out(count);
     Handle ds{H5Dopen2(file_, path.c_str(), H5P_DEFAULT), H5Dclose};
-    if (count && H5Dread(ds.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
+    const hid_t type = std::is_same_v<T, double> ? H5T_NATIVE_DOUBLE : H5T_NATIVE_INT;
+    if (count && H5Dread(ds.id, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
       fail(path + ": cannot be read as numbers");
-    for (double v : out)
-      if (!std::isfinite(v)) fail(path + " holds a value that is not finite");
-    return out;
-  }
-
-  std::vector<int> integers(const std::string& path, std::vector<hsize_t>& d) const {
-    d = dims(path, 1, 2, 4.0);
-    size_t count = 1;
-    for (hsize_t v : d) count *= static_cast<size_t>(v);
-    std::vector<int> out(count);
-    Handle ds{H5Dopen2(file_, path.c_str(), H5P_DEFAULT), H5Dclose};
-    if (count && H5Dread(ds.id, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
-      fail(path + ": cannot be read as integers");
+    if constexpr (std::is_same_v<T, double>)
+      for (double v : out)
+        if (!std::isfinite(v)) fail(path + " holds a value that is not finite");
     return out;
   }
 
@@ -155,7 +149,7 @@ std::array<int, 16> realColumns(const TmdReader& r, size_t& stored) {
 
 void readNodes(const TmdReader& r, TmdFile& f) {
   std::vector<hsize_t> d;
-  const std::vector<int> numbers = r.integers(std::string(kAnalysis) + "/thermalNodes", d);
+  const std::vector<int> numbers = r.numbers<int>(std::string(kAnalysis) + "/thermalNodes", d, 1, 2);
   const size_t n = static_cast<size_t>(d[0]), stride = d.size() == 2 ? static_cast<size_t>(d[1]) : 1;
   if (n == 0 || stride == 0) r.fail(std::string(kAnalysis) + "/thermalNodes: no node");
   for (size_t i = 0; i < n; ++i) f.node_number.push_back(numbers[i * stride]);
@@ -163,7 +157,7 @@ void readNodes(const TmdReader& r, TmdFile& f) {
   std::sort(sorted.begin(), sorted.end());
   if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
     r.fail(std::string(kAnalysis) + "/thermalNodes: a node number is used twice");
-  const std::vector<double> times = r.doubles(std::string(kData) + "/times", d, 1, 1);
+  const std::vector<double> times = r.numbers<double>(std::string(kData) + "/times", d, 1, 1);
   if (times.empty()) r.fail(std::string(kData) + "/times: no output time");
   for (size_t k = 1; k < times.size(); ++k)
     if (!(times[k] > times[k - 1])) r.fail(std::string(kData) + "/times: not increasing at entry " + std::to_string(k));
@@ -189,7 +183,7 @@ void readRealData(const TmdReader& r, TmdFile& f) {
   const std::array<int, 16> column = realColumns(r, stored);
   std::vector<hsize_t> d;
   const std::string path = std::string(kData) + "/thermalNodesRealData";
-  const std::vector<double> data = r.doubles(path, d, 3, 3);
+  const std::vector<double> data = r.numbers<double>(path, d, 3, 3);
   const size_t nt = f.times_s.size(), n = f.node_number.size();
   if (d[0] != nt || d[1] != n || d[2] != stored)
     r.fail(path + ": expected (" + std::to_string(nt) + ", " + std::to_string(n) + ", " + std::to_string(stored) + ")");
@@ -213,7 +207,7 @@ TmdConductors readConductors(const TmdReader& r, const TmdFile& f, const char* k
     return c;
   }
   std::vector<hsize_t> d;
-  const std::vector<int> pairs = r.integers(pairs_path, d);
+  const std::vector<int> pairs = r.numbers<int>(pairs_path, d, 1, 2);
   const size_t m = d[0], stride = d.size() == 2 ? d[1] : 1;
   if (m > 0 && stride < 2) r.fail(pairs_path + ": expected (M, 4) node rows");
   c.nodes.resize(static_cast<Eigen::Index>(m), 2);
@@ -225,7 +219,7 @@ TmdConductors readConductors(const TmdReader& r, const TmdFile& f, const char* k
                ", not one of the " + std::to_string(f.node_number.size()) + " (1-based)");
       c.nodes(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(s)) = row - 1;
     }
-  const std::vector<double> values = r.doubles(data_path, d, 2, 3);
+  const std::vector<double> values = r.numbers<double>(data_path, d, 2, 3);
   const size_t width = d.size() == 3 ? d[2] : 1;
   if (d[0] != nt || d[1] != m || width == 0)
     r.fail(data_path + ": expected (" + std::to_string(nt) + ", " + std::to_string(m) + ", 2)");

@@ -159,14 +159,17 @@ std::string caseFile(const std::string& base, const std::string& design_case, bo
 // One deck of a design case: its whole orbit when it has several positions and none was
 // chosen, else the position's network.
 std::string deckText(const Hdf5Reader& h5, const ExportOptions& o) {
-  const ExportedNetwork net = readExportedNetwork(h5, o);
+  // The n × n GR are read once: here for a chosen position, by the history for a whole orbit.
+  const bool one_position = o.position >= 0;
+  ExportedNetwork net = readExportedNetwork(h5, o, one_position);
   if (o.format == "sinda" && !net.thermal)
     throw InputError(h5.path(), 0, 0, "the result has no temperatures (its case has no thermal: block) and a "
                                       "SINDA/FLUINT node needs one: export --format esatan or csv for its loads");
-  if (o.position < 0 && net.case_end - net.case_first > 1) {
+  if (!one_position && net.case_end - net.case_first > 1) {
     const ExportedHistory history = readExportedHistory(h5, o);
     return o.format == "esatan" ? esatanOrbitDeck(history) : sindaOrbitDeck(history);
   }
+  if (!one_position) net = readExportedNetwork(h5, o);  // a run of one position: its GR now
   return o.format == "esatan" ? esatanDeck(net) : sindaDeck(net);
 }
 

@@ -286,6 +286,10 @@ ExportedHistory readExportedHistory(const Hdf5Reader& h5, const ExportOptions& o
   at.position = -1;
   ExportedHistory history;
   h5.keepMatricesUnder({"/solution/", "/thermal/", "/loads/"});  // each (P × n) dataset read once, not per position
+  struct Forget {  // and let go of them however the reading ends
+    const Hdf5Reader& h5;
+    ~Forget() { h5.keepMatricesUnder({}); }
+  } forget{h5};
   const ExportedNetwork first = readExportedNetwork(h5, at);
   const char* time_path = h5.has("/orbit/time") ? "/orbit/time" : h5.has("/solution/time") ? "/solution/time" : nullptr;
   const Eigen::VectorXd times = time_path ? finite(h5, time_path, h5.vector(time_path)) : Eigen::VectorXd::Zero(1);
@@ -303,7 +307,6 @@ ExportedHistory readExportedHistory(const Hdf5Reader& h5, const ExportOptions& o
   }
   if (time_path && std::string(time_path) == "/orbit/time") history.period_s = loadPeriod(h5, first, history.times_s.back());
   if (first.thermal) history.thermostats = readThermostats(h5, first);
-  h5.keepMatricesUnder({});
   return history;
 }
 
