@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
     const auto positions = orbits::sweepOrbit(orbit, att, sweep_opt);
     const auto t0 = std::chrono::steady_clock::now();
     const orbits::EnvironmentLoads l =
-        orbits::environmentLoads(caster, area, positions, reuse, orbit.earth().equatorial_radius_m, env);
+        orbits::environmentLoads(caster, area, positions, reuse, orbit.body().equatorial_radius_m, env);
     const double t = since(t0);
     if (std::string(name).rfind("nadir (", 0) == 0) nadir_reuse = t;
     if (std::string(name).rfind("nadir,", 0) == 0) nadir_noreuse = t;

@@ -1,27 +1,10 @@
 #include "orbits/earth.hpp"
 
-#include <GeographicLib/Constants.hpp>
-#include <GeographicLib/NormalGravity.hpp>
-
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
 namespace radnet::orbits {
-
-const EarthModel& EarthModel::wgs84() {
-  static const EarthModel model = [] {
-    const GeographicLib::NormalGravity& g = GeographicLib::NormalGravity::WGS84();
-    EarthModel m;
-    m.gm_m3_s2 = GeographicLib::Constants::WGS84_GM();
-    m.equatorial_radius_m = GeographicLib::Constants::WGS84_a();
-    m.flattening = GeographicLib::Constants::WGS84_f();
-    m.j2 = g.DynamicalFormFactor(2);
-    m.rotation_rad_s = GeographicLib::Constants::WGS84_omega();
-    return m;
-  }();
-  return model;
-}
 
 double julianDateFromIso(const std::string& iso) {
   int y = 0, mo = 0, d = 0, h = 0, mi = 0;

@@ -1,19 +1,9 @@
 #pragma once
-// Earth constants and time. The constants come from GeographicLib's WGS84 model, not
-// typed in: GM and the equatorial radius from Constants, J2 from the normal gravity
-// field of the WGS84 ellipsoid (its dynamical form factor).
+// Astronomical constants and time. The Earth's own constants (GeographicLib's WGS84) are
+// orbits/body.hpp's CentralBody::earth().
 #include <string>
 
 namespace radnet::orbits {
-
-struct EarthModel {
-  double gm_m3_s2;  ///< geocentric gravitational constant, m³/s²
-  double equatorial_radius_m;
-  double flattening;      ///< –
-  double j2;              ///< dynamical form factor, –
-  double rotation_rad_s;  ///< Earth rotation rate, rad/s
-  static const EarthModel& wgs84();
-};
 
 inline constexpr double kAstronomicalUnit = 149597870700.0;  ///< m (IAU 2012, exact)
 inline constexpr double kSunRadius = 6.957e8;                ///< nominal solar radius, m (IAU 2015)

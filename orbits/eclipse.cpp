@@ -1,5 +1,6 @@
 #include "orbits/eclipse.hpp"
 
+#include "orbits/body.hpp"
 #include "orbits/earth.hpp"
 #include "orbits/sun.hpp"
 
@@ -25,7 +26,7 @@ DiscGeometry discs(const Eigen::Vector3d& sat, const Eigen::Vector3d& sun, doubl
 }  // namespace
 
 Eigen::Vector3d sunEci(const Orbit& orbit, double t) {
-  const SunPosition s = sunPosition(orbit.epochJd() + t / kSecondsPerDay);
+  const SunPosition s = sunFromBody(orbit.body(), orbit.epochJd() + t / kSecondsPerDay);
   return s.direction_eci * s.distance_m;
 }
 
@@ -44,7 +45,7 @@ double sunlitFraction(const Eigen::Vector3d& sat, const Eigen::Vector3d& sun, do
 }
 
 std::vector<EclipseEvent> eclipseEvents(const Orbit& orbit, double t0, double t1) {
-  const double re = orbit.earth().equatorial_radius_m;
+  const double re = orbit.body().equatorial_radius_m;
   // Penumbra boundary: c = a + b; umbra boundary: c = b − a.
   auto pen = [&](double t) {
     const DiscGeometry g = discs(orbit.state(t).position_eci_m, sunEci(orbit, t), re);

@@ -59,38 +59,49 @@ void directLoads(const geometry::RayCaster& caster, const Eigen::VectorXd& area,
   out.shadow_cell_m = lit.cell_m;
 }
 
-// Albedo irradiance of node i and its σ from the replicas, W/m²: π Σ L w / N per replica
-// with L = a S max(0, ŝ·n) / π.
-void albedoLoad(const geometry::PlanetRays& r, const Eigen::Vector3d& center, double re, const SweepPosition& pos,
-                const EnvironmentOptions& opt, double& value, double& stderr_value) {
+// The mean and standard error of per-replica estimates.
+void replicaStatistics(const std::vector<double>& estimates, double& value, double& stderr_value) {
+  const double m = static_cast<double>(estimates.size());
+  double sum = 0.0, sum2 = 0.0;
+  for (double e : estimates) sum += e, sum2 += e * e;
+  value = sum / m;
+  stderr_value = m > 1 ? std::sqrt(std::max(0.0, (sum2 - m * value * value) / (m - 1)) / m) : value;
+}
+
+// Albedo and (for a planet whose emission follows the Sun) planet IR irradiance of one node
+// and their σ from the replicas, W/m²: π Σ L w / N per replica, with the albedo's
+// L = a S max(0, ŝ·n) / π and the IR's L = exitance(ŝ·n, S) / π at each hit.
+void planetRadianceLoads(const geometry::PlanetRays& r, const Eigen::Vector3d& center, double re,
+                         const SweepPosition& pos, const EnvironmentOptions& opt, int i, int p, EnvironmentLoads& out) {
   const Eigen::Matrix3d eciFromBody = pos.body_from_eci.transpose();
   const int replicas = static_cast<int>(r.replica_end.size());
+  const bool ir_by_hit = !opt.planet_ir.uniform();
   if (replicas == 0 || r.rays == 0) {
-    value = stderr_value = 0.0;
+    out.albedo(i, p) = out.albedo_stderr(i, p) = 0.0;
+    if (ir_by_hit) out.earth_ir(i, p) = out.earth_ir_stderr(i, p) = 0.0;
     return;
   }
-  const double per_replica = double(r.rays) / replicas;
-  double sum = 0.0, sum2 = 0.0;
+  const double per_replica = double(r.rays) / replicas, flux = pos.solar_flux_w_m2;
+  std::vector<double> albedo(static_cast<size_t>(replicas)), ir(static_cast<size_t>(replicas));
   size_t k = 0;
   for (int rep = 0; rep < replicas; ++rep) {
-    double part = 0.0;
+    double albedo_part = 0.0, ir_part = 0.0;
     for (; k < static_cast<size_t>(r.replica_end[static_cast<size_t>(rep)]); ++k) {
       const Eigen::Vector3d normal = (r.hit_points[k] - center) / re;  // outward, body frame
       const double cos_sun = normal.dot(pos.sun_body);
+      if (ir_by_hit) ir_part += opt.planet_ir.exitance(cos_sun, flux) * r.weights[k];
       if (cos_sun <= 0) continue;  // night side
       const double a =
           opt.albedo_by_latitude.empty()
               ? opt.albedo
               : albedoAt(opt, units::radToDeg(std::asin(std::clamp((eciFromBody * normal).z(), -1.0, 1.0))));
-      part += a * cos_sun * r.weights[k];
+      albedo_part += a * cos_sun * r.weights[k];
     }
-    const double e = pos.solar_flux_w_m2 * part / per_replica;
-    sum += e;
-    sum2 += e * e;
+    albedo[static_cast<size_t>(rep)] = flux * albedo_part / per_replica;
+    ir[static_cast<size_t>(rep)] = ir_part / per_replica;
   }
-  value = sum / replicas;
-  stderr_value = replicas > 1 ? std::sqrt(std::max(0.0, (sum2 - replicas * value * value) / (replicas - 1)) / replicas)
-                              : value;
+  replicaStatistics(albedo, out.albedo(i, p), out.albedo_stderr(i, p));
+  if (ir_by_hit) replicaStatistics(ir, out.earth_ir(i, p), out.earth_ir_stderr(i, p));
 }
 
 }  // namespace
@@ -119,7 +130,7 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
     const SweepPosition& pos = positions[static_cast<size_t>(p)];
     if (pos.sunlit_fraction > 0 && mine(opt.sun_positions, p)) directLoads(caster, area, pos, opt, cell_m, out, p);  // no rays in the umbra
     // Planet rays: cast again unless the Earth sits where it did (reuse).
-    const Eigen::Vector3d center = pos.earth_body * pos.earth_distance_m;
+    const Eigen::Vector3d center = pos.planet_body * pos.planet_distance_m;
     const bool reuse = earth_fixed && !rays.empty() && (center - cached_center).norm() <= 1e-9 * center.norm();
     if (!reuse) {
       rays = geometry::planetRays(caster, center, re, planet);
@@ -131,9 +142,11 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
       if (!mine(opt.planet_nodes, i)) continue;
       const geometry::PlanetRays& r = rays[static_cast<size_t>(i)];
       out.earth_view_factor(i, p) = r.view_factor;
-      out.earth_ir(i, p) = opt.earth_ir_w_m2 * r.view_factor;
-      out.earth_ir_stderr(i, p) = opt.earth_ir_w_m2 * r.standard_error;
-      albedoLoad(r, center, re, pos, opt, out.albedo(i, p), out.albedo_stderr(i, p));
+      if (opt.planet_ir.uniform()) {
+        out.earth_ir(i, p) = opt.planet_ir.uniform_w_m2 * r.view_factor;
+        out.earth_ir_stderr(i, p) = opt.planet_ir.uniform_w_m2 * r.standard_error;
+      }
+      planetRadianceLoads(r, center, re, pos, opt, i, p, out);
     }
     if (opt.progress) opt.progress(p + 1, P);
   }

@@ -6,12 +6,15 @@
 //  * albedo: planet rays of each node (self-shadowed) into the cone the Earth subtends,
 //    each ray hitting the Earth at x carries a · S · max(0, ŝ·n(x)) (a Lambertian planet of
 //    radiance a S cos θ_s / π);
-//  * Earth IR: OLR × view factor to the Earth (uniform Lambertian emitter).
+//  * planet IR: a uniform emitter's flux × view factor to the planet (the Earth's OLR), or,
+//    for a planet whose emission follows the Sun (the Moon's day side, PlanetIr::DayNight),
+//    the same planet rays each carrying the emission where they hit, like the albedo.
 // Every load comes with its standard error (n×P, W/m²), and the ray counts follow
 // relative_error (the loads' share of the case's error budget) unless pinned.
 // Reuse: when the Earth is fixed in the body frame (nadir pointing on a circular orbit)
 // the planet rays are cast once and their hit points reused; only the Sun's part changes.
 #include "geometry/irradiance/queries.hpp"
+#include "orbits/body.hpp"
 #include "orbits/sweep.hpp"
 
 #include <Eigen/Dense>
@@ -26,7 +29,7 @@ struct EnvironmentOptions {
       0.30;  ///< Bond albedo, – (orbit-average Earth value; Gilmore, Spacecraft Thermal Control Handbook, ch. 2)
   /// Optional latitude dependence: (|geocentric latitude| deg, albedo) pairs, linear in between.
   std::vector<std::pair<double, double>> albedo_by_latitude;
-  double earth_ir_w_m2 = 237.0;      ///< outgoing longwave radiation, W/m² (global mean; Gilmore, ch. 2)
+  PlanetIr planet_ir;  ///< what the planet emits (default: the Earth's OLR, 237 W/m², Gilmore, ch. 2)
   /// Target standard error of each load relative to its scale (direct: the node's area
   /// times the flux; planet: see geometry::PlanetRayOptions), –
   double relative_error = 0.005;
@@ -52,8 +55,8 @@ double shadowGridSpacing(const Eigen::VectorXd& node_area_m2, double relative_er
 struct EnvironmentLoads {
   Eigen::MatrixXd direct;             ///< (n×P) direct solar irradiance, W/m²
   Eigen::MatrixXd albedo;             ///< (n×P) albedo irradiance, W/m²
-  Eigen::MatrixXd earth_ir;           ///< (n×P) Earth IR irradiance, W/m²
-  Eigen::MatrixXd earth_view_factor;  ///< (n×P) with self-shadowing, –
+  Eigen::MatrixXd earth_ir;           ///< (n×P) planet IR irradiance (the central body's; named for the Earth), W/m²
+  Eigen::MatrixXd earth_view_factor;  ///< (n×P) to the central body, with self-shadowing, –
   Eigen::MatrixXd direct_stderr, albedo_stderr, earth_ir_stderr;  ///< standard errors of the three, W/m² (n×P)
   int planet_casts = 0;               ///< how many times the planet rays were cast (1 with reuse)
   std::int64_t planet_rays = 0;       ///< rays cast towards the planet, all casts

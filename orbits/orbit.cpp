@@ -33,8 +33,8 @@ double solveKepler(double m, double e) {
   return ecc;
 }
 
-Orbit::Orbit(const KeplerElements& el, double epoch_jd, const EarthModel& earth)
-    : el_(el), epoch_jd_(epoch_jd), earth_(earth) {
+Orbit::Orbit(const KeplerElements& el, double epoch_jd, const CentralBody& body)
+    : el_(el), epoch_jd_(epoch_jd), body_(body) {
   requireFinite(el.semi_major_axis_m, "semi-major axis");
   requireFinite(el.eccentricity, "eccentricity");
   requireFinite(el.inclination_rad, "inclination");
@@ -50,16 +50,16 @@ Orbit::Orbit(const KeplerElements& el, double epoch_jd, const EarthModel& earth)
   }
   if (el.inclination_rad < 0 || el.inclination_rad > M_PI) throw OrbitError("inclination must be in [0, 180] deg");
   const double perigee = el.semi_major_axis_m * (1 - el.eccentricity);
-  if (!(perigee > earth.equatorial_radius_m)) {
+  if (!(perigee > body.equatorial_radius_m)) {
     std::ostringstream s;
-    s << "perigee radius " << perigee << " m is inside the Earth (equatorial radius " << earth.equatorial_radius_m
-      << " m); altitudes must be > 0";
+    s << "perigee radius " << perigee << " m is inside " << body.name << " (equatorial radius "
+      << body.equatorial_radius_m << " m); altitudes must be > 0";
     throw OrbitError(s.str());
   }
   const double a = el.semi_major_axis_m, e = el.eccentricity;
-  const double n0 = std::sqrt(earth.gm_m3_s2 / (a * a * a));
+  const double n0 = std::sqrt(body.gm_m3_s2 / (a * a * a));
   const double p = a * (1 - e * e);
-  const double k = 1.5 * earth.j2 * std::pow(earth.equatorial_radius_m / p, 2);
+  const double k = 1.5 * body.j2 * std::pow(body.equatorial_radius_m / p, 2);
   const double ci = std::cos(el.inclination_rad);
   // Secular J2 rates (Vallado, eqs. 9-41 to 9-43).
   raan_rate_ = -k * n0 * ci;
@@ -73,7 +73,7 @@ Orbit::Orbit(const KeplerElements& el, double epoch_jd, const EarthModel& earth)
 
 double Orbit::period() const {
   const double a = el_.semi_major_axis_m;
-  return 2 * M_PI * std::sqrt(a * a * a / earth_.gm_m3_s2);
+  return 2 * M_PI * std::sqrt(a * a * a / body_.gm_m3_s2);
 }
 
 OrbitState Orbit::state(double t) const {
@@ -156,14 +156,14 @@ Eigen::Vector3d Orbit::normal(double t) const {
 }
 
 KeplerElements circularElements(double altitude_m, double inclination_deg, double raan_deg, double arg_latitude_deg,
-                                const EarthModel& earth) {
+                                const CentralBody& body) {
   if (!(std::isfinite(altitude_m) && altitude_m > 0)) {
     std::ostringstream s;
     s << "altitude " << altitude_m << " m: expected a finite value > 0";
     throw OrbitError(s.str());
   }
   KeplerElements el;
-  el.semi_major_axis_m = earth.equatorial_radius_m + altitude_m;
+  el.semi_major_axis_m = body.equatorial_radius_m + altitude_m;
   el.inclination_rad = units::degToRad(inclination_deg);
   el.raan_rad = units::degToRad(raan_deg);
   el.true_anomaly_rad = units::degToRad(arg_latitude_deg);
@@ -171,10 +171,10 @@ KeplerElements circularElements(double altitude_m, double inclination_deg, doubl
 }
 
 KeplerElements perigeeApogeeElements(double hp, double ha, double inclination_deg, double raan_deg,
-                                     double arg_perigee_deg, double true_anomaly_deg, const EarthModel& earth) {
+                                     double arg_perigee_deg, double true_anomaly_deg, const CentralBody& body) {
   if (!(std::isfinite(hp) && hp > 0 && std::isfinite(ha) && ha >= hp))
     throw OrbitError("perigee and apogee altitudes must be finite with 0 < perigee <= apogee");
-  const double rp = earth.equatorial_radius_m + hp, ra = earth.equatorial_radius_m + ha;
+  const double rp = body.equatorial_radius_m + hp, ra = body.equatorial_radius_m + ha;
   KeplerElements el;
   el.semi_major_axis_m = 0.5 * (rp + ra);
   el.eccentricity = (ra - rp) / (ra + rp);
@@ -185,28 +185,36 @@ KeplerElements perigeeApogeeElements(double hp, double ha, double inclination_de
   return el;
 }
 
-double sunSynchronousInclinationDeg(double altitude_m, const EarthModel& earth) {
-  const double a = earth.equatorial_radius_m + altitude_m;
-  const double rate = 2 * M_PI / (kTropicalYearDays * kSecondsPerDay);
+double sunSynchronousInclinationDeg(double altitude_m, const CentralBody& body) {
+  const double a = body.equatorial_radius_m + altitude_m;
+  // The node follows the mean Sun: once per tropical year about the Earth, once per the
+  // body's year elsewhere (the Moon's year is the Earth's).
+  const double rate = body.isEarth() ? 2 * M_PI / (kTropicalYearDays * kSecondsPerDay) : body.sunMeanMotion();
   const double c = -2.0 * rate * std::pow(a, 3.5) /
-                   (3.0 * earth.j2 * earth.equatorial_radius_m * earth.equatorial_radius_m * std::sqrt(earth.gm_m3_s2));
-  if (c < -1) throw OrbitError("no sun-synchronous orbit exists at this altitude (above ~5970 km)");
+                   (3.0 * body.j2 * body.equatorial_radius_m * body.equatorial_radius_m * std::sqrt(body.gm_m3_s2));
+  if (!(c >= -1)) {
+    std::ostringstream msg;
+    msg << "no sun-synchronous orbit exists about " << body.name << " at " << altitude_m
+        << " m: its J2 cannot turn the node once per " << (body.isEarth() ? "year" : "year of its own")
+        << (body.isEarth() ? " above ~5970 km" : "");
+    throw OrbitError(msg.str());
+  }
   return units::radToDeg(std::acos(c));
 }
 
-double raanForLocalTimeDeg(double ltan_hours, double epoch_jd) {
+double raanForLocalTimeDeg(double ltan_hours, double epoch_jd, const CentralBody& body) {
   if (!(std::isfinite(ltan_hours) && ltan_hours >= 0 && ltan_hours < 24))
     throw OrbitError("local time of the ascending node must be in [0, 24) hours");
   // The Sun's right ascension is local noon: RAAN = α_sun + (LTAN − 12 h) × 15°/h.
-  const SunPosition s = sunPosition(epoch_jd);
+  const SunPosition s = sunFromBody(body, epoch_jd);
   const double ra_sun = units::radToDeg(std::atan2(s.direction_eci.y(), s.direction_eci.x()));
   return std::fmod(ra_sun + (ltan_hours - 12.0) * 15.0 + 720.0, 360.0);
 }
 
-KeplerElements betaElements(double altitude_m, double beta_deg, double epoch_jd, const EarthModel& earth) {
+KeplerElements betaElements(double altitude_m, double beta_deg, double epoch_jd, const CentralBody& body) {
   if (!(std::isfinite(beta_deg) && beta_deg >= -90 && beta_deg <= 90))
     throw OrbitError("beta must be in [-90, 90] deg");
-  const Eigen::Vector3d s = sunPosition(epoch_jd).direction_eci;
+  const Eigen::Vector3d s = sunFromBody(body, epoch_jd).direction_eci;
   // Orbit normal h = sin β s + cos β p, p ⟂ s in the plane of s and the pole, so that
   // asin(h·s) = β; with β = 0 the Sun lies in the orbit plane.
   Eigen::Vector3d p = Eigen::Vector3d::UnitZ() - s.z() * s;
@@ -215,12 +223,12 @@ KeplerElements betaElements(double altitude_m, double beta_deg, double epoch_jd,
   Eigen::Vector3d h = std::sin(b) * s + std::cos(b) * p;
   const double inc = std::acos(std::clamp(h.z(), -1.0, 1.0));
   const double raan = std::atan2(h.x(), -h.y());
-  KeplerElements el = circularElements(altitude_m, units::radToDeg(inc), units::radToDeg(raan), 0.0, earth);
+  KeplerElements el = circularElements(altitude_m, units::radToDeg(inc), units::radToDeg(raan), 0.0, body);
   return el;
 }
 
 double betaAngle(const Orbit& orbit, double t) {
-  const Eigen::Vector3d s = sunPosition(orbit.epochJd() + t / kSecondsPerDay).direction_eci;
+  const Eigen::Vector3d s = sunFromBody(orbit.body(), orbit.epochJd() + t / kSecondsPerDay).direction_eci;
   return std::asin(std::clamp(orbit.normal(t).dot(s), -1.0, 1.0));
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // Two-body orbits with the secular J2 drift of the node and the argument of perigee
 // (and of the mean anomaly), as ESATAN / Thermal Desktop users define them.
+#include "orbits/body.hpp"
 #include "orbits/earth.hpp"
 
 #include <Eigen/Dense>
@@ -42,8 +43,8 @@ double solveKepler(double mean_anomaly_rad, double eccentricity);
 
 class Orbit {
  public:
-  /// @throws OrbitError for e ≥ 1, a perigee below the Earth's surface, or non-finite values
-  Orbit(const KeplerElements& elements, double epoch_jd, const EarthModel& earth = EarthModel::wgs84());
+  /// @throws OrbitError for e ≥ 1, a perigee below the body's surface, or non-finite values
+  Orbit(const KeplerElements& elements, double epoch_jd, const CentralBody& body = CentralBody::earth());
 
   /// Position and velocity t seconds after the epoch (two-body + secular J2).
   OrbitState state(double t_s) const;
@@ -69,12 +70,12 @@ class Orbit {
   double timeOfTrueAnomaly(double nu_rad, int turns) const;
   /// Orbit normal (unit angular momentum) in ECI at time t.
   Eigen::Vector3d normal(double t_s) const;
-  const EarthModel& earth() const { return earth_; }
+  const CentralBody& body() const { return body_; }
 
  private:
   KeplerElements el_;
   double epoch_jd_;
-  EarthModel earth_;
+  CentralBody body_;
   double mean_motion_ = 0.0;  ///< rad/s, including the J2 secular correction
   double m0_ = 0.0;           ///< mean anomaly at the epoch
   double raan_rate_ = 0.0, argp_rate_ = 0.0;
@@ -82,25 +83,25 @@ class Orbit {
 
 /// Circular orbit from altitude above the equatorial radius, inclination and RAAN (deg).
 KeplerElements circularElements(double altitude_m, double inclination_deg, double raan_deg,
-                                double arg_latitude_deg = 0.0, const EarthModel& earth = EarthModel::wgs84());
+                                double arg_latitude_deg = 0.0, const CentralBody& body = CentralBody::earth());
 
 /// Elements from perigee/apogee altitudes.
 KeplerElements perigeeApogeeElements(double perigee_altitude_m, double apogee_altitude_m, double inclination_deg,
                                      double raan_deg, double arg_perigee_deg, double true_anomaly_deg,
-                                     const EarthModel& earth = EarthModel::wgs84());
+                                     const CentralBody& body = CentralBody::earth());
 
 /// Inclination (deg) making a circular orbit sun-synchronous: its node drifts 360° per
 /// tropical year, cos i = −2 Ω̇ a^{7/2} / (3 J2 R² √GM).
-double sunSynchronousInclinationDeg(double altitude_m, const EarthModel& earth = EarthModel::wgs84());
+double sunSynchronousInclinationDeg(double altitude_m, const CentralBody& body = CentralBody::earth());
 
 /// RAAN (deg) that puts the ascending node at a local mean solar time (hours) at the epoch.
-double raanForLocalTimeDeg(double ltan_hours, double epoch_jd);
+double raanForLocalTimeDeg(double ltan_hours, double epoch_jd, const CentralBody& body = CentralBody::earth());
 
 /// Circular orbit whose plane makes angle beta with the Sun direction at the epoch
 /// (orbit normal n with asin(n·s) = β); the node is placed where the Sun's meridian
 /// crosses the equator, so the orbit noon is at the epoch's Sun side.
 KeplerElements betaElements(double altitude_m, double beta_deg, double epoch_jd,
-                            const EarthModel& earth = EarthModel::wgs84());
+                            const CentralBody& body = CentralBody::earth());
 
 /// Beta angle: the angle between the orbit plane and the Sun direction, rad.
 double betaAngle(const Orbit& orbit, double t_s);

@@ -1,5 +1,6 @@
 #include "orbits/sweep.hpp"
 
+#include "orbits/body.hpp"
 #include "orbits/earth.hpp"
 #include "orbits/sun.hpp"
 
@@ -47,13 +48,13 @@ std::vector<SweepPosition> sweepOrbit(const Orbit& orbit, const AttitudeSpec& at
     for (const EclipseEvent& e : eclipseEvents(orbit, 0.0, span)) times.emplace_back(e.t_s, true);
   std::sort(times.begin(), times.end());
   std::vector<SweepPosition> out;
-  const double re = orbit.earth().equatorial_radius_m;
+  const double re = orbit.body().equatorial_radius_m;
   for (const auto& [t, event] : times) {
     SweepPosition p;
     p.t_s = t;
     p.event = event;
     const OrbitState st = orbit.state(t);
-    const SunPosition sun = sunPosition(orbit.epochJd() + t / kSecondsPerDay);
+    const SunPosition sun = sunFromBody(orbit.body(), orbit.epochJd() + t / kSecondsPerDay);
     const Eigen::Vector3d sun_pos = sun.direction_eci * sun.distance_m;
     const Eigen::Vector3d to_sun = (sun_pos - st.position_eci_m).normalized();
     try {
@@ -65,8 +66,8 @@ std::vector<SweepPosition> sweepOrbit(const Orbit& orbit, const AttitudeSpec& at
     p.velocity_eci_m_s = st.velocity_eci_m_s;
     p.elements = orbit.elementsAt(t);
     p.sun_body = p.body_from_eci * to_sun;
-    p.earth_body = p.body_from_eci * (-st.position_eci_m.normalized());
-    p.earth_distance_m = st.position_eci_m.norm();
+    p.planet_body = p.body_from_eci * (-st.position_eci_m.normalized());
+    p.planet_distance_m = st.position_eci_m.norm();
     p.sunlit_fraction = sunlitFraction(st.position_eci_m, sun_pos, re);
     p.beta_rad = betaAngle(orbit, t);
     p.solar_flux_w_m2 = solarFlux(opt.solar_constant_w_m2, (sun_pos - st.position_eci_m).norm());

@@ -22,8 +22,8 @@ struct SweepOptions {
 struct SweepPosition {
   double t_s = 0.0;               ///< seconds after the epoch
   Eigen::Vector3d sun_body;       ///< unit, body frame
-  Eigen::Vector3d earth_body;     ///< unit, towards the Earth's centre, body frame
-  double earth_distance_m = 0.0;  ///< to the Earth's centre
+  Eigen::Vector3d planet_body;      ///< unit, towards the central body's centre (the Earth's unless orbit.body), body frame
+  double planet_distance_m = 0.0;  ///< to the central body's centre, m
   double sunlit_fraction = 1.0;   ///< 0 … 1
   double beta_rad = 0.0;
   double solar_flux_w_m2 = 0.0;  ///< at the spacecraft's Sun distance, before the eclipse factor

@@ -12,14 +12,14 @@ using geometry::Vec3;
 
 namespace {
 
-const double kR = orbits::EarthModel::wgs84().equatorial_radius_m;
+const double kR = orbits::CentralBody::earth().equatorial_radius_m;
 
 // One position: the Earth along +z body at distance r, the Sun along `sun_body`.
 orbits::SweepPosition position(const Vec3& sun_body, double r, double sunlit = 1.0, double flux = 1361.0) {
   orbits::SweepPosition p;
   p.sun_body = sun_body.normalized();
-  p.earth_body = Vec3::UnitZ();
-  p.earth_distance_m = r;
+  p.planet_body = Vec3::UnitZ();
+  p.planet_distance_m = r;
   p.sunlit_fraction = sunlit;
   p.solar_flux_w_m2 = flux;
   p.body_from_eci = Eigen::Matrix3d::Identity();

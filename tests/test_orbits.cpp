@@ -28,7 +28,7 @@ TEST_CASE("time: ISO 8601 UTC to Julian date and back") {
 }
 
 TEST_CASE("Earth constants come from GeographicLib's WGS84") {
-  const EarthModel& e = EarthModel::wgs84();
+  const CentralBody& e = CentralBody::earth();
   CHECK(e.gm_m3_s2 == 3986004.418e8);
   CHECK(e.equatorial_radius_m == 6378137.0);
   CHECK(e.j2 == Approx(1.08263e-3).epsilon(1e-5));
@@ -64,7 +64,7 @@ TEST_CASE("Kepler's equation to 1e-14 for e up to 0.99, e >= 1 rejected") {
 }
 
 TEST_CASE("two-body states: vis-viva, closed orbit after one period, angular momentum along the normal") {
-  EarthModel no_j2 = EarthModel::wgs84();
+  CentralBody no_j2 = CentralBody::earth();
   no_j2.j2 = 0.0;
   const Orbit orbit(perigeeApogeeElements(400e3, 20000e3, 28.5, 30.0, 45.0, 10.0, no_j2), kEpoch, no_j2);
   const double a = orbit.elements().semi_major_axis_m;
@@ -153,7 +153,7 @@ TEST_CASE("eclipse fraction of circular orbits: (1/π) acos(√(h² + 2Rh) / ((R
   // The formula is for a two-body orbit: with J2 the argument of latitude advances 0.4 %
   // faster than 2π/T at 400 km (Ṁ + ω̇ = n(1 + 3k) in the equatorial plane), which would
   // shorten the eclipse by 0.16 % of T. So the test uses WGS84 without J2.
-  EarthModel two_body = EarthModel::wgs84();
+  CentralBody two_body = CentralBody::earth();
   two_body.j2 = 0.0;
   const double R = two_body.equatorial_radius_m;
   for (double h : {400e3, 800e3, 2000e3}) {
@@ -248,7 +248,7 @@ TEST_CASE("sweep: evenly spaced positions plus exact eclipse events, sunlit frac
     dark += sweep[k].sunlit_fraction == 0.0;
     if (k) CHECK(sweep[k].t_s > sweep[k - 1].t_s);
     CHECK(sweep[k].sun_body.norm() == Approx(1.0));
-    CHECK(sweep[k].earth_body.z() == Approx(1.0));  // nadir: the Earth along +z
+    CHECK(sweep[k].planet_body.z() == Approx(1.0));  // nadir: the Earth along +z
     CHECK(sweep[k].solar_flux_w_m2 ==
           Approx(1361.0 * std::pow(kAstronomicalUnit / (sunPosition(kEpoch).distance_m), 2)).epsilon(2e-3));
   }

@@ -70,6 +70,11 @@ std::string canonical(const YAML::Node& node, const std::vector<std::string>& sk
 std::string loadSignature(const YAML::Node& orbit, const YAML::Node& attitude, const YAML::Node& environment) {
   std::vector<std::string> scaled = {"solar_constant", "earth_ir"};
   if (environment && environment["albedo"] && environment["albedo"].IsScalar()) scaled.push_back("albedo");
+  // A flux scales; a day–night model (a word or a mapping) changes the loads' shape.
+  if (environment && environment["planet_ir"] && environment["planet_ir"].IsScalar()) {
+    const std::string v = environment["planet_ir"].Scalar();
+    if (!v.empty() && !std::isalpha(static_cast<unsigned char>(v[0]))) scaled.push_back("planet_ir");
+  }
   return canonical(orbit) + "|" + canonical(attitude) + "|" + canonical(environment, scaled);
 }
 

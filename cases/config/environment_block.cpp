@@ -1,5 +1,8 @@
 #include "cases/config/orbit_settings.hpp"
 
+#include <cctype>
+#include <limits>
+
 namespace radnet::cases {
 namespace {
 
@@ -17,12 +20,63 @@ void parseAlbedoTable(const YamlDocument& doc, const YAML::Node& a, orbits::Envi
   if (env.albedo_by_latitude.empty()) throw doc.error(a, "environment.albedo: the table is empty");
 }
 
+// Named planet IR models: a body's own day–night constants, usable about any body.
+constexpr std::pair<const char*, const char*> kNamedIr[] = {
+    {"lunar_day_night", "moon"}, {"martian_day_night", "mars"}, {"mercurian_day_night", "mercury"}};
+
+// `{subsolar_temperature: K, night_temperature: K, reference_flux: W/m²}`: a surface in
+// radiative balance, T = max(T_ss cos^¼ z, T_night), T_ss at the reference solar flux.
+orbits::PlanetIr dayNightMapping(const YamlDocument& doc, const YAML::Node& m, const orbits::CentralBody& body) {
+  doc.expectMap(m, "environment.planet_ir", {"subsolar_temperature", "night_temperature", "reference_flux"});
+  for (const char* key : {"subsolar_temperature", "night_temperature"})
+    if (!m[key]) throw doc.error(m, std::string("environment.planet_ir: missing '") + key + "' (K)");
+  orbits::PlanetIr ir;
+  ir.kind = orbits::PlanetIr::Kind::DayNight;
+  ir.subsolar_temperature_k = doc.number(m["subsolar_temperature"], "environment.planet_ir.subsolar_temperature (K)", 0, 3000);
+  ir.night_temperature_k = doc.number(m["night_temperature"], "environment.planet_ir.night_temperature (K)", 0, 3000);
+  if (ir.night_temperature_k > ir.subsolar_temperature_k)
+    throw doc.error(m["night_temperature"], "environment.planet_ir.night_temperature: above the subsolar temperature; "
+                                            "the night side is the colder one");
+  // By default T_ss holds at the flux of the body's mean distance from the Sun (1 au for the Earth and the Moon).
+  const double a_au = body.heliocentric.a_au;
+  ir.reference_flux_w_m2 = m["reference_flux"] ? doc.number(m["reference_flux"], "environment.planet_ir.reference_flux (W/m²)",
+                                                            std::numeric_limits<double>::min(), 1e6)
+                                               : 1361.0 / (a_au * a_au);
+  return ir;
+}
+
+orbits::PlanetIr parsePlanetIr(const YamlDocument& doc, const YAML::Node& v, const orbits::CentralBody& body) {
+  if (v.IsMap()) return dayNightMapping(doc, v, body);
+  if (v.IsScalar()) {
+    const std::string word = v.Scalar();
+    if (word == "day_night") {
+      if (body.ir.uniform())
+        throw doc.error(v, "environment.planet_ir: " + body.name + " has no day–night model of its own (it emits "
+                               "uniformly); give {subsolar_temperature: K, night_temperature: K} or a flux in W/m²");
+      return body.ir;
+    }
+    for (const auto& [name, from] : kNamedIr)
+      if (word == name) return orbits::CentralBody::named(from)->ir;
+    if (!word.empty() && (std::isalpha(static_cast<unsigned char>(word[0])) || word[0] == '_'))
+      throw doc.error(v, "environment.planet_ir: unknown model '" + word +
+                             "'; expected a flux in W/m², day_night, lunar_day_night, martian_day_night, "
+                             "mercurian_day_night or {subsolar_temperature: K, night_temperature: K}");
+  }
+  orbits::PlanetIr ir;
+  ir.kind = orbits::PlanetIr::Kind::Uniform;
+  ir.uniform_w_m2 = doc.number(v, "environment.planet_ir (W/m²)", 0, 1e5);
+  return ir;
+}
+
 }  // namespace
 
-void parseEnvironment(const YamlDocument& doc, const YAML::Node& e, orbits::SweepOptions& sweep,
-                      orbits::EnvironmentOptions& env) {
+void parseEnvironment(const YamlDocument& doc, const YAML::Node& e, const orbits::CentralBody& body,
+                      orbits::SweepOptions& sweep, orbits::EnvironmentOptions& env) {
+  env.albedo = body.bond_albedo;
+  env.planet_ir = body.ir;
   if (!e) return;
-  doc.expectMap(e, "environment", {"solar_constant", "albedo", "earth_ir", "shadow_samples", "shadow_cell", "planet_rays"});
+  doc.expectMap(e, "environment", {"solar_constant", "albedo", "earth_ir", "planet_ir", "shadow_samples", "shadow_cell",
+                                   "planet_rays"});
   if (e["solar_constant"])
     sweep.solar_constant_w_m2 = doc.number(e["solar_constant"], "environment.solar_constant (W/m²)", 0, 1e5);
   if (const YAML::Node a = e["albedo"]) {
@@ -31,7 +85,16 @@ void parseEnvironment(const YamlDocument& doc, const YAML::Node& e, orbits::Swee
     else
       env.albedo = doc.number(a, "environment.albedo", 0, 1);
   }
-  if (e["earth_ir"]) env.earth_ir_w_m2 = doc.number(e["earth_ir"], "environment.earth_ir (W/m²)", 0, 1e4);
+  if (e["earth_ir"] && e["planet_ir"])
+    throw doc.error(e["earth_ir"], "environment.earth_ir: give planet_ir or earth_ir (its older name), not both");
+  if (e["earth_ir"] && !body.isEarth())
+    throw doc.error(e["earth_ir"], "environment.earth_ir: the orbit is about " + body.name +
+                                       ", not the Earth; give its emission as 'planet_ir'");
+  if (e["earth_ir"]) {
+    env.planet_ir.kind = orbits::PlanetIr::Kind::Uniform;
+    env.planet_ir.uniform_w_m2 = doc.number(e["earth_ir"], "environment.earth_ir (W/m²)", 0, 1e4);
+  }
+  if (e["planet_ir"]) env.planet_ir = parsePlanetIr(doc, e["planet_ir"], body);
   if (e["shadow_samples"])
     env.shadow_samples = static_cast<int>(doc.integer(e["shadow_samples"], "environment.shadow_samples", 1, 1 << 24));
   if (e["shadow_cell"]) {

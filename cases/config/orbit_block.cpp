@@ -20,6 +20,7 @@ constexpr const char* kDefaultEpoch = "2026-03-20T00:00:00Z";
 struct OrbitKeys {
   const YamlDocument& doc;
   const YAML::Node& o;
+  const orbits::CentralBody& body;
   double num(const char* key, const std::string& what, double lo, double hi, double fallback) const {
     return o[key] ? doc.number(o[key], "orbit." + std::string(key) + " " + what, lo, hi) : fallback;
   }
@@ -31,37 +32,44 @@ struct OrbitKeys {
   double inclinationDeg() const { return num("inclination", "(deg)", 0, 180, 0); }
 };
 
-// Below ~100 km nothing orbits for long; such a value is almost always kilometres written
-// where metres are meant (35786 for GEO). Refused unless `allow_low_altitude: true`.
-constexpr double kLowestAltitude = 100e3;  // m
-// Beyond the Moon's mean distance an Earth orbit is not what the planet loads and the
-// eclipse model assume, and such a value is almost always a unit slip the other way
-// (35786.0e6 for GEO, an astronomical unit). Refused unless `allow_high_altitude: true`.
-constexpr double kMoonDistance = 3.844e8;  // m, mean Earth–Moon distance
+// Below a body's lowest altitude (the Earth's: 100 km) nothing orbits for long; such a value
+// is almost always kilometres written where metres are meant (35786 for GEO). Refused unless
+// `allow_low_altitude: true`. Beyond its highest (the Earth's: the Moon's mean distance;
+// elsewhere the Hill sphere) the body does not hold the orbit, and such a value is almost
+// always a unit slip the other way (35786.0e6 for GEO, an astronomical unit). Refused unless
+// `allow_high_altitude: true`.
+
+// `orbit.body`: the Earth unless named.
+const orbits::CentralBody& centralBody(const YamlDocument& doc, const YAML::Node& o) {
+  if (!o["body"]) return orbits::CentralBody::earth();
+  return *orbits::CentralBody::named(doc.choice(o["body"], "orbit.body", orbits::CentralBody::names()));
+}
 
 bool allowed(const YamlDocument& doc, const YAML::Node& o, const char* key) {
   return o[key] && doc.boolean(o[key], std::string("orbit.") + key);
 }
 
-void checkAltitudes(const YamlDocument& doc, const YAML::Node& o) {
+void checkAltitudes(const YamlDocument& doc, const YAML::Node& o, const orbits::CentralBody& body) {
   const bool allow_low = allowed(doc, o, "allow_low_altitude"), allow_high = allowed(doc, o, "allow_high_altitude");
-  const double earth_radius = orbits::EarthModel::wgs84().equatorial_radius_m;
+  const double radius_m = body.equatorial_radius_m;
   for (const char* key : {"altitude", "perigee_altitude", "apogee_altitude", "semi_major_axis"}) {
     const YAML::Node v = o[key];
     if (!v) continue;
     const bool radius = std::string(key) == "semi_major_axis";
     const double value = doc.number(v, std::string("orbit.") + key + " (m)", -kBig, kBig);
-    const double h = radius ? value - earth_radius : value;
+    const double h = radius ? value - radius_m : value;
     std::ostringstream msg;
-    if (!allow_low && !radius && h > 0 && h < kLowestAltitude) {
-      msg << "orbit." << key << ": " << h << " m is below 100 km, where no orbit lasts; altitudes are in metres ("
-          << h << " km is " << h << ".0e3); give 'allow_low_altitude: true' if " << h << " m is meant";
+    if (!allow_low && !radius && h > 0 && h < body.lowest_altitude_m) {
+      msg << "orbit." << key << ": " << h << " m is below " << body.lowest_altitude_m / 1e3 << " km, where no orbit about "
+          << body.name << " lasts; altitudes are in metres (" << h << " km is " << h
+          << ".0e3); give 'allow_low_altitude: true' if " << h << " m is meant";
       throw doc.error(v, msg.str());
     }
-    if (!allow_high && h > kMoonDistance) {
-      msg << "orbit." << key << ": " << value << " m puts the spacecraft " << h
-          << " m above the Earth, beyond the Moon's distance (3.844e8 m); lengths are in metres (GEO's altitude "
-             "is 35786.0e3); give 'allow_high_altitude: true' if it is meant";
+    if (!allow_high && h > body.highest_altitude_m) {
+      msg << "orbit." << key << ": " << value << " m puts the spacecraft " << h << " m above " << body.name
+          << ", beyond " << (body.isEarth() ? "the Moon's distance" : "its Hill sphere") << " ("
+          << body.highest_altitude_m << " m); lengths are in metres (GEO's altitude is 35786.0e3); give "
+             "'allow_high_altitude: true' if it is meant";
       throw doc.error(v, msg.str());
     }
   }
@@ -122,7 +130,7 @@ orbits::KeplerElements keplerElements(const OrbitKeys& k) {
   if (!k.o["semi_major_axis"])
     return orbits::perigeeApogeeElements(
         k.num("perigee_altitude", "(m)", kPositive, kBig, 0), k.num("apogee_altitude", "(m)", kPositive, kBig, 0),
-        k.inclinationDeg(), k.deg("raan"), k.deg("arg_perigee"), k.deg("true_anomaly"));
+        k.inclinationDeg(), k.deg("raan"), k.deg("arg_perigee"), k.deg("true_anomaly"), k.body);
   orbits::KeplerElements el;
   el.semi_major_axis_m = k.num("semi_major_axis", "(m)", kPositive, kBig, 0);
   el.eccentricity = k.num("eccentricity", "", 0, kBig, 0);
@@ -141,7 +149,7 @@ orbits::KeplerElements circularElements(const OrbitKeys& k, std::optional<double
   const double h = k.num("altitude", "(m)", kPositive, kBig, 0);
   if (beta) {
     description = "circular, by beta";
-    return orbits::betaElements(h, *beta, epoch);
+    return orbits::betaElements(h, *beta, epoch, k.body);
   }
   if (o["ltan"] || o["sun_synchronous"]) {
     if (o["sun_synchronous"] && !doc.boolean(o["sun_synchronous"], "orbit.sun_synchronous"))
@@ -154,11 +162,11 @@ orbits::KeplerElements circularElements(const OrbitKeys& k, std::optional<double
     std::ostringstream d;
     d << "sun-synchronous, LTAN " << ltan << " h";
     description = d.str();
-    return orbits::circularElements(h, orbits::sunSynchronousInclinationDeg(h), orbits::raanForLocalTimeDeg(ltan, epoch),
-                                    k.deg("true_anomaly"));
+    return orbits::circularElements(h, orbits::sunSynchronousInclinationDeg(h, k.body),
+                                    orbits::raanForLocalTimeDeg(ltan, epoch, k.body), k.deg("true_anomaly"), k.body);
   }
   description = "circular";
-  return orbits::circularElements(h, k.inclinationDeg(), k.deg("raan"), k.deg("true_anomaly"));
+  return orbits::circularElements(h, k.inclinationDeg(), k.deg("raan"), k.deg("true_anomaly"), k.body);
 }
 
 void parseSweepOptions(const YamlDocument& doc, const YAML::Node& o, orbits::SweepOptions& sweep) {
@@ -212,10 +220,11 @@ std::optional<OrbitSettings> parseOrbitSettings(const YamlDocument& doc, const Y
   doc.expectMap(o, "orbit",
                 {"altitude", "beta", "inclination", "raan", "ltan", "sun_synchronous", "semi_major_axis",
                  "eccentricity", "perigee_altitude", "apogee_altitude", "arg_perigee", "true_anomaly", "epoch",
-                 "positions", "orbits", "eclipse_events", "spacing", "allow_low_altitude", "allow_high_altitude"});
-  checkAltitudes(doc, o);
+                 "positions", "orbits", "eclipse_events", "spacing", "allow_low_altitude", "allow_high_altitude", "body"});
   OrbitSettings s;
-  const OrbitKeys keys{doc, o};
+  s.body = &centralBody(doc, o);
+  checkAltitudes(doc, o, *s.body);
+  const OrbitKeys keys{doc, o, *s.body};
   const auto epoch_list = epochs(doc, o);
   std::vector<std::optional<double>> betas;
   for (const YAML::Node& b : listOf(doc, o, "beta")) betas.push_back(doc.number(b, "orbit.beta (deg)", -90, 90));
@@ -240,7 +249,7 @@ std::optional<OrbitSettings> parseOrbitSettings(const YamlDocument& doc, const Y
           el = circularElements(keys, beta, epoch, s.description);
         }
         OrbitCase oc;
-        oc.orbit = std::make_unique<orbits::Orbit>(el, epoch);
+        oc.orbit = std::make_unique<orbits::Orbit>(el, epoch, *s.body);
         std::ostringstream label;
         label << "epoch " << epoch_text;
         if (beta) label << ", beta " << *beta << " deg";
@@ -251,9 +260,10 @@ std::optional<OrbitSettings> parseOrbitSettings(const YamlDocument& doc, const Y
       }
     }
   }
+  if (!s.body->isEarth()) s.description += " about " + s.body->name;
   parseSweepOptions(doc, o, s.sweep);
   s.attitude = parseAttitude(doc, attitude);
-  parseEnvironment(doc, environment, s.sweep, s.environment);
+  parseEnvironment(doc, environment, *s.body, s.sweep, s.environment);
   checkAttitudeOnSweep(doc, attitude, s);
   return s;
 }

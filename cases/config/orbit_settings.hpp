@@ -22,6 +22,7 @@ struct OrbitCase {
 
 struct OrbitSettings {
   std::vector<OrbitCase> cases;
+  const orbits::CentralBody* body = &orbits::CentralBody::earth();  ///< `orbit.body`
   std::string description;  ///< how the orbit was defined, for the summary
   orbits::AttitudeSpec attitude;
   orbits::SweepOptions sweep;
@@ -40,8 +41,9 @@ std::optional<OrbitSettings> parseOrbitSettings(const YamlDocument& doc, const Y
 /// Parses `attitude:` (nadir when absent).
 orbits::AttitudeSpec parseAttitude(const YamlDocument& doc, const YAML::Node& node);
 
-/// Parses `environment:` into the sweep's solar constant and the loads' options.
-void parseEnvironment(const YamlDocument& doc, const YAML::Node& node, orbits::SweepOptions& sweep,
-                      orbits::EnvironmentOptions& environment);
+/// Parses `environment:` into the sweep's solar constant and the loads' options; what it
+/// leaves unsaid (albedo, planet IR) is the central body's.
+void parseEnvironment(const YamlDocument& doc, const YAML::Node& node, const orbits::CentralBody& body,
+                      orbits::SweepOptions& sweep, orbits::EnvironmentOptions& environment);
 
 }  // namespace radnet::cases

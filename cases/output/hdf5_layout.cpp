@@ -132,7 +132,7 @@ void writeOrbit(Hdf5Writer& h5, const SweepResult& sw) {
     flux[p] = q.solar_flux_w_m2;
     event[p] = q.event ? 1.0 : 0.0;
     sun.row(p) = q.sun_body.transpose();
-    earth.row(p) = q.earth_body.transpose();
+    earth.row(p) = q.planet_body.transpose();
   }
   h5.writeVector("/orbit/time", time, "s");
   h5.writeMatrix("/orbit/position_eci", position, "m");
@@ -152,6 +152,8 @@ void writeOrbit(Hdf5Writer& h5, const SweepResult& sw) {
   h5.writeVector("/orbit/beta", beta, "deg");
   h5.writeVector("/orbit/solar_flux", flux, "W/m^2");
   h5.writeVector("/orbit/eclipse_event", event, "1");
+  h5.attribute("/orbit", "body", sw.central_body);
+  h5.attribute("/orbit", "planet_ir", sw.planet_ir_model);
   Eigen::VectorXi case_of(P);
   for (int k = 0; k < sw.caseCount(); ++k)
     case_of

@@ -51,7 +51,9 @@ void appendSweep(SweepResult& all, const SweepResult& part) {
   all.ir_residual = std::max(all.ir_residual, part.ir_residual);
   all.solar_refine_iterations = std::max(all.solar_refine_iterations, part.solar_refine_iterations);
   all.ir_refine_iterations = std::max(all.ir_refine_iterations, part.ir_refine_iterations);
-  for (auto member : {&SweepResult::solar_band_method, &SweepResult::ir_band_method}) {
+  if (offset == 0) all.central_body = part.central_body, all.planet_ir_model = part.planet_ir_model;
+  for (auto member : {&SweepResult::solar_band_method, &SweepResult::ir_band_method, &SweepResult::central_body,
+                      &SweepResult::planet_ir_model}) {
     std::string& joined = all.*member;
     const std::string& method = part.*member;
     if (joined.empty()) joined = method;

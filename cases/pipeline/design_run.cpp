@@ -20,8 +20,9 @@ const solver::ExchangeFactors& exchangeOf(const GeometryRunResult& r, int optics
 }
 
 // An earlier case with the same orbits, attitude and environment up to S, a constant albedo
-// and the OLR (the same load signature), whose irradiances case k scales instead of casting
-// rays again; none when there is none or a factor would scale from zero.
+// and a uniform planet IR (the same load signature), whose irradiances case k scales instead
+// of casting rays again; none when there is none or a factor would scale from zero. A planet
+// IR that follows the Sun (day–night) is not proportional to S: it scales only at equal S.
 struct LoadReuse {
   const SweepResult* from = nullptr;
   double direct = 1.0, albedo = 1.0, earth_ir = 1.0;
@@ -31,13 +32,16 @@ LoadReuse findReuse(const GeometryCase& c, int k, const std::vector<CaseRun>& ru
   const auto factors = [](const OrbitSettings& o) {
     const orbits::EnvironmentOptions& e = o.environment;
     const double s = o.sweep.solar_constant_w_m2;
-    return std::array<double, 3>{s, s * (e.albedo_by_latitude.empty() ? e.albedo : 1.0), e.earth_ir_w_m2};
+    return std::array<double, 3>{s, s * (e.albedo_by_latitude.empty() ? e.albedo : 1.0),
+                                 e.planet_ir.uniform() ? e.planet_ir.uniform_w_m2 : 1.0};
   };
+  const auto day_night = [](const OrbitSettings& o) { return !o.environment.planet_ir.uniform(); };
   for (int j = 0; j < k; ++j) {
     const DesignCase& e = c.design_cases[static_cast<size_t>(j)];
     if (e.load_signature != d.load_signature || !runs[static_cast<size_t>(j)].sweep) continue;
     const std::array<double, 3> from = factors(*e.orbit), to = factors(*d.orbit);
     if (!(from[0] > 0 && from[1] > 0 && from[2] > 0)) continue;
+    if ((day_night(*e.orbit) || day_night(*d.orbit)) && from[0] != to[0]) continue;
     return {&*runs[static_cast<size_t>(j)].sweep, to[0] / from[0], to[1] / from[1], to[2] / from[2]};
   }
   return {};

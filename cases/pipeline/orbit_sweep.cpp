@@ -78,11 +78,13 @@ void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings,
         env.planet_nodes = cluster::ownedMask(area.size());
       }
       parts.push_back(orbits::environmentLoads(in.caster, area, positions, orbits::earthFixedInBody(o.attitude),
-                                               orbit.earth().equatorial_radius_m, env));
+                                               orbit.body().equatorial_radius_m, env));
       joinLoads(parts.back());
     }
     sw.case_start.push_back(static_cast<int>(sw.positions.size()));
     sw.case_labels.push_back(o.cases[k].label);
+    sw.central_body = orbit.body().name;
+    sw.planet_ir_model = o.environment.planet_ir.describe();
     sw.case_period_s.push_back(orbit.nodalPeriod());
     sw.case_sweep_s.push_back(orbit.nodalPeriod() * o.sweep.orbits);
     sw.positions.insert(sw.positions.end(), positions.begin(), positions.end());
@@ -93,7 +95,7 @@ void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings,
   if (in.reuse) {
     progress << "radnet: loads: the irradiances of an earlier case with the same orbit and attitude, times "
              << in.direct_ratio << " (direct), " << in.albedo_ratio << " (albedo), " << in.earth_ir_ratio
-             << " (Earth IR): no rays cast\n";
+             << " (planet IR): no rays cast\n";
     return;
   }
   progress << "radnet: loads: " << sw.irradiance.planet_rays << " planet rays (cast " << sw.irradiance.planet_casts

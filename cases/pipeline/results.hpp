@@ -51,6 +51,8 @@ struct SweepResult {
   std::vector<double> case_period_s;    ///< each case's nodal orbit period, s (Orbit::nodalPeriod)
   std::vector<double> case_sweep_s;     ///< time each case's sweep spans (nodal period × orbits), s
   orbits::EnvironmentLoads irradiance;  ///< external irradiances, W/m² (n×P)
+  std::string central_body = "earth";  ///< what the orbits go round (orbit.body)
+  std::string planet_ir_model;         ///< PlanetIr::describe() of the loads' planet IR
   Eigen::MatrixXd absorbed_solar, absorbed_albedo, absorbed_earth_ir;  ///< after interreflection, W (n×P)
   Eigen::MatrixXd absorbed_total;                                      ///< solar + albedo + Earth IR, W (n×P)
   Eigen::MatrixXd exitance_solar;                  ///< solar-band exitance (direct + albedo), W/m² (n×P)
