@@ -168,6 +168,12 @@ void parseOpticalSets(const YamlDocument& doc, GeometryCase& c) {
                                       (c.materials.count(m) ? "; it has no optical properties" : ""));
       doc.expectMap(mv.second, mwhat, {"emissivity", "absorptivity"});
       if (mv.second.size() == 0) throw doc.error(mv.second, mwhat + ": give emissivity and/or absorptivity");
+      const Material& mat = c.materials.at(m);
+      for (const auto& [key, curve] : {std::pair{"emissivity", &mat.emissivity_curve}, std::pair{"absorptivity", &mat.absorptivity_curve}})
+        if (mv.second[key] && !curve->warming.temperature_k.empty())
+          throw doc.error(mv.second[key], mwhat + "." + key + ": '" + m + "' gives its " + key +
+                                              " as a table against temperature, which every optical set follows; "
+                                              "define a second material for the other coating");
       if (std::find(c.node_material.begin(), c.node_material.end(), m) == c.node_material.end())
         c.warnings.push_back(mwhat + ": no surface is made of '" + m + "', so the override changes nothing");
       for (size_t i = 0; i < c.node_material.size(); ++i) {

@@ -11,6 +11,7 @@
 #include "geometry/scene/scene.hpp"
 #include "geometry/scene/seams.hpp"
 #include "solver/radiative/settings.hpp"
+#include "solver/thermal/optics.hpp"
 
 #include <map>
 #include <string>
@@ -21,10 +22,20 @@ namespace radnet::cases {
 
 /// A material: optical properties for surfaces that name it, bulk properties for shells.
 /// Either set may be absent (a bulk-only material cannot be a surface's side).
+/// The temperature at which a tabulated ε or α gives the material's nominal value (what the
+/// view factors' report, the loads and the first GR use before the temperatures are known), K.
+inline constexpr double kNominalOpticsTemperature = 293.15;
+
 struct Material {
   bool has_optics = false;
-  double emissivity = 1.0;    ///< IR, –
-  double absorptivity = 1.0;  ///< solar, –
+  double emissivity = 1.0;    ///< IR, – (with a curve: its value at kNominalOpticsTemperature)
+  double absorptivity = 1.0;  ///< solar, – (likewise)
+  /// ε(T) and α(T) when given as tables (docs/case-files.md, "Optics against temperature");
+  /// an empty warming table: the constant above.
+  solver::OpticalCurve emissivity_curve, absorptivity_curve;
+  bool hasCurves() const {
+    return !emissivity_curve.warming.temperature_k.empty() || !absorptivity_curve.warming.temperature_k.empty();
+  }
   bool has_bulk = false;
   double conductivity = 0.0;   ///< W/(m K)
   double density = 0.0;        ///< kg/m³

@@ -1,8 +1,43 @@
 #include "cases/config/geometry_case.hpp"
+#include "cases/config/thermal_settings.hpp"
 
 #include <filesystem>
+#include <limits>
 
 namespace radnet::cases {
+namespace {
+
+// One branch `[[T_K, value], ...]`: temperatures increasing in (0, 5000] K, values in (0, 1]
+// (a surface whose ε or α vanishes has no radiative node to follow).
+solver::TemperatureTable opticalBranch(const YamlDocument& doc, const YAML::Node& node, const std::string& what) {
+  solver::TemperatureTable t;
+  parseTable(doc, node, what + " (K, –)", std::numeric_limits<double>::min(), 5000.0, 0.0, 1.0, t.temperature_k, t.value);
+  for (size_t k = 0; k < t.value.size(); ++k)
+    if (!(t.value[k] > 0))
+      throw doc.error(node[k][1], what + "[" + std::to_string(k) + "][1]: 0 is no value to follow; a surface that "
+                                         "neither emits nor absorbs needs no table");
+  return t;
+}
+
+// `emissivity: 0.8`, `{table: [[T, ε], ...]}` or `{warming: [...], cooling: [...]}` (hysteresis:
+// the warming branch followed while the surface warms, the cooling one while it cools).
+double opticalProperty(const YamlDocument& doc, const YAML::Node& v, const std::string& what, solver::OpticalCurve& curve) {
+  if (!v.IsMap()) return doc.number(v, what, 0.0, 1.0);
+  doc.expectMap(v, what, {"table", "warming", "cooling"});
+  if (v["table"] && (v["warming"] || v["cooling"]))
+    throw doc.error(v, what + ": give a 'table', or two branches 'warming' and 'cooling' (hysteresis), not both");
+  if (v["table"]) {
+    curve.warming = opticalBranch(doc, v["table"], what + ".table");
+  } else {
+    if (!v["warming"] || !v["cooling"])
+      throw doc.error(v, what + ": hysteresis needs both branches, 'warming' and 'cooling' (or one 'table')");
+    curve.warming = opticalBranch(doc, v["warming"], what + ".warming");
+    curve.cooling = opticalBranch(doc, v["cooling"], what + ".cooling");
+  }
+  return curve.start(kNominalOpticsTemperature);
+}
+
+}  // namespace
 
 YamlDocument includeDocument(const YamlDocument& doc, const YAML::Node& node, const std::string& what, int depth,
                              IncludedFiles& included) {
@@ -35,8 +70,9 @@ void parseMaterials(const YamlDocument& doc, const YAML::Node& mats, std::map<st
     Material m;
     m.has_optics = v["emissivity"] || v["absorptivity"];
     if (m.has_optics) {
-      m.emissivity = doc.number(doc.required(v, "emissivity", what), what + ".emissivity", 0.0, 1.0);
-      m.absorptivity = doc.number(doc.required(v, "absorptivity", what), what + ".absorptivity", 0.0, 1.0);
+      m.emissivity = opticalProperty(doc, doc.required(v, "emissivity", what), what + ".emissivity", m.emissivity_curve);
+      m.absorptivity =
+          opticalProperty(doc, doc.required(v, "absorptivity", what), what + ".absorptivity", m.absorptivity_curve);
     }
     m.has_bulk = v["conductivity"] || v["density"] || v["specific_heat"];
     if (m.has_bulk) {  // W/(m K), kg/m³, J/(kg K): from aerogels to copper and beyond, with room

@@ -312,9 +312,22 @@ void writeTemperatures(Hdf5Writer& h5, const ThermalSolution& thermal, const The
   const Eigen::MatrixXd none = Eigen::MatrixXd::Zero(f.stored.rows(), f.stored.cols());
   // Positions × nodes (P, n), positive into the node.
   const Eigen::Index n = none.rows();
-  h5.writeMatrix("/solution/heat/solar", (sweep ? padNodes(sweep->absorbed_solar, n) : none).transpose(), "W");
-  h5.writeMatrix("/solution/heat/albedo", (sweep ? padNodes(sweep->absorbed_albedo, n) : none).transpose(), "W");
-  h5.writeMatrix("/solution/heat/earth_ir", (sweep ? padNodes(sweep->absorbed_earth_ir, n) : none).transpose(), "W");
+  // With ε(T), α(T): each node's loads at its own optics (the sweep's are at the nominal ones).
+  const auto scaled = [&](const Eigen::MatrixXd& m, const Eigen::MatrixXd& scale) -> Eigen::MatrixXd {
+    if (!sweep) return none;
+    return scale.size() ? Eigen::MatrixXd(padNodes(m, n).cwiseProduct(scale)) : padNodes(m, n);
+  };
+  h5.writeMatrix("/solution/heat/solar", scaled(sweep ? sweep->absorbed_solar : none, thermal.solar_load_scale).transpose(), "W");
+  h5.writeMatrix("/solution/heat/albedo", scaled(sweep ? sweep->absorbed_albedo : none, thermal.solar_load_scale).transpose(), "W");
+  h5.writeMatrix("/solution/heat/earth_ir", scaled(sweep ? sweep->absorbed_earth_ir : none, thermal.ir_load_scale).transpose(), "W");
+  if (thermal.solve.emissivity.size() > 0) {
+    h5.writeMatrix("/solution/emissivity", thermal.solve.emissivity.transpose(), "1");
+    h5.writeMatrix("/solution/absorptivity", thermal.solve.absorptivity.transpose(), "1");
+    h5.attribute("/solution/emissivity", "meaning",
+                 std::string("each node's IR emissivity at each output time (materials with a table against "
+                             "temperature follow it; the others are constant)"));
+    h5.attribute("/report", "exchange_updates", static_cast<long long>(thermal.solve.exchange_updates));
+  }
   h5.writeMatrix("/solution/heat/emitted", f.emitted.transpose(), "W");
   h5.writeMatrix("/solution/heat/radiative", f.radiative.transpose(), "W");
   h5.writeMatrix("/solution/heat/conducted", f.conducted.transpose(), "W");

@@ -6,6 +6,7 @@
 #include "cases/pipeline/packing.hpp"
 #include "cases/pipeline/radiative_network.hpp"
 #include "cases/pipeline/thermal_run.hpp"
+#include "solver/radiative/policy.hpp"
 
 #include <algorithm>
 #include <array>
@@ -72,6 +73,35 @@ void sweepCase(const DesignContext& ctx, int k, GeometryRunResult& r, std::vecto
                        t, show_progress, progress);
 }
 
+// The nodes whose ε or α follow temperature (materials with tables), GR re-formed for each ε
+// on the radiative network's one eigendecomposition by the method of the case's own GR
+// (policy::exchangeFactors); null when no material has a table.
+std::shared_ptr<const solver::TemperatureOptics> temperatureOptics(const DesignContext& ctx, const OpticalSet& set,
+                                                                   const ThermalSettings& ts) {
+  const GeometryCase& c = ctx.c;
+  const Eigen::Index n = ts.nodeCount(), nr = set.emissivity.size();
+  auto optics = std::make_shared<solver::TemperatureOptics>();
+  optics->nominal_emissivity = optics->nominal_absorptivity = Eigen::VectorXd::Ones(n);
+  optics->nominal_emissivity.head(nr) = set.emissivity;
+  optics->nominal_absorptivity.head(nr) = set.absorptivity;
+  for (Eigen::Index i = 0; i < nr; ++i) {
+    const Material& m = c.materials.at(c.node_material[static_cast<size_t>(i)]);
+    if (!m.hasCurves()) continue;
+    optics->nodes.push_back(static_cast<int>(i));
+    optics->emissivity.push_back(m.emissivity_curve);
+    optics->absorptivity.push_back(m.absorptivity_curve);
+  }
+  if (optics->nodes.empty()) return nullptr;
+  optics->exchange = [&radiative = ctx.radiative, &settings = ctx.solver, &ts, nr](const Eigen::VectorXd& emissivity) {
+    const solver::ExchangeFactors ex =
+        solver::policy::exchangeFactors(*radiative.network, radiative.pairs, emissivity.head(nr), settings);
+    if (ex.status != solver::Status::Converged)
+      throw NumericalError(std::string("exchange factors for ε(T) ") + solver::toString(ex.status) + ": " + ex.message);
+    return thermalExchange(ts, ex);
+  };
+  return optics;
+}
+
 // Design case k's temperatures, on the rank that owns the case.
 ThermalOutcome solveCase(const DesignContext& ctx, int k, const GeometryRunResult& r, std::vector<CaseRun>& runs) {
   CaseRun& run = runs[static_cast<size_t>(k)];
@@ -84,7 +114,8 @@ ThermalOutcome solveCase(const DesignContext& ctx, int k, const GeometryRunResul
   ThermalOutcome out;
   std::ostringstream log;
   try {
-    out.thermal = runThermal(*run.settings, exchange, run.sweep ? &*run.sweep : nullptr, out.timings, log, &errors);
+    out.thermal = runThermal(*run.settings, exchange, run.sweep ? &*run.sweep : nullptr, out.timings, log, &errors,
+                             temperatureOptics(ctx, set, *run.settings));
   } catch (const NumericalError& e) {  // which design case failed, by name
     if (ctx.c.design_cases.size() < 2) throw;
     throw NumericalError("design case '" + d.name + "': " + e.what());

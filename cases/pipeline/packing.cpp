@@ -99,11 +99,13 @@ void fields(IO& io, Thermal& t) {
   io.value(t.node_names);
   io.value(t.radiative_nodes);
   auto& s = t.solve;
-  for (auto* m : {&s.temperature, &s.temperature_rate, &s.rate_roundoff, &s.dissipation, &s.heater_power})
+  for (auto* m : {&s.temperature, &s.temperature_rate, &s.rate_roundoff, &s.dissipation, &s.heater_power,
+                  &s.emissivity, &s.absorptivity, &s.applied_loads})
     io.value(*m);
   io.value(s.heater_duty);
   io.value(s.message);
-  for (auto* v : {&s.newton_iterations, &s.factorisations, &s.orbits, &s.heater_switches, &s.orbits_per_period})
+  for (auto* v : {&s.newton_iterations, &s.factorisations, &s.orbits, &s.heater_switches, &s.orbits_per_period,
+                  &s.exchange_updates})
     io.value(*v);
   io.value(s.heater_cycle_unlocked);  // what a periodic transient concluded travels with it
   io.value(s.max_residual_w);
@@ -113,6 +115,8 @@ void fields(IO& io, Thermal& t) {
   io.value(t.heater_names);
   io.value(t.heater_rated_w);
   io.value(t.case_heater_duty);
+  io.value(t.solar_load_scale);
+  io.value(t.ir_load_scale);
   auto& f = t.heat.flows;
   for (auto* m : {&f.emitted, &f.radiative, &f.conducted, &f.dissipation, &f.heater, &f.stored, &f.boundary,
                   &f.roundoff})

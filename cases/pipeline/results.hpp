@@ -88,6 +88,9 @@ struct ThermalSolution {
   std::vector<double> heater_rated_w;  ///< each heater's power when on, W (mean power = duty × it)
   Eigen::MatrixXd case_heater_duty;  ///< (c × h) duty of each heater in each orbit case (1 row without an orbit), –
   HeatBalance heat;
+  /// With optics that follow temperature: each node's absorbed solar/albedo and planet IR
+  /// relative to the sweep's nominal ones, α(T)/α⁰ and ε(T)/ε⁰ (n×P); empty otherwise.
+  Eigen::MatrixXd solar_load_scale, ir_load_scale;
   Eigen::MatrixXd temperature_stderr;       ///< (n×P) K, with a sweep; empty without
   std::string temperature_stderr_method;    ///< how it was propagated
   const Eigen::MatrixXd& temperature() const { return solve.temperature; }

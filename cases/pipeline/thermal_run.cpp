@@ -16,7 +16,7 @@ namespace {
 
 // The forcing of orbit case k: its positions' loads and sunlit fractions, repeating over the
 // case's sweep, dissipation tables over its orbit period.
-solver::ThermalForcing caseForcing(const SweepResult& sw, const Eigen::MatrixXd& q_env, int k) {
+solver::ThermalForcing caseForcing(const SweepResult& sw, const Eigen::MatrixXd& q_env, int k, bool optics) {
   const int begin = sw.case_start[static_cast<size_t>(k)], end = sw.case_start[static_cast<size_t>(k) + 1];
   solver::ThermalForcing f;
   for (int p = begin; p < end; ++p) {
@@ -24,6 +24,12 @@ solver::ThermalForcing caseForcing(const SweepResult& sw, const Eigen::MatrixXd&
     f.sunlit_fraction.push_back(sw.positions[static_cast<size_t>(p)].sunlit_fraction);
   }
   f.q_env = q_env.middleCols(begin, end - begin);
+  if (optics) {  // the bands' parts, which follow α(T) and ε(T)
+    f.q_solar = f.q_ir = Eigen::MatrixXd::Zero(q_env.rows(), end - begin);
+    const Eigen::Index nr = sw.absorbed_solar.rows();
+    f.q_solar.topRows(nr) = (sw.absorbed_solar + sw.absorbed_albedo).middleCols(begin, end - begin);
+    f.q_ir.topRows(nr) = sw.absorbed_earth_ir.middleCols(begin, end - begin);
+  }
   f.load_period_s = sw.case_sweep_s[static_cast<size_t>(k)];
   f.schedule_period_s = sw.case_period_s[static_cast<size_t>(k)];
   return f;
@@ -57,7 +63,7 @@ solver::ThermalResult solvePerCase(const ThermalSettings& ts, const solver::Ther
   result.heater_power.resize(H, P);
   case_duty.resize(sw.caseCount(), H);
   for (int k = 0; k < sw.caseCount(); ++k) {
-    const solver::ThermalForcing f = caseForcing(sw, q_env, k);
+    const solver::ThermalForcing f = caseForcing(sw, q_env, k, net.optics != nullptr);
     const solver::ThermalResult part =
         ts.periodic ? solver::periodicTransient(net, f, ts.initial_temperature, *ts.periodic, ts.options)
         : ts.transient_orbits ? solver::transient(net, f, *ts.transient_orbits, ts.initial_temperature, ts.options)
@@ -87,6 +93,13 @@ solver::ThermalResult solvePerCase(const ThermalSettings& ts, const solver::Ther
     result.rate_roundoff.middleCols(begin, count) = part.rate_roundoff;
     result.dissipation.middleCols(begin, count) = part.dissipation;
     result.heater_power.middleCols(begin, count) = part.heater_power;
+    if (net.optics) {
+      if (k == 0) result.emissivity = result.absorptivity = result.applied_loads = Eigen::MatrixXd::Zero(n, P);
+      result.emissivity.middleCols(begin, count) = part.emissivity;
+      result.absorptivity.middleCols(begin, count) = part.absorptivity;
+      result.applied_loads.middleCols(begin, count) = part.applied_loads;
+      result.exchange_updates += part.exchange_updates;
+    }
     case_duty.row(k) = part.heater_duty.transpose();
   }
   // The duty that sizes a heater: the largest of any case.
@@ -180,15 +193,23 @@ void temperatureUncertainty(const solver::ThermalNetwork& net, const SweepResult
 
 }  // namespace
 
-solver::ThermalNetwork thermalNetwork(const ThermalSettings& ts, const solver::ExchangeFactors& exchange) {
+solver::ExchangeUpdate thermalExchange(const ThermalSettings& ts, const solver::ExchangeFactors& exchange) {
   const Eigen::Index n = ts.nodeCount(), nr = exchange.gr.rows();
+  solver::ExchangeUpdate u;
+  u.gr = Eigen::MatrixXd::Zero(n, n);
+  u.gr.topLeftCorner(nr, nr) = exchange.gr;
+  for (const auto& c : ts.radiative_couplings) u.gr(c.row(), c.col()) += c.value();
+  u.gr_space = Eigen::VectorXd::Zero(n);
+  u.gr_space.head(nr) = exchange.gr_space;
+  return u;
+}
+
+solver::ThermalNetwork thermalNetwork(const ThermalSettings& ts, const solver::ExchangeFactors& exchange) {
   solver::ThermalNetwork net;
-  net.gr = Eigen::MatrixXd::Zero(n, n);
-  net.gr.topLeftCorner(nr, nr) = exchange.gr;
-  for (const auto& c : ts.radiative_couplings) net.gr(c.row(), c.col()) += c.value();
-  net.gr_space = Eigen::VectorXd::Zero(n);
-  net.gr_space.head(nr) = exchange.gr_space;
-  net.conductors.resize(n, n);
+  solver::ExchangeUpdate u = thermalExchange(ts, exchange);
+  net.gr = std::move(u.gr);
+  net.gr_space = std::move(u.gr_space);
+  net.conductors.resize(ts.nodeCount(), ts.nodeCount());
   net.conductors.setFromTriplets(ts.conductors.begin(), ts.conductors.end());
   net.tabled_conductors = ts.tabled_conductors;
   net.capacitance = ts.capacitance;
@@ -254,9 +275,11 @@ void warnImplausibleTemperatures(const ThermalSolution& out, std::ostream& progr
 }  // namespace
 
 ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFactors& exchange, const SweepResult* sweep,
-                           StageTimings& timings, std::ostream& progress, const ThermalErrorInputs* errors) {
+                           StageTimings& timings, std::ostream& progress, const ThermalErrorInputs* errors,
+                           std::shared_ptr<const solver::TemperatureOptics> optics) {
   for (const std::string& w : ts.warnings) progress << "radnet: warning: " << w << "\n";
-  const solver::ThermalNetwork net = thermalNetwork(ts, exchange);
+  solver::ThermalNetwork net = thermalNetwork(ts, exchange);
+  net.optics = std::move(optics);
   checkDetermined(ts, net);
   StageTimer timer(timings, Stage::Thermal);
   ThermalSolution out;
@@ -285,6 +308,11 @@ ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFact
     throw NumericalError(std::string("temperatures ") + solver::toString(result.status) + ": " + result.message + where);
   }
   if (result.notOneOrbitPeriodic()) progress << "radnet: warning: temperatures: " << result.message << "\n";
+  if (result.applied_loads.size() > 0) {  // the loads at each node's own α(T), ε(T)
+    q_env = result.applied_loads;
+    out.solar_load_scale = net.optics->nominal_absorptivity.cwiseInverse().asDiagonal() * result.absorptivity;
+    out.ir_load_scale = net.optics->nominal_emissivity.cwiseInverse().asDiagonal() * result.emissivity;
+  }
   out.heat = heatBalance(net, result, q_env);
   warnImplausibleTemperatures(out, progress);
   if (sweep && errors) {
@@ -302,6 +330,7 @@ ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFact
   else if (ts.periodic)
     progress << ", " << result.orbits << " orbits to a change below " << ts.periodic->tolerance_k << " K";
   if (!ts.heaters.empty()) progress << ", " << result.heater_switches << " heater switchings";
+  if (net.optics) progress << ", " << result.exchange_updates << " GRs for ε(T) on the one eigendecomposition";
   progress << "), " << result.newton_iterations << " Newton iterations (" << result.factorisations
            << " Jacobian factorisations), largest heat-balance residual "
            << result.max_residual_w << " W; heat flows balance to " << out.heat.max_relative_imbalance

@@ -4,9 +4,16 @@
 #include "cases/config/thermal_settings.hpp"
 #include "cases/pipeline/results.hpp"
 
+#include "solver/thermal/optics.hpp"
+
 #include <iosfwd>
+#include <memory>
 
 namespace radnet::cases {
+
+/// GR (n×n) and GR to space of the whole thermal network for a run's exchange factors: the
+/// radiative nodes' GR padded with the lumped nodes, plus the user couplings, m².
+solver::ExchangeUpdate thermalExchange(const ThermalSettings& settings, const solver::ExchangeFactors& exchange);
 
 /// The solver's thermal network from the settings and a run's exchange factors (m²): the
 /// radiative nodes' GR, padded with the lumped nodes, plus the user couplings and MLI.
@@ -24,11 +31,13 @@ struct ThermalErrorInputs {
 };
 
 /// Temperatures (n×P; P = 1 without a sweep), K, with the sweep's absorbed loads, and the
-/// heat flows of every node; with a sweep and `errors`, their standard uncertainty too.
+/// heat flows of every node; with a sweep and `errors`, their standard uncertainty too. With
+/// `optics`, the nodes' ε(T) and α(T) are followed (GR re-formed on the one eigendecomposition).
 /// @throws NumericalError when the heat balance does not converge
 ThermalSolution runThermal(const ThermalSettings& settings, const solver::ExchangeFactors& exchange,
                            const SweepResult* sweep, StageTimings& timings, std::ostream& progress,
-                           const ThermalErrorInputs* errors = nullptr);
+                           const ThermalErrorInputs* errors = nullptr,
+                           std::shared_ptr<const solver::TemperatureOptics> optics = nullptr);
 
 /// The heat flows of a solution and their imbalance; q_env (n×P, W) the absorbed loads.
 HeatBalance heatBalance(const solver::ThermalNetwork& net, const solver::ThermalResult& solution,

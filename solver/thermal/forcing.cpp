@@ -1,5 +1,8 @@
 // The forcing of a transient between its samples: linear interpolation, periodic or held.
 #include "solver/thermal/temperatures.hpp"
+#include "solver/thermal/newton.hpp"
+
+#include <stdexcept>
 
 #include <algorithm>
 #include <cmath>
@@ -32,9 +35,10 @@ Bracket bracket(const std::vector<double>& times, double period, double t) {
 
 }  // namespace
 
-Eigen::VectorXd ThermalForcing::loadAt(double t) const {
+Eigen::VectorXd ThermalForcing::sampleAt(const Eigen::MatrixXd& samples, double t) const {
+  if (samples.size() == 0) return Eigen::VectorXd();
   const Bracket b = bracket(times_s, load_period_s, t);
-  return (1 - b.w) * q_env.col(b.lo) + b.w * q_env.col(b.hi);
+  return (1 - b.w) * samples.col(b.lo) + b.w * samples.col(b.hi);
 }
 
 double ThermalForcing::sunlitAt(double t) const {
@@ -42,5 +46,30 @@ double ThermalForcing::sunlitAt(double t) const {
   const Bracket b = bracket(times_s, load_period_s, t);
   return (1 - b.w) * sunlit_fraction[static_cast<size_t>(b.lo)] + b.w * sunlit_fraction[static_cast<size_t>(b.hi)];
 }
+
+namespace detail {
+
+void checkTransientInputs(const ThermalNetwork& net, const ThermalForcing& f, const Eigen::VectorXd& initial,
+                 const ThermalOptions& opt) {
+  net.validate();
+  const size_t P = f.times_s.size();
+  if (P == 0 || static_cast<Eigen::Index>(P) != f.q_env.cols() || f.q_env.rows() != net.size() ||
+      !(f.sunlit_fraction.empty() || f.sunlit_fraction.size() == P))
+    throw std::invalid_argument("transient: one load column and sunlit fraction per time");
+  if (!(f.load_period_s >= 0 && opt.max_step_s > 0)) throw std::invalid_argument("transient: step must be > 0");
+  if (f.load_period_s > 0 && !(f.times_s.back() <= f.load_period_s))
+    throw std::invalid_argument("transient: sample times must lie within one load period");
+  if (initial.size() != net.size() || !(initial.array() > 0).all() || !initial.allFinite())
+    throw std::invalid_argument("transient: initial temperatures must be finite and > 0 K");
+}
+
+void checkFinite(ThermalResult& res) {
+  if (res.status == Status::Converged && !res.temperature.allFinite()) {
+    res.status = Status::NonFinite;
+    res.message = "transient temperatures are not finite";
+  }
+}
+
+}  // namespace detail
 
 }  // namespace radnet::solver

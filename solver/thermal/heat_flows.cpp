@@ -1,4 +1,5 @@
 // The heat balance of a solution split by kind, per node and position.
+#include "solver/thermal/optics.hpp"
 #include "solver/thermal/temperatures.hpp"
 #include "solver/units.hpp"
 
@@ -22,11 +23,22 @@ HeatFlows heatFlows(const ThermalNetwork& net, const ThermalResult& solution, co
       solution.dissipation.cols() != P || solution.heater_power.rows() != H || solution.heater_power.cols() != P)
     throw std::invalid_argument("heat flows: temperatures, rates, dissipations and loads need (n × P) entries");
   const Eigen::MatrixXd t4 = t.array().square().square().matrix();
-  const Eigen::VectorXd gr_row = net.gr.rowwise().sum();
   HeatFlows f;
-  f.emitted =
-      -kStefanBoltzmann * (net.gr_space.asDiagonal() * (t4.array() - std::pow(net.space_temperature, 4)).matrix());
-  f.radiative = kStefanBoltzmann * (net.gr * t4 - gr_row.asDiagonal() * t4);
+  f.emitted.resize(n, P);
+  f.radiative.resize(n, P);
+  // With optics that follow temperature, each position's exchange is its own ε's GR.
+  const bool per_position = net.optics && solution.emissivity.cols() == P;
+  ExchangeUpdate gr{net.gr, net.gr_space};
+  Eigen::VectorXd gr_emissivity, gr_row = net.gr.rowwise().sum();
+  for (Eigen::Index p = 0; p < P; ++p) {
+    if (per_position && (gr_emissivity.size() == 0 || gr_emissivity != solution.emissivity.col(p))) {
+      gr_emissivity = solution.emissivity.col(p);
+      gr = net.optics->exchange(gr_emissivity);
+      gr_row = gr.gr.rowwise().sum();
+    }
+    f.emitted.col(p) = -kStefanBoltzmann * gr.gr_space.cwiseProduct((t4.col(p).array() - std::pow(net.space_temperature, 4)).matrix());
+    f.radiative.col(p) = kStefanBoltzmann * (gr.gr * t4.col(p) - gr_row.cwiseProduct(t4.col(p)));
+  }
   f.conducted.resize(n, P);
   f.stored.resize(n, P);
   f.roundoff.resize(n, P);

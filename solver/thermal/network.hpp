@@ -9,6 +9,7 @@
 #include <Eigen/SparseCore>
 
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -73,6 +74,8 @@ struct TabledConductor {
   TemperatureTable conductance;
 };
 
+struct TemperatureOptics;  // solver/thermal/optics.hpp
+
 struct ThermalNetwork {
   Eigen::MatrixXd gr;                      ///< radiative exchange factors GR (n×n), m²
   Eigen::VectorXd gr_space;                ///< GR to space, m²
@@ -86,6 +89,9 @@ struct ThermalNetwork {
   Eigen::VectorXd fixed_temperature;  ///< K, NaN where the node is free (boundary nodes otherwise)
   std::vector<BoundarySchedule> boundary_schedules;  ///< in a transient, these boundary nodes follow a history
   double space_temperature = 3.0;     ///< K
+  /// Nodes whose ε or α follow their temperature (null: none); gr and gr_space are then the
+  /// nominal ε's, and the solvers form new ones as the optics move.
+  std::shared_ptr<const TemperatureOptics> optics;
 
   Eigen::Index size() const { return gr.rows(); }
   bool isFixed(Eigen::Index i) const;

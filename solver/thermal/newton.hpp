@@ -48,4 +48,11 @@ struct NewtonOutcome {
 NewtonOutcome solveImplicit(const ImplicitSystem& system, Eigen::VectorXd& t, Eigen::VectorXd& u,
                             const ThermalOptions& opt);
 
+/// A transient's inputs: sizes, periods, steps, initial temperatures.
+/// @throws std::invalid_argument saying which is wrong
+void checkTransientInputs(const ThermalNetwork& net, const ThermalForcing& forcing, const Eigen::VectorXd& initial,
+                          const ThermalOptions& opt);
+/// A converged result with a non-finite temperature becomes Status::NonFinite.
+void checkFinite(ThermalResult& result);
+
 }  // namespace radnet::solver::detail

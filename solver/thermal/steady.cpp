@@ -1,6 +1,7 @@
 // Steady states per position, with thermostat heaters held at their set point where needed.
 #include "solver/thermal/temperatures.hpp"
 #include "solver/thermal/newton.hpp"
+#include "solver/thermal/optics.hpp"
 #include "solver/units.hpp"
 
 #include <algorithm>
@@ -111,9 +112,54 @@ detail::NewtonOutcome solvePosition(const ThermalNetwork& net, const Eigen::Vect
   return total;
 }
 
+// One position whose optics follow temperature: successive substitution on ε and α with a
+// new GR each round (on the one eigendecomposition), damped node by node: a node's step is
+// halved whenever its mismatch ε(T(ε)) − ε changes sign. For a coating whose ε rises with T
+// the mismatch falls as ε rises (more emission, colder, lower ε), so the halving brackets its
+// one root like a bisection where plain substitution would jump between the branches of a
+// steep table. `settled` is the optics at the previous position (the hysteresis memory).
+detail::NewtonOutcome solveWithOptics(ThermalNetwork& local, const Eigen::VectorXd& q, const Eigen::VectorXd& q_solar,
+                                      const Eigen::VectorXd& q_ir, const OpticsState& settled, OpticsState& state,
+                                      std::vector<HeaterMode>& mode, Eigen::VectorXd& t, Eigen::VectorXd& power,
+                                      const ThermalOptions& opt, detail::JacobianCache& cache) {
+  const TemperatureOptics& optics = *local.optics;
+  const Eigen::Index n = t.size();
+  Eigen::VectorXd step_e = Eigen::VectorXd::Ones(n), step_a = Eigen::VectorXd::Ones(n);
+  Eigen::VectorXd last_e = Eigen::VectorXd::Zero(n), last_a = Eigen::VectorXd::Zero(n);
+  detail::NewtonOutcome total;
+  constexpr int kMaxRounds = 400;
+  for (int round = 0; round < kMaxRounds; ++round) {
+    if (state.refreshExchange(local, 0.0)) cache = {};  // a new GR: the kept Jacobian is stale
+    const detail::NewtonOutcome out =
+        solvePosition(local, q + state.loadCorrection(optics, q_solar, q_ir), mode, t, power, opt, cache);
+    total.iterations += out.iterations;
+    total.factorisations += out.factorisations;
+    total.residual_w = out.residual_w;
+    if (out.status != Status::Converged) return out;
+    Eigen::VectorXd target_e, target_a;
+    opticsAt(optics, settled, t, target_e, target_a);
+    const Eigen::VectorXd miss_e = target_e - state.emissivity, miss_a = target_a - state.absorptivity;
+    if (std::max(miss_e.cwiseAbs().maxCoeff(), miss_a.cwiseAbs().maxCoeff()) <= optics.steady_tolerance) return total;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (miss_e[i] * last_e[i] < 0) step_e[i] *= 0.5;
+      if (miss_a[i] * last_a[i] < 0) step_a[i] *= 0.5;
+    }
+    state.emissivity += step_e.cwiseProduct(miss_e);
+    state.absorptivity += step_a.cwiseProduct(miss_a);
+    last_e = miss_e;
+    last_a = miss_a;
+  }
+  total.status = Status::NotConverged;
+  total.message = "the temperature-dependent optics did not settle in " + std::to_string(kMaxRounds) + " rounds";
+  return total;
+}
+
 }  // namespace
 
-ThermalResult steadyStates(const ThermalNetwork& net, const ThermalForcing& forcing, const ThermalOptions& opt) {
+ThermalResult steadyStates(const ThermalNetwork& net_in, const ThermalForcing& forcing, const ThermalOptions& opt) {
+  // Optics that follow temperature change GR: a copy of the network holds the current one.
+  ThermalNetwork with_optics = net_in.optics ? net_in : ThermalNetwork{};
+  const ThermalNetwork& net = net_in.optics ? with_optics : net_in;
   net.validate();
   const Eigen::Index n = net.size(), P = forcing.q_env.cols();
   const Eigen::Index H = static_cast<Eigen::Index>(net.heaters.size());
@@ -129,13 +175,21 @@ ThermalResult steadyStates(const ThermalNetwork& net, const ThermalForcing& forc
   Eigen::VectorXd power = Eigen::VectorXd::Zero(H);
   Eigen::VectorXd t;
   detail::JacobianCache cache;  // one factorisation serves many positions
+  OpticsState settled, state;
+  if (net.optics) res.emissivity = res.absorptivity = res.applied_loads = Eigen::MatrixXd::Zero(n, P);
   for (Eigen::Index p = 0; p < P; ++p) {
     const size_t ps = static_cast<size_t>(p);
     const double sunlit = forcing.sunlit_fraction.empty() ? 1.0 : forcing.sunlit_fraction[ps];
     res.dissipation.col(p) = dissipationAt(net, forcing.times_s[ps], sunlit, forcing.schedule_period_s);
     const Eigen::VectorXd q = forcing.q_env.col(p) + res.dissipation.col(p);
     if (p == 0) t = startingGuess(net, q);
-    const detail::NewtonOutcome s = solvePosition(net, q, mode, t, power, opt, cache);
+    if (p == 0 && net.optics) settled.start(with_optics, t);  // the warming branch at the first guess
+    state = settled;
+    const Eigen::VectorXd q_solar = forcing.q_solar.size() ? forcing.q_solar.col(p) : Eigen::VectorXd();
+    const Eigen::VectorXd q_ir = forcing.q_ir.size() ? forcing.q_ir.col(p) : Eigen::VectorXd();
+    const detail::NewtonOutcome s =
+        net.optics ? solveWithOptics(with_optics, q, q_solar, q_ir, settled, state, mode, t, power, opt, cache)
+                   : solvePosition(net, q, mode, t, power, opt, cache);
     res.newton_iterations += s.iterations;
     res.factorisations += s.factorisations;
     if (s.status != Status::Converged) {
@@ -146,6 +200,13 @@ ThermalResult steadyStates(const ThermalNetwork& net, const ThermalForcing& forc
     }
     res.max_residual_w = std::max(res.max_residual_w, s.residual_w);
     res.temperature.col(p) = t;
+    if (net.optics) {
+      settled = state;
+      res.emissivity.col(p) = state.emissivity;
+      res.absorptivity.col(p) = state.absorptivity;
+      res.applied_loads.col(p) = forcing.q_env.col(p) + state.loadCorrection(*net.optics, q_solar, q_ir);
+      res.exchange_updates = state.exchange_updates;
+    }
     res.heater_power.col(p) = power;
   }
   res.heater_duty = Eigen::VectorXd::Zero(H);

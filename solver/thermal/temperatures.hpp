@@ -34,8 +34,13 @@ struct ThermalForcing {
   std::vector<double> sunlit_fraction;  ///< P values in [0, 1]; empty: sunlit throughout
   double load_period_s = 0.0;           ///< the samples repeat with this period (the sweep's span); 0: held
   double schedule_period_s = 0.0;       ///< dissipation tables repeat with it (the orbit's period); 0: never
+  /// The parts of q_env absorbed in the solar band (direct + albedo) and from the planet's IR
+  /// (n×P, W), at the nominal optics; needed only when the network's optics follow temperature.
+  Eigen::MatrixXd q_solar, q_ir;
   /// Loads at time t (s): linear between samples, wrapping at load_period_s.
-  Eigen::VectorXd loadAt(double t_s) const;
+  Eigen::VectorXd loadAt(double t_s) const { return sampleAt(q_env, t_s); }
+  /// Any (n×P) matrix of the samples at time t the same way; empty for an empty one.
+  Eigen::VectorXd sampleAt(const Eigen::MatrixXd& samples, double t_s) const;
   double sunlitAt(double t_s) const;
 };
 
@@ -66,6 +71,10 @@ struct ThermalResult {
   /// orbit before to the last (node index, K), largest first, at most five
   std::vector<std::pair<int, double>> worst_changes;
   int failed_node = -1;  ///< a Newton that did not converge: the node furthest from balance
+  /// With optics that follow temperature: ε and α of every node at the output times (n×P),
+  /// the loads applied there (q_env corrected for them, n×P, W) and how many GRs were formed.
+  Eigen::MatrixXd emissivity, absorptivity, applied_loads;
+  int exchange_updates = 0;
   /// The periodic state is not one orbit's: the caller should say so (message).
   bool notOneOrbitPeriodic() const { return heater_cycle_unlocked || orbits_per_period > 1; }
 };

@@ -2,6 +2,7 @@
 // dissipation-table steps located inside the step, orbit after orbit.
 #include "solver/thermal/temperatures.hpp"
 #include "solver/thermal/newton.hpp"
+#include "solver/thermal/optics.hpp"
 #include "solver/thermal/periodic_state.hpp"
 
 #include <algorithm>
@@ -50,12 +51,12 @@ double nextStep(double h_prev, double max_step, double remaining) {
 class Integrator {
  public:
   Integrator(const ThermalNetwork& net, const ThermalForcing& f, const ThermalOptions& opt, ThermalResult& res)
-      : moving_(net.boundary_schedules.empty() ? ThermalNetwork{} : net),
-        net_(net.boundary_schedules.empty() ? net : moving_), f_(f), opt_(opt), res_(res) {
+      : moving_(net.boundary_schedules.empty() && !net.optics ? ThermalNetwork{} : net),
+        net_(net.boundary_schedules.empty() && !net.optics ? net : moving_), f_(f), opt_(opt), res_(res) {
     holdBoundaries(0.0);
   }
 
-  TransientState start(const Eigen::VectorXd& initial) const;
+  TransientState start(const Eigen::VectorXd& initial);
   // Marches to `target`, landing on every dissipation-table entry on the way. False when a
   // step failed (recorded in the result).
   bool marchTo(double target, TransientState& s);
@@ -65,13 +66,14 @@ class Integrator {
  private:
   Eigen::VectorXd applied(const TransientState& s, double h, Eigen::VectorXd& dissipation) const;
   bool step(const TransientState& s, double h, Eigen::VectorXd& t_new, Eigen::VectorXd& dissipation);
-  void accept(TransientState& s, double h, const Eigen::VectorXd& t_new, const Eigen::VectorXd& dissipation) const;
+  void accept(TransientState& s, double h, const Eigen::VectorXd& t_new, const Eigen::VectorXd& dissipation);
   int crossing(const TransientState& s, const Eigen::VectorXd& t_new, double& theta) const;
   bool switchInside(TransientState& s, double h, int k);
   void switchHeater(TransientState& s, int k);
   void switchCrossed(TransientState& s);
   std::vector<double> tableEntries(double from, double to) const;
   bool chattering(double from);
+  void recordOptics(Eigen::Index p, const TransientState& s);
 
   // A heater switching this often between two outputs chatters: its dead band is too narrow
   // for its power against its sensor's capacity (a 1e-12 K band switches every 2e-11 s, and
@@ -79,8 +81,11 @@ class Integrator {
   static constexpr int kMaxSwitchesPerOutput = 10000;
   std::vector<int> output_switches_;  // per heater, since the last output time
 
+  // Optics that follow temperature (optics.hpp): lagged one step, a new GR in moving_ once
+  // some ε has moved by TemperatureOptics::emissivity_step.
+  OpticsState optics_;
   // Boundary nodes that follow a history are held at its value at each step's end, in a
-  // copy of the network made only when there are some.
+  // copy of the network made only when there are some (or optics that change GR).
   void holdBoundaries(double t) {
     for (const BoundarySchedule& b : moving_.boundary_schedules) moving_.fixed_temperature[b.node] = b.at(t);
   }
@@ -98,13 +103,14 @@ class Integrator {
 Eigen::VectorXd Integrator::applied(const TransientState& s, double h, Eigen::VectorXd& dissipation) const {
   dissipation = dissipationAt(net_, s.clock + 0.5 * h, f_.sunlitAt(s.clock + h), f_.schedule_period_s, s.clock + h);
   Eigen::VectorXd q = f_.loadAt(s.clock + h) + dissipation;
+  if (net_.optics)
+    q += optics_.loadCorrection(*net_.optics, f_.sampleAt(f_.q_solar, s.clock + h), f_.sampleAt(f_.q_ir, s.clock + h));
   for (size_t k = 0; k < net_.heaters.size(); ++k)
     if (s.heater_on[k]) q[net_.heaters[k].node] += net_.heaters[k].power_w;
   return q;
 }
 
 bool Integrator::step(const TransientState& s, double h, Eigen::VectorXd& t_new, Eigen::VectorXd& dissipation) {
-  holdBoundaries(s.clock + h);
   holdBoundaries(s.clock + h);
   const auto [a, b, beta] = bdf2Coefficients(h, s.h_prev);
   const detail::ImplicitSystem sys{net_,      applied(s, h, dissipation), a * s.t_now - b * s.t_prev, h * beta, true,
@@ -126,7 +132,7 @@ bool Integrator::step(const TransientState& s, double h, Eigen::VectorXd& t_new,
 }
 
 void Integrator::accept(TransientState& s, double h, const Eigen::VectorXd& t_new,
-                        const Eigen::VectorXd& dissipation) const {
+                        const Eigen::VectorXd& dissipation) {
   const auto [a, b, beta] = bdf2Coefficients(h, s.h_prev);
   const Eigen::VectorXd history = a * s.t_now - b * s.t_prev;
   s.rate = (t_new - history) / (h * beta);  // the BDF2 derivative at the new time
@@ -138,6 +144,9 @@ void Integrator::accept(TransientState& s, double h, const Eigen::VectorXd& t_ne
   s.clock += h;
   s.h_prev = h;
   s.dissipation = dissipation;
+  if (!net_.optics) return;
+  optics_.follow(*net_.optics, s.t_now);
+  if (optics_.refreshExchange(moving_, net_.optics->emissivity_step)) cache_ = {}, s.h_prev = 0.0;  // GR jumped: restart BDF2
 }
 
 // The heater whose sensor crossed its switching temperature first during the step to
@@ -229,6 +238,16 @@ bool Integrator::switchInside(TransientState& s, double h, int k) {
   return true;
 }
 
+void Integrator::recordOptics(Eigen::Index p, const TransientState& s) {
+  if (res_.emissivity.cols() != res_.temperature.cols())
+    res_.emissivity = res_.absorptivity = res_.applied_loads = Eigen::MatrixXd::Zero(net_.size(), res_.temperature.cols());
+  res_.emissivity.col(p) = optics_.emissivity_in_gr;  // what the step's GR and IR loads used
+  res_.absorptivity.col(p) = optics_.absorptivity;
+  res_.applied_loads.col(p) = f_.loadAt(s.clock) + optics_.loadCorrection(*net_.optics, f_.sampleAt(f_.q_solar, s.clock),
+                                                                          f_.sampleAt(f_.q_ir, s.clock));
+  res_.exchange_updates = optics_.exchange_updates;
+}
+
 std::vector<double> Integrator::tableEntries(double from, double to) const {
   std::vector<double> out;
   const double period = f_.schedule_period_s;
@@ -290,6 +309,7 @@ bool Integrator::marchPeriod(double start, TransientState& s) {
     res_.temperature_rate.col(p) = s.rate;
     res_.rate_roundoff.col(p) = s.rate_roundoff;
     res_.dissipation.col(p) = s.dissipation;
+    if (net_.optics) recordOptics(p, s);
     for (Eigen::Index k = 0; k < H; ++k)
       res_.heater_power(k, p) = s.heater_on[static_cast<size_t>(k)] ? net_.heaters[static_cast<size_t>(k)].power_w : 0.0;
   }
@@ -303,10 +323,11 @@ bool Integrator::marchPeriod(double start, TransientState& s) {
 // The starting state: boundary nodes at their temperature, heaters on where their sensor
 // starts below on_below, and the arithmetic (zero-capacitance) nodes in balance with the
 // others, so that the first output balances and BDF2 starts from a consistent state.
-TransientState Integrator::start(const Eigen::VectorXd& initial) const {
+TransientState Integrator::start(const Eigen::VectorXd& initial) {
   const Eigen::Index n = net_.size();
   TransientState s;
   s.t_now = s.t_prev = initial;
+  if (net_.optics) optics_.start(moving_, initial);
   s.rate = s.rate_roundoff = Eigen::VectorXd::Zero(n);
   for (Eigen::Index i = 0; i < n; ++i)
     if (net_.isFixed(i)) s.t_now[i] = net_.fixed_temperature[i];
@@ -330,32 +351,11 @@ TransientState Integrator::start(const Eigen::VectorXd& initial) const {
   return s;
 }
 
-void checkInputs(const ThermalNetwork& net, const ThermalForcing& f, const Eigen::VectorXd& initial,
-                 const ThermalOptions& opt) {
-  net.validate();
-  const size_t P = f.times_s.size();
-  if (P == 0 || static_cast<Eigen::Index>(P) != f.q_env.cols() || f.q_env.rows() != net.size() ||
-      !(f.sunlit_fraction.empty() || f.sunlit_fraction.size() == P))
-    throw std::invalid_argument("transient: one load column and sunlit fraction per time");
-  if (!(f.load_period_s >= 0 && opt.max_step_s > 0)) throw std::invalid_argument("transient: step must be > 0");
-  if (f.load_period_s > 0 && !(f.times_s.back() <= f.load_period_s))
-    throw std::invalid_argument("transient: sample times must lie within one load period");
-  if (initial.size() != net.size() || !(initial.array() > 0).all() || !initial.allFinite())
-    throw std::invalid_argument("transient: initial temperatures must be finite and > 0 K");
-}
-
-void checkFinite(ThermalResult& res) {
-  if (res.status == Status::Converged && !res.temperature.allFinite()) {
-    res.status = Status::NonFinite;
-    res.message = "transient temperatures are not finite";
-  }
-}
-
 }  // namespace
 
 ThermalResult transient(const ThermalNetwork& net, const ThermalForcing& forcing, double orbits,
                         const Eigen::VectorXd& initial, const ThermalOptions& opt) {
-  checkInputs(net, forcing, initial, opt);
+  detail::checkTransientInputs(net, forcing, initial, opt);
   if (!(orbits > 0 && std::isfinite(orbits))) throw std::invalid_argument("transient: orbits must be > 0");
   ThermalResult res;
   Integrator integrator(net, forcing, opt, res);
@@ -365,7 +365,7 @@ ThermalResult transient(const ThermalNetwork& net, const ThermalForcing& forcing
     if (!integrator.marchPeriod(k * forcing.load_period_s, state)) return res;
     res.orbits = k + 1;
   }
-  checkFinite(res);
+  detail::checkFinite(res);
   return res;
 }
 
@@ -378,7 +378,7 @@ ThermalResult transient(const ThermalNetwork& net, const std::vector<double>& ti
 ThermalResult periodicTransient(const ThermalNetwork& net, const ThermalForcing& forcing,
                                 const Eigen::VectorXd& initial, const PeriodicOptions& periodic,
                                 const ThermalOptions& opt) {
-  checkInputs(net, forcing, initial, opt);
+  detail::checkTransientInputs(net, forcing, initial, opt);
   if (!(forcing.load_period_s > 0)) throw std::invalid_argument("periodic transient: needs a load period");
   if (!(periodic.tolerance_k > 0) || periodic.max_orbits < 2)
     throw std::invalid_argument("periodic transient: tolerance must be > 0 K and max_orbits at least 2");
@@ -393,7 +393,7 @@ ThermalResult periodicTransient(const ThermalNetwork& net, const ThermalForcing&
     if (history.addOrbit(net, res, res.heater_switches - switches_before, periodic.tolerance_k)) break;
   }
   detail::concludePeriodic(net, periodic, history, res);
-  checkFinite(res);
+  detail::checkFinite(res);
   return res;
 }
 
