@@ -11,7 +11,7 @@ namespace {
 // (a surface whose ε or α vanishes has no radiative node to follow).
 solver::TemperatureTable opticalBranch(const YamlDocument& doc, const YAML::Node& node, const std::string& what) {
   solver::TemperatureTable t;
-  parseTable(doc, node, what + " (K, –)", std::numeric_limits<double>::min(), 5000.0, 0.0, 1.0, t.temperature_k, t.value);
+  parseTable(doc, node, what, std::numeric_limits<double>::min(), 5000.0, 0.0, 1.0, t.temperature_k, t.value);
   for (size_t k = 0; k < t.value.size(); ++k)
     if (!(t.value[k] > 0))
       throw doc.error(node[k][1], what + "[" + std::to_string(k) + "][1]: 0 is no value to follow; a surface that "

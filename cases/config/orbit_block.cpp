@@ -68,8 +68,8 @@ void checkAltitudes(const YamlDocument& doc, const YAML::Node& o, const orbits::
     if (!allow_high && h > body.highest_altitude_m) {
       msg << "orbit." << key << ": " << value << " m puts the spacecraft " << h << " m above " << body.name
           << ", beyond " << (body.isEarth() ? "the Moon's distance" : "its Hill sphere") << " ("
-          << body.highest_altitude_m << " m); lengths are in metres (GEO's altitude is 35786.0e3); give "
-             "'allow_high_altitude: true' if it is meant";
+          << body.highest_altitude_m << " m); lengths are in metres"
+          << (body.isEarth() ? " (GEO's altitude is 35786.0e3)" : "") << "; give 'allow_high_altitude: true' if it is meant";
       throw doc.error(v, msg.str());
     }
   }

@@ -68,8 +68,12 @@ void appendThermal(ThermalSolution& all, const ThermalSolution& part) {
   const solver::ThermalResult& p = part.solve;
   for (auto member : {&solver::ThermalResult::temperature, &solver::ThermalResult::temperature_rate,
                       &solver::ThermalResult::rate_roundoff, &solver::ThermalResult::dissipation,
-                      &solver::ThermalResult::heater_power})
+                      &solver::ThermalResult::heater_power, &solver::ThermalResult::emissivity,
+                      &solver::ThermalResult::absorptivity, &solver::ThermalResult::applied_loads})
     appendCols(s.*member, p.*member);
+  s.exchange_updates += p.exchange_updates;
+  for (auto member : {&ThermalSolution::solar_load_scale, &ThermalSolution::ir_load_scale})
+    appendCols(all.*member, part.*member);
   if (s.heater_duty.size() == p.heater_duty.size()) s.heater_duty = s.heater_duty.cwiseMax(p.heater_duty);
   s.newton_iterations += p.newton_iterations;
   s.factorisations += p.factorisations;
