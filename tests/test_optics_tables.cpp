@@ -1,6 +1,7 @@
 // Optics against temperature: a plate with a VO₂-like ε(T) settles where Q = ε(T) σ A T⁴
 // (steady and transient), and the branch it settles on with hysteresis depends on where it
 // came from.
+#include "solver/radiative/exchange.hpp"
 #include "solver/thermal/optics.hpp"
 #include "solver/thermal/temperatures.hpp"
 #include "solver/units.hpp"
@@ -9,6 +10,7 @@
 
 #include <cmath>
 #include <memory>
+#include <random>
 
 using namespace radnet::solver;
 using radnet::units::kStefanBoltzmann;
@@ -123,4 +125,35 @@ TEST_CASE("with hysteresis the plate keeps the branch it came from") {
   const ThermalResult steady = steadyStates(net, Eigen::MatrixXd::Zero(1, 1));
   REQUIRE(steady.status == Status::Converged);
   CHECK(std::abs(steady.temperature(0, 0) - cold_exact) < 0.01);
+}
+
+TEST_CASE("GR for a few changed emissivities by the rank-m update equals a fresh dense GR") {
+  // A 40-node enclosure of unequal areas, reciprocal F (A_i F_ij symmetric), 10 % to space.
+  const int n = 40;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Eigen::VectorXd area(n);
+  for (int i = 0; i < n; ++i) area[i] = 0.5 + u(rng);
+  Eigen::MatrixXd g(n, n);  // A F, symmetric
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j <= i; ++j) g(i, j) = g(j, i) = i == j ? 0.0 : u(rng);
+  const Eigen::VectorXd row = g.rowwise().sum();
+  const double scale = 0.9 * (area.cwiseQuotient(row)).minCoeff();
+  const Eigen::MatrixXd f = area.cwiseInverse().asDiagonal() * (scale * g);
+  std::vector<std::string> names;
+  for (int i = 0; i < n; ++i) names.push_back("n" + std::to_string(i));
+  const Network net(names, area, f);
+  Eigen::VectorXd e0(n);
+  for (int i = 0; i < n; ++i) e0[i] = 0.1 + 0.85 * u(rng);
+  e0[3] = 0.0;  // a perfect reflector outside U keeps its zero row
+  const std::vector<int> nodes = {5, 6, 7, 20, 33};
+  const EmissivityUpdate update(exchangeFactorsDense(net, e0).gr, e0, area, nodes);
+  Eigen::VectorXd e1 = e0;
+  for (int k : nodes) e1[k] = std::clamp(e0[k] + (u(rng) - 0.5), 0.02, 1.0);
+  const ExchangeFactors fresh = exchangeFactorsDense(net, e1), updated = update(e1);
+  // Both are exact for this G: they differ by round-off of two O(n³)/O(n² m) computations.
+  CHECK((updated.gr - fresh.gr).cwiseAbs().maxCoeff() < 1e-12 * fresh.gr.cwiseAbs().maxCoeff());
+  CHECK((updated.gr_space - fresh.gr_space).cwiseAbs().maxCoeff() < 1e-12 * area.maxCoeff());
+  // The nominal ε gives the nominal GR back.
+  CHECK((update(e0).gr - exchangeFactorsDense(net, e0).gr).cwiseAbs().maxCoeff() < 1e-14 * fresh.gr.cwiseAbs().maxCoeff());
 }

@@ -6,7 +6,7 @@
 #include "cases/pipeline/packing.hpp"
 #include "cases/pipeline/radiative_network.hpp"
 #include "cases/pipeline/thermal_run.hpp"
-#include "solver/radiative/policy.hpp"
+#include "solver/radiative/exchange.hpp"
 
 #include <algorithm>
 #include <array>
@@ -73,10 +73,11 @@ void sweepCase(const DesignContext& ctx, int k, GeometryRunResult& r, std::vecto
                        t, show_progress, progress);
 }
 
-// The nodes whose ε or α follow temperature (materials with tables), GR re-formed for each ε
-// on the radiative network's one eigendecomposition by the method of the case's own GR
-// (policy::exchangeFactors); null when no material has a table.
+// The nodes whose ε or α follow temperature (materials with tables); null when no material
+// has a table. GR for each new ε is a rank-|U| update of the case's own GR (the one
+// eigendecomposition's, or the dense one), U the nodes with an ε table: O(n² |U|) a call.
 std::shared_ptr<const solver::TemperatureOptics> temperatureOptics(const DesignContext& ctx, const OpticalSet& set,
+                                                                   const solver::ExchangeFactors& nominal,
                                                                    const ThermalSettings& ts) {
   const GeometryCase& c = ctx.c;
   const Eigen::Index n = ts.nodeCount(), nr = set.emissivity.size();
@@ -84,17 +85,19 @@ std::shared_ptr<const solver::TemperatureOptics> temperatureOptics(const DesignC
   optics->nominal_emissivity = optics->nominal_absorptivity = Eigen::VectorXd::Ones(n);
   optics->nominal_emissivity.head(nr) = set.emissivity;
   optics->nominal_absorptivity.head(nr) = set.absorptivity;
+  std::vector<int> varying;  // nodes whose ε changes
   for (Eigen::Index i = 0; i < nr; ++i) {
     const Material& m = c.materials.at(c.node_material[static_cast<size_t>(i)]);
     if (!m.hasCurves()) continue;
     optics->nodes.push_back(static_cast<int>(i));
     optics->emissivity.push_back(m.emissivity_curve);
     optics->absorptivity.push_back(m.absorptivity_curve);
+    if (!m.emissivity_curve.warming.temperature_k.empty()) varying.push_back(static_cast<int>(i));
   }
   if (optics->nodes.empty()) return nullptr;
-  optics->exchange = [&radiative = ctx.radiative, &settings = ctx.solver, &ts, nr](const Eigen::VectorXd& emissivity) {
-    const solver::ExchangeFactors ex =
-        solver::policy::exchangeFactors(*radiative.network, radiative.pairs, emissivity.head(nr), settings);
+  auto update = std::make_shared<const solver::EmissivityUpdate>(nominal.gr, set.emissivity, ctx.area, varying);
+  optics->exchange = [update, &ts, nr](const Eigen::VectorXd& emissivity) {
+    const solver::ExchangeFactors ex = (*update)(emissivity.head(nr));
     if (ex.status != solver::Status::Converged)
       throw NumericalError(std::string("exchange factors for ε(T) ") + solver::toString(ex.status) + ": " + ex.message);
     return thermalExchange(ts, ex);
@@ -115,7 +118,7 @@ ThermalOutcome solveCase(const DesignContext& ctx, int k, const GeometryRunResul
   std::ostringstream log;
   try {
     out.thermal = runThermal(*run.settings, exchange, run.sweep ? &*run.sweep : nullptr, out.timings, log, &errors,
-                             temperatureOptics(ctx, set, *run.settings));
+                             temperatureOptics(ctx, set, exchange, *run.settings));
   } catch (const NumericalError& e) {  // which design case failed, by name
     if (ctx.c.design_cases.size() < 2) throw;
     throw NumericalError("design case '" + d.name + "': " + e.what());

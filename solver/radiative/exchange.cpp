@@ -119,4 +119,50 @@ BandSolution irNetPower(const Network& net, const LowRankBandSolver& ir_band, co
   return sol;
 }
 
+EmissivityUpdate::EmissivityUpdate(Eigen::MatrixXd nominal, Eigen::VectorXd emissivity, Eigen::VectorXd area,
+                                   std::vector<int> nodes)
+    : gr_(std::move(nominal)), emissivity_(std::move(emissivity)), area_(std::move(area)), nodes_(std::move(nodes)) {
+  const Eigen::Index m = static_cast<Eigen::Index>(nodes_.size());
+  m_uu_.resize(m, m);
+  for (Eigen::Index a = 0; a < m; ++a) {
+    const int u = nodes_[static_cast<size_t>(a)];
+    if (!(emissivity_[u] > 0)) throw NetworkError("emissivity update: the nominal emissivity of node " + std::to_string(u) + " is 0");
+    for (Eigen::Index b = 0; b < m; ++b) {
+      const int v = nodes_[static_cast<size_t>(b)];
+      m_uu_(a, b) = gr_(u, v) / (emissivity_[u] * emissivity_[v]);
+    }
+  }
+}
+
+ExchangeFactors EmissivityUpdate::operator()(const Eigen::VectorXd& emissivity) const {
+  const Eigen::Index n = gr_.rows(), m = static_cast<Eigen::Index>(nodes_.size());
+  Eigen::VectorXd ratio = Eigen::VectorXd::Ones(n), d(m);
+  for (Eigen::Index a = 0; a < m; ++a) {
+    const int u = nodes_[static_cast<size_t>(a)];
+    ratio[u] = emissivity[u] / emissivity_[u];
+    d[a] = -(emissivity[u] - emissivity_[u]) / area_[u];  // ΔS = S' − S
+  }
+  ExchangeFactors ex;
+  ex.method = "nominal GR + rank-" + std::to_string(m) + " emissivity update";
+  ex.gr = ratio.asDiagonal() * gr_ * ratio.asDiagonal();
+  if (m > 0 && d.cwiseAbs().maxCoeff() > 0) {
+    Eigen::MatrixXd w(n, m);  // R GR_{:U} diag(1/ε_U) = diag(ε') M_{:U}
+    for (Eigen::Index a = 0; a < m; ++a) {
+      const int u = nodes_[static_cast<size_t>(a)];
+      w.col(a) = ratio.cwiseProduct(gr_.col(u)) / emissivity_[u];
+    }
+    // K = D (I − M_UU D)⁻¹, symmetric (push-through); D may be singular, the LU is of I − M_UU D.
+    const Eigen::MatrixXd core = Eigen::MatrixXd::Identity(m, m) - m_uu_ * d.asDiagonal();
+    const Eigen::MatrixXd k = d.asDiagonal() * core.partialPivLu().inverse();
+    ex.gr.noalias() += w * (k * w.transpose());
+    ex.gr = 0.5 * (ex.gr + ex.gr.transpose()).eval();
+  }
+  ex.gr_space = emissivity.cwiseProduct(area_) - ex.gr.rowwise().sum();
+  if (!ex.gr.allFinite()) {
+    ex.status = Status::NonFinite;
+    ex.message = "exchange factors are not finite";
+  }
+  return ex;
+}
+
 }  // namespace radnet::solver

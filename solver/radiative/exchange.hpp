@@ -8,6 +8,7 @@
 #include <Eigen/Dense>
 
 #include <string>
+#include <vector>
 
 namespace radnet::solver {
 
@@ -31,6 +32,30 @@ ExchangeFactors exchangeFactorsDense(const Network& net, const Eigen::VectorXd& 
 /// @param ir_band solver built with reflectance 1 − ε
 ExchangeFactors exchangeFactorsLowRank(const Network& net, const LowRankBandSolver& ir_band,
                                        const Eigen::VectorXd& emissivity);
+
+/// GR for emissivities that differ from a nominal set only on a few nodes U (those whose ε
+/// follows temperature), by a rank-|U| update of the nominal GR instead of a new core:
+/// with M = G (I − S G)⁻¹ (so GR = E M E) and S' = S + U D Uᵀ, D = diag(−Δε_u / A_u),
+/// Woodbury gives M' = M + M_{:U} D (I − M_UU D)⁻¹ M_{U:}, and M_{:U} = E⁻¹ GR_{:U} / ε_U from
+/// the nominal GR. So GR' = R GR R + W K Wᵀ, R = diag(ε'/ε), W = R GR_{:U} diag(1/ε_U),
+/// K = D (I − M_UU D)⁻¹: O(n² |U|) a call, the n×n nominal GR kept. Exact for the nominal
+/// GR's G (to round-off); nodes outside U keep their ε.
+class EmissivityUpdate {
+ public:
+  /// @param nominal    GR at `emissivity` (n×n, symmetric), m²
+  /// @param emissivity the nominal ε (n), > 0 on `nodes`
+  /// @param area_m2    A (n)
+  /// @param nodes      U: the nodes whose ε may change
+  EmissivityUpdate(Eigen::MatrixXd nominal, Eigen::VectorXd emissivity, Eigen::VectorXd area_m2, std::vector<int> nodes);
+  /// GR and GR_space at `emissivity` (n), equal to the nominal ε outside U.
+  ExchangeFactors operator()(const Eigen::VectorXd& emissivity) const;
+
+ private:
+  Eigen::MatrixXd gr_;   ///< nominal GR, m²
+  Eigen::VectorXd emissivity_, area_;
+  std::vector<int> nodes_;
+  Eigen::MatrixXd m_uu_;  ///< M_UU = GR_UU / (ε_u ε_v), m²
+};
 
 /// Net radiative power gained by each node in the IR band, W (n×P):
 /// Q_i = ε_i A_i (H_i + E_pIR,i − σT_i⁴), with M = ε∘σT⁴ + ρ∘E_pIR + S G M and H = A⁻¹ G M.

@@ -56,6 +56,11 @@ bool OpticsState::refreshExchange(ThermalNetwork& net, double step) {
   return true;
 }
 
+bool stepOptics(const OpticsState& accepted, const Eigen::VectorXd& t_predicted, ThermalNetwork& net, OpticsState& step) {
+  opticsAt(*net.optics, accepted, t_predicted, step.emissivity, step.absorptivity);
+  return step.refreshExchange(net, net.optics->emissivity_step);
+}
+
 Eigen::VectorXd OpticsState::loadCorrection(const TemperatureOptics& optics, const Eigen::VectorXd& q_solar,
                                             const Eigen::VectorXd& q_ir) const {
   Eigen::VectorXd dq = Eigen::VectorXd::Zero(emissivity.size());

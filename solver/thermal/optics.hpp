@@ -74,6 +74,13 @@ struct OpticsState {
                                  const Eigen::VectorXd& q_ir) const;
 };
 
+/// A transient step's optics: ε and α of the memory `accepted` moved to the step's predicted
+/// end temperatures (the memory itself moves only with accepted steps), into `step`, whose GR
+/// in `net` is formed again when some ε moved by emissivity_step. Evaluated at the predicted
+/// end, not the start, the optics lag the temperatures by the prediction's error (O(h²)),
+/// not a whole step. True when GR changed.
+bool stepOptics(const OpticsState& accepted, const Eigen::VectorXd& t_predicted, ThermalNetwork& net, OpticsState& step);
+
 /// The emissivity and absorptivity targets at temperatures t from a state (the play operator).
 void opticsAt(const TemperatureOptics& optics, const OpticsState& from, const Eigen::VectorXd& t,
               Eigen::VectorXd& emissivity, Eigen::VectorXd& absorptivity);

@@ -81,9 +81,9 @@ class Integrator {
   static constexpr int kMaxSwitchesPerOutput = 10000;
   std::vector<int> output_switches_;  // per heater, since the last output time
 
-  // Optics that follow temperature (optics.hpp): lagged one step, a new GR in moving_ once
-  // some ε has moved by TemperatureOptics::emissivity_step.
-  OpticsState optics_;
+  // Optics that follow temperature (optics.hpp): optics_ the hysteresis memory at the last
+  // accepted step, step_optics_ what the step in hand uses (at its predicted end, GR in moving_).
+  OpticsState optics_, step_optics_;
   // Boundary nodes that follow a history are held at its value at each step's end, in a
   // copy of the network made only when there are some (or optics that change GR).
   void holdBoundaries(double t) {
@@ -104,7 +104,7 @@ Eigen::VectorXd Integrator::applied(const TransientState& s, double h, Eigen::Ve
   dissipation = dissipationAt(net_, s.clock + 0.5 * h, f_.sunlitAt(s.clock + h), f_.schedule_period_s, s.clock + h);
   Eigen::VectorXd q = f_.loadAt(s.clock + h) + dissipation;
   if (net_.optics)
-    q += optics_.loadCorrection(*net_.optics, f_.sampleAt(f_.q_solar, s.clock + h), f_.sampleAt(f_.q_ir, s.clock + h));
+    q += step_optics_.loadCorrection(*net_.optics, f_.sampleAt(f_.q_solar, s.clock + h), f_.sampleAt(f_.q_ir, s.clock + h));
   for (size_t k = 0; k < net_.heaters.size(); ++k)
     if (s.heater_on[k]) q[net_.heaters[k].node] += net_.heaters[k].power_w;
   return q;
@@ -112,11 +112,12 @@ Eigen::VectorXd Integrator::applied(const TransientState& s, double h, Eigen::Ve
 
 bool Integrator::step(const TransientState& s, double h, Eigen::VectorXd& t_new, Eigen::VectorXd& dissipation) {
   holdBoundaries(s.clock + h);
+  t_new = s.t_now + h * s.rate;  // the explicit prediction, when it stays physical
+  if (!(t_new.array() > 0).all()) t_new = s.t_now;
+  if (net_.optics && stepOptics(optics_, t_new, moving_, step_optics_)) cache_ = {};  // a new GR: a new Jacobian
   const auto [a, b, beta] = bdf2Coefficients(h, s.h_prev);
   const detail::ImplicitSystem sys{net_,      applied(s, h, dissipation), a * s.t_now - b * s.t_prev, h * beta, true,
                                    {},        &cache_};
-  t_new = s.t_now + h * s.rate;  // the explicit prediction, when it stays physical
-  if (!(t_new.array() > 0).all()) t_new = s.t_now;
   Eigen::VectorXd none;
   const detail::NewtonOutcome out = detail::solveImplicit(sys, t_new, none, opt_);
   res_.newton_iterations += out.iterations;
@@ -144,9 +145,7 @@ void Integrator::accept(TransientState& s, double h, const Eigen::VectorXd& t_ne
   s.clock += h;
   s.h_prev = h;
   s.dissipation = dissipation;
-  if (!net_.optics) return;
-  optics_.follow(*net_.optics, s.t_now);
-  if (optics_.refreshExchange(moving_, net_.optics->emissivity_step)) cache_ = {}, s.h_prev = 0.0;  // GR jumped: restart BDF2
+  if (net_.optics) optics_.follow(*net_.optics, s.t_now);  // the memory moves with accepted steps only
 }
 
 // The heater whose sensor crossed its switching temperature first during the step to
@@ -241,11 +240,11 @@ bool Integrator::switchInside(TransientState& s, double h, int k) {
 void Integrator::recordOptics(Eigen::Index p, const TransientState& s) {
   if (res_.emissivity.cols() != res_.temperature.cols())
     res_.emissivity = res_.absorptivity = res_.applied_loads = Eigen::MatrixXd::Zero(net_.size(), res_.temperature.cols());
-  res_.emissivity.col(p) = optics_.emissivity_in_gr;  // what the step's GR and IR loads used
-  res_.absorptivity.col(p) = optics_.absorptivity;
-  res_.applied_loads.col(p) = f_.loadAt(s.clock) + optics_.loadCorrection(*net_.optics, f_.sampleAt(f_.q_solar, s.clock),
+  res_.emissivity.col(p) = step_optics_.emissivity_in_gr;  // what the step's GR and IR loads used
+  res_.absorptivity.col(p) = step_optics_.absorptivity;
+  res_.applied_loads.col(p) = f_.loadAt(s.clock) + step_optics_.loadCorrection(*net_.optics, f_.sampleAt(f_.q_solar, s.clock),
                                                                           f_.sampleAt(f_.q_ir, s.clock));
-  res_.exchange_updates = optics_.exchange_updates;
+  res_.exchange_updates = step_optics_.exchange_updates;
 }
 
 std::vector<double> Integrator::tableEntries(double from, double to) const {
@@ -327,7 +326,7 @@ TransientState Integrator::start(const Eigen::VectorXd& initial) {
   const Eigen::Index n = net_.size();
   TransientState s;
   s.t_now = s.t_prev = initial;
-  if (net_.optics) optics_.start(moving_, initial);
+  if (net_.optics) optics_.start(moving_, initial), step_optics_ = optics_;
   s.rate = s.rate_roundoff = Eigen::VectorXd::Zero(n);
   for (Eigen::Index i = 0; i < n; ++i)
     if (net_.isFixed(i)) s.t_now[i] = net_.fixed_temperature[i];
