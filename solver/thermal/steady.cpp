@@ -129,7 +129,8 @@ detail::NewtonOutcome solveWithOptics(ThermalNetwork& local, const Eigen::Vector
   detail::NewtonOutcome total;
   constexpr int kMaxRounds = 400;
   for (int round = 0; round < kMaxRounds; ++round) {
-    if (state.refreshExchange(local, 0.0)) cache = {};  // a new GR: the kept Jacobian is stale
+    // A new GR: its row sums anew; the kept LU serves on while its chord steps converge.
+    if (state.refreshExchange(local, 0.0)) cache.gr_row_sum.resize(0);
     const detail::NewtonOutcome out =
         solvePosition(local, q + state.loadCorrection(optics, q_solar, q_ir), mode, t, power, opt, cache);
     total.iterations += out.iterations;

@@ -114,7 +114,8 @@ bool Integrator::step(const TransientState& s, double h, Eigen::VectorXd& t_new,
   holdBoundaries(s.clock + h);
   t_new = s.t_now + h * s.rate;  // the explicit prediction, when it stays physical
   if (!(t_new.array() > 0).all()) t_new = s.t_now;
-  if (net_.optics && stepOptics(optics_, t_new, moving_, step_optics_)) cache_ = {};  // a new GR: a new Jacobian
+  // A new GR: its row sums anew; the kept LU serves on while its chord steps converge.
+  if (net_.optics && stepOptics(optics_, t_new, moving_, step_optics_)) cache_.gr_row_sum.resize(0);
   const auto [a, b, beta] = bdf2Coefficients(h, s.h_prev);
   const detail::ImplicitSystem sys{net_,      applied(s, h, dissipation), a * s.t_now - b * s.t_prev, h * beta, true,
                                    {},        &cache_};
