@@ -52,7 +52,7 @@ Orbit::Orbit(const KeplerElements& el, double epoch_jd, const CentralBody& body)
   const double perigee = el.semi_major_axis_m * (1 - el.eccentricity);
   if (!(perigee > body.equatorial_radius_m)) {
     std::ostringstream s;
-    s << "perigee radius " << perigee << " m is inside " << body.name << " (equatorial radius "
+    s << "perigee radius " << perigee << " m is inside " << (body.isEarth() ? std::string("the Earth") : body.name) << " (equatorial radius "
       << body.equatorial_radius_m << " m); altitudes must be > 0";
     throw OrbitError(s.str());
   }

@@ -66,10 +66,11 @@ void checkAltitudes(const YamlDocument& doc, const YAML::Node& o, const orbits::
       throw doc.error(v, msg.str());
     }
     if (!allow_high && h > body.highest_altitude_m) {
-      msg << "orbit." << key << ": " << value << " m puts the spacecraft " << h << " m above " << body.name
-          << ", beyond " << (body.isEarth() ? "the Moon's distance" : "its Hill sphere") << " ("
-          << body.highest_altitude_m << " m); lengths are in metres"
-          << (body.isEarth() ? " (GEO's altitude is 35786.0e3)" : "") << "; give 'allow_high_altitude: true' if it is meant";
+      msg << "orbit." << key << ": " << value << " m puts the spacecraft " << h << " m above "
+          << (body.isEarth() ? "the Earth, beyond the Moon's distance (3.844e8 m)"
+                             : body.name + ", beyond its Hill sphere (" + std::to_string(body.highest_altitude_m) + " m)")
+          << "; lengths are in metres" << (body.isEarth() ? " (GEO's altitude is 35786.0e3)" : "")
+          << "; give 'allow_high_altitude: true' if it is meant";
       throw doc.error(v, msg.str());
     }
   }

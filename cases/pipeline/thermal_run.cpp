@@ -272,6 +272,16 @@ void warnImplausibleTemperatures(const ThermalSolution& out, std::ostream& progr
            << " K): check its dissipation (W), capacitance (J/K) and links to the rest of the model\n";
 }
 
+// With ε(T), α(T): the heat balance takes the loads at each node's own optics, and the
+// solution keeps their ratio to the sweep's nominal ones (for /solution/heat).
+void useOwnOptics(const solver::TemperatureOptics& optics, ThermalSolution& out, Eigen::MatrixXd& q_env) {
+  const solver::ThermalResult& result = out.solve;
+  if (result.applied_loads.size() == 0) return;
+  q_env = result.applied_loads;
+  out.solar_load_scale = optics.nominal_absorptivity.cwiseInverse().asDiagonal() * result.absorptivity;
+  out.ir_load_scale = optics.nominal_emissivity.cwiseInverse().asDiagonal() * result.emissivity;
+}
+
 }  // namespace
 
 ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFactors& exchange, const SweepResult* sweep,
@@ -308,11 +318,7 @@ ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFact
     throw NumericalError(std::string("temperatures ") + solver::toString(result.status) + ": " + result.message + where);
   }
   if (result.notOneOrbitPeriodic()) progress << "radnet: warning: temperatures: " << result.message << "\n";
-  if (result.applied_loads.size() > 0) {  // the loads at each node's own α(T), ε(T)
-    q_env = result.applied_loads;
-    out.solar_load_scale = net.optics->nominal_absorptivity.cwiseInverse().asDiagonal() * result.absorptivity;
-    out.ir_load_scale = net.optics->nominal_emissivity.cwiseInverse().asDiagonal() * result.emissivity;
-  }
+  if (net.optics) useOwnOptics(*net.optics, out, q_env);
   out.heat = heatBalance(net, result, q_env);
   warnImplausibleTemperatures(out, progress);
   if (sweep && errors) {

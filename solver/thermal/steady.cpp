@@ -155,6 +155,17 @@ detail::NewtonOutcome solveWithOptics(ThermalNetwork& local, const Eigen::Vector
   return total;
 }
 
+// Position p's optics and the loads at them, into the result.
+void recordOptics(const OpticsState& state, const Eigen::VectorXd& loads,
+                  Eigen::Index p, ThermalResult& res) {
+  if (res.emissivity.cols() != res.temperature.cols())
+    res.emissivity = res.absorptivity = res.applied_loads = Eigen::MatrixXd::Zero(loads.size(), res.temperature.cols());
+  res.emissivity.col(p) = state.emissivity;
+  res.absorptivity.col(p) = state.absorptivity;
+  res.applied_loads.col(p) = loads;
+  res.exchange_updates = state.exchange_updates;
+}
+
 }  // namespace
 
 ThermalResult steadyStates(const ThermalNetwork& net_in, const ThermalForcing& forcing, const ThermalOptions& opt) {
@@ -177,7 +188,6 @@ ThermalResult steadyStates(const ThermalNetwork& net_in, const ThermalForcing& f
   Eigen::VectorXd t;
   detail::JacobianCache cache;  // one factorisation serves many positions
   OpticsState settled, state;
-  if (net.optics) res.emissivity = res.absorptivity = res.applied_loads = Eigen::MatrixXd::Zero(n, P);
   for (Eigen::Index p = 0; p < P; ++p) {
     const size_t ps = static_cast<size_t>(p);
     const double sunlit = forcing.sunlit_fraction.empty() ? 1.0 : forcing.sunlit_fraction[ps];
@@ -203,10 +213,7 @@ ThermalResult steadyStates(const ThermalNetwork& net_in, const ThermalForcing& f
     res.temperature.col(p) = t;
     if (net.optics) {
       settled = state;
-      res.emissivity.col(p) = state.emissivity;
-      res.absorptivity.col(p) = state.absorptivity;
-      res.applied_loads.col(p) = forcing.q_env.col(p) + state.loadCorrection(*net.optics, q_solar, q_ir);
-      res.exchange_updates = state.exchange_updates;
+      recordOptics(state, forcing.q_env.col(p) + state.loadCorrection(*net.optics, q_solar, q_ir), p, res);
     }
     res.heater_power.col(p) = power;
   }
