@@ -1,6 +1,7 @@
 // Central bodies other than the Earth: periods, eclipses and Sun distances against closed
 // forms and published events, and the Moon's day–night IR against a quadrature of the
 // cos^¼ law.
+#include "cap_quadrature.hpp"
 #include "geometry/scene/primitives.hpp"
 #include "orbits/body.hpp"
 #include "orbits/eclipse.hpp"
@@ -173,19 +174,11 @@ namespace {
 // the visible cap, with ψ from the sub-satellite point and the Sun's zenith angle z at the
 // ground point (subsolar below the plate: z = ψ; antisolar: the night everywhere in view).
 double lunarIrQuadrature(const PlanetIr& ir, double flux, double R, double r, bool subsolar) {
-  const int steps = 200000;
-  const double psi_max = std::acos(R / r);
-  double sum = 0.0;
-  for (int k = 0; k < steps; ++k) {
-    const double psi = (k + 0.5) * psi_max / steps;
-    const double d2 = R * R + r * r - 2 * R * r * std::cos(psi), d = std::sqrt(d2);
-    const double cos_plate = (r - R * std::cos(psi)) / d, cos_ground = (r * std::cos(psi) - R) / d;
-    const double t_ss4 = std::pow(ir.subsolar_temperature_k, 4) * flux / ir.reference_flux_w_m2;
-    const double t4 = subsolar ? std::max(t_ss4 * std::cos(psi), std::pow(ir.night_temperature_k, 4))
-                               : std::pow(ir.night_temperature_k, 4);
-    sum += units::kStefanBoltzmann * t4 / M_PI * cos_plate * cos_ground / d2 * 2 * M_PI * R * R * std::sin(psi);
-  }
-  return sum * psi_max / steps;
+  const double t_ss4 = std::pow(ir.subsolar_temperature_k, 4) * flux / ir.reference_flux_w_m2;
+  const double night4 = std::pow(ir.night_temperature_k, 4);
+  return testing::nadirPlateIrradiance(R, r, [&](double psi) {
+    return units::kStefanBoltzmann * (subsolar ? std::max(t_ss4 * std::cos(psi), night4) : night4);
+  });
 }
 
 }  // namespace

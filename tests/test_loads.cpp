@@ -1,5 +1,6 @@
 // Environment irradiances against closed forms: direct Sun with shadows and eclipses,
 // Earth IR and albedo of a nadir plate.
+#include "cap_quadrature.hpp"
 #include "geometry/scene/primitives.hpp"
 #include "orbits/loads.hpp"
 
@@ -36,16 +37,7 @@ Eigen::VectorXd areas(const geometry::Scene& s) {
 // the visible cap (ψ: angle at the Earth's centre from the sub-satellite point):
 // E = ∫ (a S cos ψ / π) cos θ cos α / d² · 2π R² sin ψ dψ.
 double albedoSubsolar(double a, double S, double r) {
-  const int steps = 200000;
-  const double psi_max = std::acos(kR / r);
-  double sum = 0.0;
-  for (int k = 0; k < steps; ++k) {
-    const double psi = (k + 0.5) * psi_max / steps;
-    const double d2 = kR * kR + r * r - 2 * kR * r * std::cos(psi), d = std::sqrt(d2);
-    const double cos_plate = (r - kR * std::cos(psi)) / d, cos_ground = (r * std::cos(psi) - kR) / d;
-    sum += (a * S * std::cos(psi) / M_PI) * cos_plate * cos_ground / d2 * 2 * M_PI * kR * kR * std::sin(psi);
-  }
-  return sum * psi_max / steps;
+  return testing::nadirPlateIrradiance(kR, r, [&](double psi) { return a * S * std::cos(psi); });
 }
 
 }  // namespace
