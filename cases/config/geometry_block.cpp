@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <iomanip>
+#include <set>
 #include <sstream>
 #include <filesystem>
 
@@ -352,6 +353,11 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
       for (const OrbitCase& oc : d.orbit->cases)
         orbit_period_s = std::min(orbit_period_s.value_or(oc.orbit->nodalPeriod()), oc.orbit->nodalPeriod());
   c.thermal = parseThermalSettings(doc, c.node_names, area, orbit_period_s);
+  if (!c.thermal)  // a table against temperature with no temperatures to follow: say which value stood
+    for (const std::string& m : std::set<std::string>(c.node_material.begin(), c.node_material.end()))
+      if (c.materials.at(m).hasCurves())
+        c.warnings.push_back("materials." + m + ": its ε/α table is taken at 293.15 K (no 'thermal:' block, so no "
+                             "temperatures for it to follow)");
   parseCaseDissipations(doc, c);
   parseOpticalUncertainty(doc, c);
   parseLimits(doc, c);
