@@ -304,6 +304,14 @@ void assignNodeMaterials(GeometryCase& c, const std::map<std::string, std::strin
   }
 }
 
+// A table against temperature with no temperatures to follow: say which value stood.
+void warnUnfollowedTables(GeometryCase& c) {
+  for (const std::string& m : std::set<std::string>(c.node_material.begin(), c.node_material.end()))
+    if (c.materials.at(m).hasCurves())
+      c.warnings.push_back("materials." + m + ": its ε/α table is taken at 293.15 K (no 'thermal:' block, so no "
+                           "temperatures for it to follow)");
+}
+
 }  // namespace
 
 bool isGeometryCase(const YamlDocument& doc) { return doc.root().IsMap() && doc.root()["geometry"].IsDefined(); }
@@ -353,11 +361,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
       for (const OrbitCase& oc : d.orbit->cases)
         orbit_period_s = std::min(orbit_period_s.value_or(oc.orbit->nodalPeriod()), oc.orbit->nodalPeriod());
   c.thermal = parseThermalSettings(doc, c.node_names, area, orbit_period_s);
-  if (!c.thermal)  // a table against temperature with no temperatures to follow: say which value stood
-    for (const std::string& m : std::set<std::string>(c.node_material.begin(), c.node_material.end()))
-      if (c.materials.at(m).hasCurves())
-        c.warnings.push_back("materials." + m + ": its ε/α table is taken at 293.15 K (no 'thermal:' block, so no "
-                             "temperatures for it to follow)");
+  if (!c.thermal) warnUnfollowedTables(c);
   parseCaseDissipations(doc, c);
   parseOpticalUncertainty(doc, c);
   parseLimits(doc, c);
