@@ -86,13 +86,13 @@ OpticalSetCost opticalSetCost(const cases::GeometryRunResult& r, const cases::Op
   const cases::BandCores cores = cases::bandCores(r.radiative, set);
   out.cores_s = since(t0);
   t0 = Clock::now();
-  const Eigen::MatrixXd q_core = cases::absorbedPower(*cores.solar, *cores.ir, net, e, r.solver.refineTolerance());
+  const Eigen::MatrixXd q_core = cases::absorbedPower(*cores.solar, *cores.ir, r.radiative, e, r.solver.refineTolerance());
   out.solves_s = since(t0);
   t0 = Clock::now();
   const Eigen::MatrixXd q_lu = denseLuAbsorbed(net, set, e);
   out.lu_s = since(t0);
   t0 = Clock::now();
-  const Eigen::MatrixXd q_rank_k = cases::absorbedPower(*cores.solar, *cores.ir, net, e, 0.0);
+  const Eigen::MatrixXd q_rank_k = cases::absorbedPower(*cores.solar, *cores.ir, r.radiative, e, 0.0);
   out.unrefined_s = since(t0);
   for (int i = 0; i < out.n; ++i) {
     const double scale = q_lu.row(i).cwiseAbs().maxCoeff();

@@ -36,6 +36,19 @@ double shadowGridSpacing(const Eigen::VectorXd& area, double relative_error) {
 
 namespace {
 
+// Sunlight that mirrors and windows pass on (the whole arrival at each node it reaches: the
+// network takes its κ share, the tracer carries the rest on), added to the direct load.
+void redirectedSunlight(const geometry::RayCaster& caster, const Eigen::VectorXd& area, const SweepPosition& pos,
+                        const EnvironmentOptions& opt, double flux, EnvironmentLoads& out, int p) {
+  if (!opt.solar_specular.anyRedirects()) return;
+  const geometry::RedirectedLight light =
+      geometry::redirectedCollimated(caster, opt.solar_specular, pos.sun_body, opt.specular_samples, opt.seed);
+  out.direct.col(p) += flux * light.arrived_m2.cwiseQuotient(area);
+  const Eigen::VectorXd sigma = flux * light.stderr_m2.cwiseQuotient(area);
+  out.direct_stderr.col(p) = (out.direct_stderr.col(p).array().square() + sigma.array().square()).sqrt().matrix();
+  out.shadow_rays += light.rays;
+}
+
 // Direct irradiance and its σ at one lit position, W/m².
 void directLoads(const geometry::RayCaster& caster, const Eigen::VectorXd& area, const SweepPosition& pos,
                  const EnvironmentOptions& opt, double cell_m, EnvironmentLoads& out, int p) {
@@ -45,6 +58,7 @@ void directLoads(const geometry::RayCaster& caster, const Eigen::VectorXd& area,
     out.direct.col(p) = flux * lit.projected_m2.cwiseQuotient(area);
     out.direct_stderr.col(p) = flux * lit.stderr_m2.cwiseQuotient(area);
     out.shadow_rays += lit.rays_cast;
+    redirectedSunlight(caster, area, pos, opt, flux, out, p);
     return;
   }
   geometry::SunGridOptions grid;
@@ -57,6 +71,7 @@ void directLoads(const geometry::RayCaster& caster, const Eigen::VectorXd& area,
   out.direct_stderr.col(p) = flux * lit.stderr_m2.cwiseQuotient(area);
   out.shadow_rays += lit.cells + lit.node_rays;
   out.shadow_cell_m = lit.cell_m;
+  redirectedSunlight(caster, area, pos, opt, flux, out, p);
 }
 
 // The mean and standard error of per-replica estimates.

@@ -14,6 +14,7 @@
 // Reuse: when the Earth is fixed in the body frame (nadir pointing on a circular orbit)
 // the planet rays are cast once and their hit points reused; only the Sun's part changes.
 #include "geometry/irradiance/queries.hpp"
+#include "geometry/rays/specular.hpp"
 #include "orbits/body.hpp"
 #include "orbits/sweep.hpp"
 
@@ -42,6 +43,10 @@ struct EnvironmentOptions {
   /// fill (docs/mpi.md); each value depends only on the seed and its position and node.
   std::vector<char> sun_positions, planet_nodes;
   std::function<void(int, int)> progress;  ///< (positions done, positions total), optional
+  /// The solar band's specular reflectance and transmittance per node (empty: none): direct
+  /// sunlight they redirect is traced on to what it reaches (geometry::redirectedCollimated).
+  geometry::SpecularBand solar_specular;
+  int specular_samples = 8192;  ///< sample points per redirecting node and lit position
 };
 
 /// The cap on planet rays per node when they follow the error target.

@@ -349,6 +349,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
   checkCoincidentSurfaces(doc, geom, c.scene);
   assignNodeMaterials(c, ctx.node_material);
   parseOpticalSets(doc, c);
+  applySpecularOptics(doc, c);
 
   c.solver = parseSolverSettings(doc, root["solver"]);
   if (root["solver"]) c.view_factors = parseViewFactorSettings(doc, root["solver"]["view_factors"]);

@@ -8,6 +8,7 @@
 #include "cases/config/solver_block.hpp"
 #include "cases/config/thermal_settings.hpp"
 #include "cases/config/yaml_document.hpp"
+#include "geometry/rays/specular.hpp"
 #include "geometry/scene/scene.hpp"
 #include "geometry/scene/seams.hpp"
 #include "solver/radiative/settings.hpp"
@@ -35,6 +36,14 @@ struct Material {
   solver::OpticalCurve emissivity_curve, absorptivity_curve;
   bool hasCurves() const {
     return !emissivity_curve.warming.temperature_k.empty() || !absorptivity_curve.warming.temperature_k.empty();
+  }
+  /// Specular reflectance ρs and transmittance τ per band (docs/case-files.md, "Specular and
+  /// transmissive surfaces"): IR (with ε) and solar (with α); the diffuse reflectance is what
+  /// remains, ρd = 1 − ε − ρs − τ. Zero: a diffuse, opaque surface.
+  double specular_ir = 0.0, transmittance_ir = 0.0;
+  double specular_solar = 0.0, transmittance_solar = 0.0;
+  bool isSpecular() const {
+    return specular_ir > 0 || transmittance_ir > 0 || specular_solar > 0 || transmittance_solar > 0;
   }
   bool has_bulk = false;
   double conductivity = 0.0;   ///< W/(m K)
@@ -72,7 +81,20 @@ struct GeometryCase {
   geometry::SeamReport seams;                ///< seams closed between curved primitives
   std::vector<std::string> node_names;       ///< per scene node, in scene order
   std::vector<std::string> node_material;    ///< per scene node
-  Eigen::VectorXd emissivity, absorptivity;  ///< per scene node, –
+  /// Per scene node, –: the materials' ε and α, or, when a surface is specular or transmissive,
+  /// the network's ε/κ and α/κ (κ = 1 − ρs − τ of the band; docs/solver.md, "Specular and
+  /// transmissive surfaces"); the optical sets likewise. `surface_*` keep the materials' own.
+  Eigen::VectorXd emissivity, absorptivity;
+  Eigen::VectorXd surface_emissivity, surface_absorptivity;  ///< as the materials give them, –
+  /// ρs and τ per scene node in the IR and the solar band; empty when no surface is specular
+  /// or transmissive.
+  geometry::SpecularBand specular_ir, specular_solar;
+  bool hasSpecular() const { return !specular_ir.empty(); }
+  /// The solar band needs its own traced network (its ρs or τ differ from the IR band's somewhere).
+  bool solarSpecularDiffers() const {
+    return hasSpecular() && (specular_ir.specular != specular_solar.specular ||
+                             specular_ir.transmittance != specular_solar.transmittance);
+  }
   ViewFactorSettings view_factors;
   solver::SolverSettings solver;
   std::vector<OpticalSet> optical_sets;    ///< `base` (the materials as given) first, then `optics:`
@@ -110,6 +132,11 @@ GeometryCase loadGeometryCase(const YamlDocument& doc);
 /// @throws InputError when missing, unreadable or nested more than 8 deep (a cycle)
 YamlDocument includeDocument(const YamlDocument& doc, const YAML::Node& node, const std::string& what, int depth,
                              IncludedFiles& included);
+
+/// Fills the nodes' specular optics from their materials and, when any surface reflects
+/// specularly or transmits, turns ε, α and every optical set into the network's ε/κ, α/κ.
+/// @throws InputError at `optics:` when a set's ε (α) + ρs + τ exceeds 1
+void applySpecularOptics(const YamlDocument& doc, GeometryCase& c);
 
 /// Parses `materials:` (with `include:` of material files) into `materials`.
 void parseMaterials(const YamlDocument& doc, const YAML::Node& node, std::map<std::string, Material>& materials,

@@ -37,6 +37,35 @@ double opticalProperty(const YamlDocument& doc, const YAML::Node& v, const std::
   return curve.start(kNominalOpticsTemperature);
 }
 
+// Specular reflectance and transmittance per band; the solar ones default to the IR ones.
+// Each band's budget must close: ε + ρs + τ ≤ 1 and α + ρs + τ ≤ 1 (ρd takes the rest).
+void parseSpecular(const YamlDocument& doc, const YAML::Node& v, const std::string& what, Material& m) {
+  const auto fraction = [&](const char* key, double fallback) {
+    return v[key] ? doc.number(v[key], what + "." + key + " (a fraction, –)", 0.0, 1.0) : fallback;
+  };
+  m.specular_ir = fraction("specular_reflectance", 0.0);
+  m.transmittance_ir = fraction("transmittance", 0.0);
+  m.specular_solar = fraction("solar_specular_reflectance", m.specular_ir);
+  m.transmittance_solar = fraction("solar_transmittance", m.transmittance_ir);
+  if (!m.isSpecular()) return;
+  const YAML::Node& where = v["specular_reflectance"] ? v["specular_reflectance"]
+                            : v["transmittance"]      ? v["transmittance"]
+                            : v["solar_specular_reflectance"] ? v["solar_specular_reflectance"]
+                                                              : v["solar_transmittance"];
+  if (m.hasCurves())
+    throw doc.error(where, what + ": a specular or transmissive surface with ε or α against temperature is not "
+                                  "supported; give constant optics");
+  constexpr double kRounding = 1e-9;  // sums of values printed to 9 digits
+  const auto check = [&](double absorbed, double specular, double transmitted, const char* band, const char* a) {
+    if (absorbed + specular + transmitted > 1.0 + kRounding)
+      throw doc.error(where, what + ": the " + band + " band's " + a + " + specular reflectance + transmittance = " +
+                                 std::to_string(absorbed + specular + transmitted) +
+                                 " exceeds 1 (the diffuse reflectance is what remains of 1)");
+  };
+  check(m.emissivity, m.specular_ir, m.transmittance_ir, "IR", "emissivity");
+  check(m.absorptivity, m.specular_solar, m.transmittance_solar, "solar", "absorptivity");
+}
+
 }  // namespace
 
 YamlDocument includeDocument(const YamlDocument& doc, const YAML::Node& node, const std::string& what, int depth,
@@ -65,7 +94,9 @@ void parseMaterials(const YamlDocument& doc, const YAML::Node& mats, std::map<st
       continue;
     }
     const std::string what = "materials." + mname;
-    doc.expectMap(kv.second, what, {"emissivity", "absorptivity", "conductivity", "density", "specific_heat"});
+    doc.expectMap(kv.second, what,
+                  {"emissivity", "absorptivity", "conductivity", "density", "specific_heat", "specular_reflectance",
+                   "solar_specular_reflectance", "transmittance", "solar_transmittance"});
     const YAML::Node& v = kv.second;
     Material m;
     m.has_optics = v["emissivity"] || v["absorptivity"];
@@ -73,6 +104,11 @@ void parseMaterials(const YamlDocument& doc, const YAML::Node& mats, std::map<st
       m.emissivity = opticalProperty(doc, doc.required(v, "emissivity", what), what + ".emissivity", m.emissivity_curve);
       m.absorptivity =
           opticalProperty(doc, doc.required(v, "absorptivity", what), what + ".absorptivity", m.absorptivity_curve);
+      parseSpecular(doc, v, what, m);
+    } else if (v["specular_reflectance"] || v["transmittance"] || v["solar_specular_reflectance"] ||
+               v["solar_transmittance"]) {
+      throw doc.error(v, what + ": specular reflectance and transmittance belong to a surface material: give its "
+                                "emissivity and absorptivity too");
     }
     m.has_bulk = v["conductivity"] || v["density"] || v["specific_heat"];
     if (m.has_bulk) {  // W/(m K), kg/m³, J/(kg K): from aerogels to copper and beyond, with room
@@ -86,6 +122,46 @@ void parseMaterials(const YamlDocument& doc, const YAML::Node& mats, std::map<st
     if (materials.count(mname)) throw doc.error(kv.first, what + ": defined twice");
     materials[mname] = m;
   }
+}
+
+namespace {
+
+// ε/κ for κ > 0; a pure mirror (κ = 0, hence ε = 0) has no radiosity node: 0.
+Eigen::VectorXd perKappa(const Eigen::VectorXd& value, const Eigen::VectorXd& kappa) {
+  Eigen::VectorXd out(value.size());
+  for (Eigen::Index i = 0; i < value.size(); ++i) out[i] = kappa[i] > 0 ? std::min(1.0, value[i] / kappa[i]) : 0.0;
+  return out;
+}
+
+}  // namespace
+
+void applySpecularOptics(const YamlDocument& doc, GeometryCase& c) {
+  const Eigen::Index n = c.emissivity.size();
+  geometry::SpecularBand ir{Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n)}, solar = ir;
+  bool any = false;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Material& m = c.materials.at(c.node_material[static_cast<size_t>(i)]);
+    ir.specular[i] = m.specular_ir, ir.transmittance[i] = m.transmittance_ir;
+    solar.specular[i] = m.specular_solar, solar.transmittance[i] = m.transmittance_solar;
+    any = any || m.isSpecular();
+  }
+  c.surface_emissivity = c.emissivity;
+  c.surface_absorptivity = c.absorptivity;
+  if (!any) return;
+  c.specular_ir = ir;
+  c.specular_solar = solar;
+  const Eigen::VectorXd kappa_ir = ir.kappa(), kappa_solar = solar.kappa();
+  for (OpticalSet& set : c.optical_sets) {
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (set.emissivity[i] > kappa_ir[i] + 1e-9 || set.absorptivity[i] > kappa_solar[i] + 1e-9)
+        throw doc.error(doc.root()["optics"], "optics." + set.name + ": node '" + c.node_names[static_cast<size_t>(i)] +
+                                                  "' would have emissivity (absorptivity) + specular reflectance + "
+                                                  "transmittance above 1 in a band");
+    set.emissivity = perKappa(set.emissivity, kappa_ir);
+    set.absorptivity = perKappa(set.absorptivity, kappa_solar);
+  }
+  c.emissivity = perKappa(c.emissivity, kappa_ir);
+  c.absorptivity = perKappa(c.absorptivity, kappa_solar);
 }
 
 }  // namespace radnet::cases

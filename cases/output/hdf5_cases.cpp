@@ -13,8 +13,14 @@ void writeOptics(Hdf5Writer& h5, const GeometryCase& c, const DesignCasesResult&
   for (size_t k = 0; k < c.optical_sets.size(); ++k) {
     const OpticalSet& set = c.optical_sets[k];
     const std::string group = "/optics/" + set.name;
-    h5.writeVector(group + "/emissivity", set.emissivity, "1");
-    h5.writeVector(group + "/absorptivity", set.absorptivity, "1");
+    // The sets hold the network's ε/κ, α/κ where a surface is specular: written as the surfaces'.
+    h5.writeVector(group + "/emissivity",
+                   c.hasSpecular() ? Eigen::VectorXd(set.emissivity.cwiseProduct(c.specular_ir.kappa())) : set.emissivity,
+                   "1");
+    h5.writeVector(group + "/absorptivity",
+                   c.hasSpecular() ? Eigen::VectorXd(set.absorptivity.cwiseProduct(c.specular_solar.kappa()))
+                                   : set.absorptivity,
+                   "1");
     if (k == 0) {
       h5.link("/network/radiative_exchange", group + "/radiative_exchange");
       h5.link("/network/gr_space", group + "/gr_space");

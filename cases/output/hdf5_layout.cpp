@@ -42,7 +42,7 @@ void writeNodes(Hdf5Writer& h5, const RadiativeNetwork& radiative, const std::op
   const solver::Network& net = *radiative.network;
   const Eigen::Index n = nodeCount(radiative, thermal);
   h5.writeStrings("/nodes/name", thermal ? thermal->node_names : net.names());
-  h5.writeVector("/nodes/area", padNodes(net.area(), n).col(0), "m^2");
+  h5.writeVector("/nodes/area", padNodes(radiative.surfaceArea(), n).col(0), "m^2");
   std::vector<bool> lumped(static_cast<size_t>(n), false);
   for (Eigen::Index i = net.size(); i < n; ++i) lumped[static_cast<size_t>(i)] = true;
   h5.writeBooleans("/nodes/lumped", lumped);

@@ -56,8 +56,8 @@ void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, cons
   writeNodes(h5, r.radiative, r.thermal);
   writeRadiativeNetwork(h5, r.radiative);
   const Eigen::Index n = nodeCount(r.radiative, r.thermal);
-  h5.writeVector("/nodes/emissivity", padNodes(c.emissivity, n).col(0), "1");
-  h5.writeVector("/nodes/absorptivity", padNodes(c.absorptivity, n).col(0), "1");
+  h5.writeVector("/nodes/emissivity", padNodes(c.surface_emissivity, n).col(0), "1");
+  h5.writeVector("/nodes/absorptivity", padNodes(c.surface_absorptivity, n).col(0), "1");
   std::vector<std::string> material = c.node_material;
   material.resize(static_cast<size_t>(n));  // lumped nodes: no surface, no material
   h5.writeStrings("/nodes/material", material);

@@ -259,10 +259,10 @@ void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std
   out << "case " << c.name << ": " << c.scene.faces().size() << " triangles, " << net.size() << " nodes\n";
   const Layout layout{groupsByPrimitive(c.scene, net.names()), all_nodes};
   const Layout thermal_layout{r.thermal ? groupsByPrimitive(c.scene, r.thermal->node_names) : NodeGroups{}, all_nodes};
-  NodeColumn eps{"ε", c.emissivity, Aggregate::Mean}, alpha{"α", c.absorptivity, Aggregate::Mean};
+  NodeColumn eps{"ε", c.surface_emissivity, Aggregate::Mean}, alpha{"α", c.surface_absorptivity, Aggregate::Mean};
   eps.width = alpha.width = 8;
   layout.print(net.names(),
-               {{"area m²", net.area(), Aggregate::Sum}, eps, alpha,
+               {{"area m²", r.radiative.surfaceArea(), Aggregate::Sum}, eps, alpha,
                 {"F_space", net.spaceViewFactor(), Aggregate::Mean},
                 {"GR_space", ex.gr_space, Aggregate::Sum},
                 {"max σ(F)", solver::rowLargestEntries(r.view_factor_stderr, net.size()), Aggregate::Max}},

@@ -41,12 +41,12 @@ Eigen::VectorXd spread(const XdmfBlock& b, const Eigen::MatrixXd& by_node, Eigen
 }
 
 std::vector<XdmfField> fieldsOf(const GeometryRunResult& r) {
-  const solver::Network& net = *r.radiative.network;
+  const Eigen::VectorXd& area = r.radiative.surfaceArea();
   std::vector<XdmfField> f;
-  f.push_back({"node area [m^2]", "node_area", net.area(), false});
+  f.push_back({"node area [m^2]", "node_area", area, false});
   if (r.sweep) {
     f.push_back({"absorbed environmental flux [W/m^2]", "absorbed_flux",
-                 net.area().cwiseInverse().asDiagonal() * r.sweep->absorbed_total, true});
+                 area.cwiseInverse().asDiagonal() * r.sweep->absorbed_total, true});
     f.push_back({"solar exitance [W/m^2]", "exitance_solar", r.sweep->exitance_solar, true});
   }
   if (r.thermal) {

@@ -188,7 +188,8 @@ void caseStatistics(const std::vector<CaseRun>& runs, DesignCasesResult& out) {
 BandCores bandCores(const RadiativeNetwork& radiative, const OpticalSet& set) {
   const Eigen::VectorXd one = Eigen::VectorXd::Ones(set.emissivity.size());
   BandCores cores;
-  cores.solar = std::make_unique<solver::LowRankBandSolver>(*radiative.network, radiative.pairs, one - set.absorptivity);
+  cores.solar =
+      std::make_unique<solver::LowRankBandSolver>(radiative.solarNetwork(), radiative.pairs, one - set.absorptivity);
   cores.ir = std::make_unique<solver::LowRankBandSolver>(*radiative.network, radiative.pairs, one - set.emissivity);
   return cores;
 }

@@ -10,6 +10,7 @@
 #include "cases/pipeline/progress.hpp"
 #include "cases/pipeline/radiative_network.hpp"
 #include "geometry/exact/view_factors.hpp"
+#include "geometry/rays/specular.hpp"
 #include "geometry/rays/view_factors.hpp"
 #include "solver/radiative/policy.hpp"
 
@@ -112,8 +113,60 @@ geometry::ViewFactorEstimate exactStage(const GeometryCase& c, const geometry::R
   return geometry::withSampledRows(estimate, vf, ex.sampled_rows);
 }
 
+// The network's areas in a band: A κ, or A where κ = 0 (a pure mirror: its row and column
+// are empty, any positive area serves).
+Eigen::VectorXd bandArea(const Eigen::VectorXd& area, const Eigen::VectorXd& kappa) {
+  Eigen::VectorXd out = area;
+  for (Eigen::Index i = 0; i < area.size(); ++i)
+    if (kappa[i] > 0) out[i] *= kappa[i];
+  return out;
+}
+
+// The rows that see a surface redirecting in either band (or are one: a pure mirror's row
+// is replaced by F̃_space = 1): these are traced, the others keep the diffuse F.
+std::vector<char> specularRows(const GeometryCase& c, const geometry::ViewFactorEstimate& diffuse) {
+  const Eigen::Index n = c.emissivity.size();
+  const auto redirects = [&](Eigen::Index j) {
+    return c.specular_ir.redirects(static_cast<int>(j)) || c.specular_solar.redirects(static_cast<int>(j));
+  };
+  std::vector<char> rows(static_cast<size_t>(n), 0);
+  for (Eigen::Index i = 0; i < diffuse.view_factors.outerSize(); ++i)
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(diffuse.view_factors, i); it; ++it)
+      if (it.value() > 0 && (redirects(it.col()) || redirects(i))) rows[static_cast<size_t>(i)] = 1;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (redirects(i)) rows[static_cast<size_t>(i)] = 1;  // its own row: what leaves it meets others' optics
+    if (c.specular_ir.kappa()[i] <= 0 || c.specular_solar.kappa()[i] <= 0) rows[static_cast<size_t>(i)] = 1;
+  }
+  // Rows seeing a redirector that saw nothing in return (F_ji > 0, F_ij = 0 by sampling).
+  for (Eigen::Index i = 0; i < diffuse.view_factors.outerSize(); ++i)
+    if (redirects(i))
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(diffuse.view_factors, i); it; ++it)
+        rows[static_cast<size_t>(it.col())] = 1;
+  return rows;
+}
+
+// One band's F̃ = E^s κ: the rows seeing a specular or transmissive surface traced with the
+// band's optics, the rest as computed; then the reciprocity/closure correction with Ã = A κ.
+geometry::ReciprocityCorrection specularBand(const GeometryCase& c, const geometry::RayCaster& caster,
+                                             const geometry::ViewFactorEstimate& diffuse,
+                                             const geometry::SpecularBand& band, const std::vector<char>& rows,
+                                             const Eigen::VectorXd& area, Eigen::VectorXd rays, GeometryRunResult& r,
+                                             geometry::ViewFactorEstimate* kept) {
+  geometry::ViewFactorOptions opt = c.view_factors.monte_carlo;
+  opt.cast_rows = rows;
+  const geometry::ViewFactorResult traced = geometry::traceSpecularRows(caster, band, opt);
+  r.specular_rays += traced.total_rays;
+  for (char row : rows) r.specular_rows += row;
+  const Eigen::VectorXd kappa = band.kappa();
+  for (Eigen::Index i = 0; i < rays.size(); ++i)
+    if (rows[static_cast<size_t>(i)]) rays[i] = kappa[i] > 0 ? double(traced.rays[static_cast<size_t>(i)]) : 1e15;
+  const geometry::ViewFactorEstimate merged = geometry::withSampledRows(diffuse, traced, rows);
+  if (kept) *kept = merged;
+  return geometry::enforceReciprocity(bandArea(area, kappa), merged, rays);
+}
+
 // F by ray casting or the exact method, then the variance-weighted reciprocity and
-// closure correction (docs/geometry.md).
+// closure correction (docs/geometry.md); with specular or transmissive surfaces, F̃ per band.
 void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, const Eigen::VectorXd& area,
                      GeometryRunResult& r, bool show_progress, std::ostream& progress) {
   const Eigen::Index n = area.size();
@@ -129,11 +182,20 @@ void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, c
   } else {
     estimate = exactStage(c, caster, r, rays, show_progress, progress);
   }
+  if (c.hasSpecular()) {
+    const std::vector<char> rows = specularRows(c, estimate);
+    if (c.solarSpecularDiffers())
+      r.solar_correction = specularBand(c, caster, estimate, c.specular_solar, rows, area, rays, r, nullptr);
+    geometry::ViewFactorEstimate traced;
+    r.correction = specularBand(c, caster, estimate, c.specular_ir, rows, area, rays, r, &traced);
+    estimate = traced;
+  } else {
+    r.correction = geometry::enforceReciprocity(area, estimate, rays);
+  }
   r.raw_view_factors = estimate.view_factors;
   r.view_factor_stderr = estimate.standard_error;
   // What leaves to space or to inactive sides is uncertain too (it sets the GR to space).
   r.lost_view_factor_stderr = (estimate.space_error.array().square() + estimate.blocked_error.array().square()).sqrt();
-  r.correction = geometry::enforceReciprocity(area, estimate, rays);
   timer.stop();
   progress << "radnet: view factors (" << toString(c.view_factors.method) << "): ";
   if (r.exact)
@@ -144,6 +206,10 @@ void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, c
                                      : "")
            << ", reciprocity/closure correction moved F by at most " << r.correction.max_change << " ("
            << r.correction.max_change_sigma << " σ)\n";
+  if (c.hasSpecular())
+    progress << "radnet: specular/transmissive surfaces: " << r.specular_rows << " row(s) traced with specular "
+             << "reflection and transmission (" << r.specular_rays << " rays, "
+             << (r.solar_correction ? "IR and solar bands apart" : "one traced network for both bands") << ")\n";
 }
 
 // The network from the corrected F, stored sparse or dense by the solver policy.
@@ -205,7 +271,17 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
   for (int i = 0; i < n; ++i) area[i] = scene.nodes()[static_cast<size_t>(i)].area_m2;
   viewFactorStage(c, caster, area, r, show_progress, progress);
   StageTimer t_net(r.timings, Stage::Network);
-  r.radiative.network = buildNetwork(c, area, r.correction);
+  Eigen::VectorXd network_area = area;
+  if (c.hasSpecular()) {  // the network's areas are A κ of the band (docs/solver.md)
+    r.radiative.surface_area = area;
+    r.radiative.kappa_ir = c.specular_ir.kappa();
+    r.radiative.kappa_solar = c.specular_solar.kappa();
+    r.radiative.solar_specular = c.specular_solar;
+    network_area = bandArea(area, r.radiative.kappa_ir);
+    if (r.solar_correction)
+      r.radiative.solar_network = buildNetwork(c, bandArea(area, r.radiative.kappa_solar), *r.solar_correction);
+  }
+  r.radiative.network = buildNetwork(c, network_area, r.correction);
   t_net.stop();
 
   // One decomposition serves every optical set and sample: its rank rule takes the largest
@@ -215,7 +291,8 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
   for (const std::string& w : decompositionWarnings(r.radiative.pairs, r.solver))
     progress << "radnet: warning: " << w << "\n";
   r.radiative.exchange = exchangeFactors(r.radiative, c.emissivity, r.solver, r.timings);
-  const DesignContext ctx{c, caster, r.radiative, r.solver, r.view_factor_stderr, r.lost_view_factor_stderr, area};
+  const DesignContext ctx{c, caster, r.radiative, r.solver, r.view_factor_stderr, r.lost_view_factor_stderr,
+                          network_area};
   std::vector<CaseRun> runs;
   runDesignCases(ctx, r, runs, show_progress, progress);
   suspiciousNodeWarnings(c, r, progress);

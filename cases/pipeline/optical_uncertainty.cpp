@@ -208,9 +208,12 @@ std::vector<OpticalSet> shiftedSets(const GeometryCase& c, const std::vector<std
   for (size_t i = 0; i < c.node_material.size(); ++i) {
     const auto m = std::lower_bound(materials.begin(), materials.end(), c.node_material[i]) - materials.begin();
     const auto k = static_cast<Eigen::Index>(i);
+    // With specular surfaces the sets hold ε/κ and α/κ: a shift of ε is one of δε/κ there.
+    const double ka = c.hasSpecular() ? c.specular_solar.kappa()[k] : 1.0;
+    const double ke = c.hasSpecular() ? c.specular_ir.kappa()[k] : 1.0;
     for (OpticalSet& set : sets) {
-      set.absorptivity[k] = std::clamp(set.absorptivity[k] + da[m], 0.0, 1.0);
-      set.emissivity[k] = std::clamp(set.emissivity[k] + de[m], 0.0, 1.0);
+      set.absorptivity[k] = ka > 0 ? std::clamp(set.absorptivity[k] + da[m] / ka, 0.0, 1.0) : 0.0;
+      set.emissivity[k] = ke > 0 ? std::clamp(set.emissivity[k] + de[m] / ke, 0.0, 1.0) : 0.0;
     }
   }
   return sets;
@@ -235,7 +238,7 @@ CaseTemperatures caseTemperaturesUnder(const DesignContext& ctx, const std::vect
         cores[o] = bandCores(ctx.radiative, sets[o]);
         band_cores += 2;
       }
-      forcing = thermalForcing(*run.sweep, absorbedPower(*cores[o].solar, *cores[o].ir, *ctx.radiative.network,
+      forcing = thermalForcing(*run.sweep, absorbedPower(*cores[o].solar, *cores[o].ir, ctx.radiative,
                                                          run.sweep->irradiance, ctx.solver.refineTolerance()));
     }
     const ThermalSolution th =

@@ -12,6 +12,10 @@
 namespace radnet::cases {
 namespace {
 
+// The relative residual a solar band of its own network is solved to when the case keeps
+// rank-k answers (refine tolerance 0): its G̃ is not the decomposed one.
+constexpr double kOwnSolarNetworkTolerance = 1e-8;
+
 // One band for all positions at once: M_o = ρ ∘ E (n×cols); the solution and the absorbed
 // power (1 − ρ) A (E + H), W.
 struct BandOutcome {
@@ -55,7 +59,7 @@ orbits::EnvironmentLoads scaledLoads(const SweepInputs& in, int k) {
 void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings, bool show_progress,
                   std::ostream& progress) {
   const OrbitSettings& o = in.orbit;
-  const Eigen::VectorXd& area = in.radiative.network->area();
+  const Eigen::VectorXd& area = in.radiative.surfaceArea();  // irradiance per m² of the surfaces themselves
   std::vector<orbits::EnvironmentLoads> parts;
   for (size_t k = 0; k < o.cases.size(); ++k) {
     const orbits::Orbit& orbit = *o.cases[k].orbit;
@@ -72,6 +76,7 @@ void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings,
       parts.push_back(scaledLoads(in, static_cast<int>(k)));
     } else {
       orbits::EnvironmentOptions env = o.environment;
+      env.solar_specular = in.radiative.solar_specular;
       if (show_progress) env.progress = progressBar(progress, "orbit loads", "positions");
       if (cluster::distributed()) {  // each rank its sun positions and planet nodes, then joined
         env.sun_positions = cluster::ownedMask(static_cast<long long>(positions.size()));
@@ -130,15 +135,16 @@ void absorbedUncertainty(const SweepInputs& in, const solver::LowRankBandSolver&
   const orbits::EnvironmentLoads& e = sw.irradiance;
   const Eigen::MatrixXd solar_sigma =
       (e.direct_stderr.array().square() + e.albedo_stderr.array().square()).sqrt().matrix();
+  const solver::Network& solar_net = in.radiative.solarNetwork();
   const solver::AbsorbedVariance vs =
-      solver::absorbedVariance(net, solar, in.view_factor_stderr, sw.exitance_solar, solar_sigma);
+      solver::absorbedVariance(solar_net, solar, in.view_factor_stderr, sw.exitance_solar, solar_sigma);
   const solver::AbsorbedVariance vi =
       solver::absorbedVariance(net, ir, in.view_factor_stderr, ir_band.solution.exitance, e.earth_ir_stderr);
   const solver::BandSolution& s = solar_band.solution;
   const Eigen::MatrixXd solar_h = s.irradiance.leftCols(P) + s.irradiance.rightCols(P);
   const Eigen::MatrixXd solar_gm = s.full_flux.leftCols(P) + s.full_flux.rightCols(P);
   sw.absorbed_stderr_truncation =
-      solver::truncationError(net, solar, solar_gm, solar_h, s.refined) +
+      solver::truncationError(solar_net, solar, solar_gm, solar_h, s.refined) +
       solver::truncationError(net, ir, ir_band.solution.full_flux, ir_band.solution.irradiance,
                               ir_band.solution.refined);
   sw.absorbed_stderr_view_factors = vs.view_factors.cwiseSqrt() + vi.view_factors.cwiseSqrt();
@@ -161,17 +167,21 @@ SweepResult runSweep(const SweepInputs& in, StageTimings& timings, bool show_pro
   const double tol = in.solver.refineTolerance();
   const solver::LowRankBandSolver& solar = in.solar;
   const solver::LowRankBandSolver& ir = in.ir;
-  // Solar band (ρ = 1 − α): direct and albedo as 2P right-hand sides of one solve.
+  const solver::Network& solar_net = in.radiative.solarNetwork();
+  // Solar band (ρ = 1 − α): direct and albedo as 2P right-hand sides of one solve. A solar
+  // network of its own (specular optics apart from the IR band's) is always solved to the
+  // tolerance: the core of the one decomposition only preconditions it.
   Eigen::MatrixXd ext(n, 2 * P);
   ext << sw.irradiance.direct, sw.irradiance.albedo;
-  const BandOutcome solar_band = solveBand(solar, net, ext, tol, "solar");
+  const double solar_tol = &solar_net == &net ? tol : (tol > 0 ? tol : kOwnSolarNetworkTolerance);
+  const BandOutcome solar_band = solveBand(solar, solar_net, ext, solar_tol, "solar");
   sw.absorbed_solar = solar_band.absorbed.leftCols(P);
   sw.absorbed_albedo = solar_band.absorbed.rightCols(P);
   sw.exitance_solar = solar_band.solution.exitance.leftCols(P) + solar_band.solution.exitance.rightCols(P);
   sw.solar_residual = solar_band.solution.max_residual;
   sw.solar_refine_iterations = solar_band.solution.refine_iterations;
   sw.solar_band_method = solar_band.solution.method;
-  sw.energy_balance_error = solarEnergyBalanceError(net, sw);
+  sw.energy_balance_error = solarEnergyBalanceError(solar_net, sw);
   // IR band (ρ = 1 − ε): the planet's IR, interreflected.
   const BandOutcome ir_band = solveBand(ir, net, sw.irradiance.earth_ir, tol, "IR");
   sw.absorbed_earth_ir = ir_band.absorbed;
@@ -182,16 +192,22 @@ SweepResult runSweep(const SweepInputs& in, StageTimings& timings, bool show_pro
   sw.absorbed_total = sw.absorbed_solar + sw.absorbed_albedo + sw.absorbed_earth_ir;
   StageTimer t_unc(timings, Stage::Uncertainty);
   absorbedUncertainty(in, solar, ir, solar_band, ir_band, sw);
+  // The network's solar radiosity is M̃ = J / κ: report the surfaces' own diffuse exitance J.
+  if (in.radiative.kappa_solar.size()) sw.exitance_solar = in.radiative.kappa_solar.asDiagonal() * sw.exitance_solar;
   return sw;
 }
 
 Eigen::MatrixXd absorbedPower(const solver::LowRankBandSolver& solar, const solver::LowRankBandSolver& ir,
-                              const solver::Network& net, const orbits::EnvironmentLoads& irradiance,
+                              const RadiativeNetwork& radiative, const orbits::EnvironmentLoads& irradiance,
                               double refine_tolerance) {
+  const solver::Network& net = *radiative.network;
+  const solver::Network& solar_net = radiative.solarNetwork();
   const Eigen::Index P = irradiance.direct.cols();
   Eigen::MatrixXd ext(net.size(), 2 * P);
   ext << irradiance.direct, irradiance.albedo;
-  const Eigen::MatrixXd sun = solveBand(solar, net, ext, refine_tolerance, "solar").absorbed;
+  const double solar_tol =
+      &solar_net == &net ? refine_tolerance : (refine_tolerance > 0 ? refine_tolerance : kOwnSolarNetworkTolerance);
+  const Eigen::MatrixXd sun = solveBand(solar, solar_net, ext, solar_tol, "solar").absorbed;
   return sun.leftCols(P) + sun.rightCols(P) + solveBand(ir, net, irradiance.earth_ir, refine_tolerance, "IR").absorbed;
 }
 

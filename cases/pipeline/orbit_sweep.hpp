@@ -32,7 +32,7 @@ SweepResult runSweep(const SweepInputs& in, StageTimings& timings, bool show_pro
 /// The absorbed power (n×P), W, of the irradiances under the two bands' cores: solar,
 /// albedo and Earth IR, each interreflected. @throws NumericalError when a band solve fails
 Eigen::MatrixXd absorbedPower(const solver::LowRankBandSolver& solar, const solver::LowRankBandSolver& ir,
-                              const solver::Network& net, const orbits::EnvironmentLoads& irradiance,
+                              const RadiativeNetwork& radiative, const orbits::EnvironmentLoads& irradiance,
                               double refine_tolerance);
 
 /// Fills sw.uncertainty from its absorbed power and σ's; a warning when nodes are over budget.

@@ -3,6 +3,7 @@
 // quantities (total absorbed power, the triangle → node map) are computed once here by
 // the pipeline, never re-summed by a writer.
 #include "cases/pipeline/stages.hpp"
+#include "geometry/rays/specular.hpp"
 #include "geometry/reciprocity.hpp"
 #include "orbits/loads.hpp"
 #include "orbits/sweep.hpp"
@@ -28,7 +29,22 @@ namespace radnet::cases {
 /// The radiative network of a run, its one eigendecomposition and its exchange factors;
 /// the same for both case forms.
 struct RadiativeNetwork {
+  /// The IR band's network (both bands' when no surface is specular or transmissive). With
+  /// specular surfaces its areas are Ã = A κ and its F̃ = E^s κ (docs/solver.md).
   std::unique_ptr<solver::Network> network;
+  /// The solar band's own network when its specular optics differ from the IR band's (its
+  /// band solves are brought to the tolerance with the full G̃ of this network, the one
+  /// eigendecomposition's core their preconditioner); null: `network` serves both bands.
+  std::unique_ptr<solver::Network> solar_network;
+  /// The nodes' own areas, m² (the network's are A κ where a surface is specular); empty:
+  /// the network's areas are the nodes' own.
+  Eigen::VectorXd surface_area;
+  /// κ = 1 − ρs − τ per node in each band (the network's radiosity M̃ is J / κ); empty: 1.
+  Eigen::VectorXd kappa_ir, kappa_solar;
+  /// ρs and τ per node in the solar band (empty: none): the loads follow sunlight through them.
+  geometry::SpecularBand solar_specular;
+  const solver::Network& solarNetwork() const { return solar_network ? *solar_network : *network; }
+  const Eigen::VectorXd& surfaceArea() const { return surface_area.size() ? surface_area : network->area(); }
   solver::EigenPairs pairs;
   std::optional<solver::ExchangeFactors> exchange;  ///< GR, when the nodes' emissivities are known
 };
@@ -164,6 +180,11 @@ struct GeometryRunResult {
   solver::SparseRowMatrix view_factor_stderr;  ///< σ (rays) or the error estimate (exact), –
   Eigen::VectorXd lost_view_factor_stderr;  ///< σ of F_space + F_blocked per node, –
   geometry::ReciprocityCorrection correction;
+  /// The solar band's own correction, when its specular optics differ from the IR band's.
+  std::optional<geometry::ReciprocityCorrection> solar_correction;
+  /// Specular tracing: rows traced (per band) and their rays.
+  int specular_rows = 0;
+  std::int64_t specular_rays = 0;
   std::optional<ExactViewFactorStats> exact;
   std::int64_t total_rays = 0;
   double rays_per_second = 0.0;

@@ -255,6 +255,7 @@ TriangleSoup cone(const Vec3& base_center, const Vec3& axis_vec, double base_rad
   dropCollapsed(soup, height);  // the row at an apex (zero radius) collapses
   const double slant = std::hypot(height, base_radius - top_radius);
   preserveArea(soup, base_center, axis, true, 0.5 * span * (base_radius + top_radius) * slant);
+  soup.shape = {CurvedShape::Kind::Cone, base_center, axis, (top_radius - base_radius) / height};
   return soup;
 }
 
@@ -286,6 +287,7 @@ TriangleSoup sphere(const Vec3& center, double radius, const Vec3& axis_in, doub
   });
   dropCollapsed(soup, radius);  // the rows at the poles collapse
   preserveArea(soup, center, axis, false, span * radius * radius * (std::cos(t0) - std::cos(t1)));
+  soup.shape = {CurvedShape::Kind::Sphere, center, axis, 0.0};
   return soup;
 }
 

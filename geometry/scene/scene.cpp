@@ -107,6 +107,7 @@ void Scene::addSurface(const std::string& surface, const std::string& label, con
   const int surface_id = static_cast<int>(surfaces_.size());
   surfaces_.push_back(surface);
   labels_.push_back(label);
+  shapes_.push_back(soup.shape);
   first_face_.push_back(static_cast<int>(faces_.size()));
   const int front = nodeFor(front_node, +1, label);
   const int back = nodeFor(back_node, -1, label);
@@ -243,6 +244,28 @@ double Scene::extent() const {
       hi = hi.cwiseMax(v);
     }
   return (hi - lo).maxCoeff();
+}
+
+Vec3 CurvedShape::normalAt(const Vec3& p, const Vec3& facet_normal) const {
+  Vec3 n = Vec3::Zero();
+  if (kind == Kind::Sphere) {
+    n = p - center;
+  } else if (kind == Kind::Cone) {
+    // r(h) linear along the axis: the outward normal ∝ r̂ − (dr/dh) â.
+    const Vec3 d = p - center;
+    const Vec3 radial = d - d.dot(axis) * axis;
+    const double r = radial.norm();
+    if (r > 0) n = radial / r - slope * axis;
+  }
+  const double len = n.norm();
+  if (!(len > 0)) return facet_normal;
+  n /= len;
+  return n.dot(facet_normal) >= 0 ? n : Vec3(-n);
+}
+
+Vec3 Scene::shadingNormal(int f, const Vec3& p) const {
+  const Face& face = faces_[static_cast<size_t>(f)];
+  return shapes_[static_cast<size_t>(face.surface)].normalAt(p, face.normal);
 }
 
 }  // namespace radnet::geometry

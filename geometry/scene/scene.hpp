@@ -25,6 +25,20 @@ class GeometryError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+/// The exact curved surface a primitive's triangles approximate, where it is known: specular
+/// reflection uses its normal at the hit point, not the facet's (a facetted sphere mirror
+/// scatters like a disco ball; docs/geometry.md, "Specular surfaces").
+struct CurvedShape {
+  enum class Kind { None, Sphere, Cone };  ///< Cone: any frustum, a cylinder included
+  Kind kind = Kind::None;
+  Vec3 center = Vec3::Zero();  ///< the sphere's centre, or the cone's base centre, m
+  Vec3 axis = Vec3::UnitZ();   ///< the cone's unit axis (base towards top)
+  /// The cone's dr/dh: (top radius − base radius) / height, –
+  double slope = 0.0;
+  /// The unit normal of the exact surface at `p`, on the side `facet_normal` points to.
+  Vec3 normalAt(const Vec3& p, const Vec3& facet_normal) const;
+};
+
 /// Triangles of one surface before they join a scene (vertices in metres).
 struct TriangleSoup {
   std::vector<Vec3> vertices;
@@ -36,6 +50,7 @@ struct TriangleSoup {
   /// The file's face (polygon, FE element) each triangle came from, 0-based; empty: each
   /// triangle is its own face. Meshes split per element and messages use it.
   std::vector<int> element;
+  CurvedShape shape;  ///< the exact surface, where a primitive knows it
 };
 
 /// A thermal node: a set of triangle sides.
@@ -94,6 +109,10 @@ class Scene {
   Eigen::VectorXi frontNodes() const;
   Eigen::VectorXi backNodes() const;
 
+  /// The unit normal at point p of face f, on its front side: the exact curved surface's
+  /// where the face's surface has one (CurvedShape), else the facet's.
+  Vec3 shadingNormal(int f, const Vec3& p) const;
+
   /// Longest extent of the bounding box, m (scale for ray offsets and tolerances).
   double extent() const;
 
@@ -118,6 +137,7 @@ class Scene {
   std::vector<std::pair<std::string, std::vector<std::string>>> defects_;  ///< kind → where, in order met
   std::vector<std::string> labels_;  ///< per surface
   std::vector<int> first_face_;      ///< per surface
+  std::vector<CurvedShape> shapes_;  ///< per surface
   std::vector<Vec3> nominal_;        ///< per mesh vertex
   std::vector<int> vertex_surface_;  ///< per mesh vertex
 };

@@ -1,0 +1,281 @@
+#include "geometry/rays/specular.hpp"
+
+#include "geometry/rays/sampling.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <random>
+#include <set>
+#include <stdexcept>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace radnet::geometry {
+namespace {
+
+constexpr int kSpace = -1;
+constexpr int kBlocked = -2;
+
+// Weights of one replica: target (node, kSpace or kBlocked) → Σ w.
+using WeightTally = std::map<int, double>;
+
+// One ray's path: every surface it meets takes κ w (exchange factors) or records the whole
+// arrival w (`arrivals`: external light, whose redirected part the path carries on); the rest
+// goes on reflected (probability ρs / (ρs + τ)) or transmitted, at weight (ρs + τ) w; Russian
+// roulette below kRouletteWeight. Paths cut at kMaxRedirections count as blocked.
+void tracePath(const RayCaster& caster, const SpecularBand& band, Vec3 origin, Vec3 dir, int face,
+               std::mt19937_64& rng, WeightTally& tally, double w = 1.0, bool arrivals = false) {
+  const Scene& scene = caster.scene();
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const double roulette = kRouletteWeight * w;  // relative to the weight the path started with
+  for (int redirections = 0;; ++redirections) {
+    const Hit hit = caster.firstHit(origin, dir, face);
+    if (hit.face < 0) {
+      tally[kSpace] += w;
+      return;
+    }
+    const Face& f = scene.faces()[static_cast<size_t>(hit.face)];
+    const int node = hit.front ? f.front_node : f.back_node;
+    if (node < 0) {
+      tally[kBlocked] += w;
+      return;
+    }
+    const double rs = band.specular[node], tau = band.transmittance[node];
+    const double kappa = std::max(0.0, 1.0 - rs - tau);
+    if (arrivals)
+      tally[node] += w;
+    else if (kappa > 0)
+      tally[node] += w * kappa;
+    const double carry = rs + tau;
+    if (!(carry > 0)) return;
+    if (redirections >= kMaxRedirections) {
+      tally[kBlocked] += w * carry;
+      return;
+    }
+    w *= carry;
+    if (w < roulette) {
+      if (uniform(rng) * roulette >= w) return;  // ended: its expected weight is kept by the survivors
+      w = roulette;
+    }
+    const Vec3 point = origin + hit.distance * dir;
+    const bool reflect = uniform(rng) * carry < rs;
+    const Vec3 side = hit.front ? f.normal : Vec3(-f.normal);  // the side the ray arrived on
+    if (reflect) {
+      dir = specularDirection(scene, hit.face, point, dir, hit.front);
+      origin = caster.offsetOrigin(point, side);
+    } else {
+      origin = caster.offsetOrigin(point, -side);  // through the sheet, the direction unchanged
+    }
+    face = hit.face;
+  }
+}
+
+std::pair<double, double> weightStats(const std::vector<WeightTally>& tallies, int target, double per_replica) {
+  const double r = static_cast<double>(tallies.size());
+  double sum = 0.0, sum2 = 0.0;
+  for (const WeightTally& t : tallies) {
+    const auto it = t.find(target);
+    const double p = it == t.end() ? 0.0 : it->second / per_replica;
+    sum += p;
+    sum2 += p * p;
+  }
+  const double mean = sum / r;
+  return {mean, std::sqrt(std::max(0.0, (sum2 - r * mean * mean) / (r - 1.0)) / r)};
+}
+
+struct TracedRow {
+  std::vector<std::pair<int, double>> values, errors;
+  double space[2] = {0, 0}, blocked[2] = {0, 0};
+  std::int64_t rays = 0;
+};
+
+TracedRow traceRow(const RayCaster& caster, const SpecularBand& band, int node, const ViewFactorOptions& opt) {
+  TracedRow row;
+  if (!(1.0 - band.specular[node] - band.transmittance[node] > 0)) {  // a pure mirror: no radiosity node
+    row.space[0] = 1.0;
+    return row;
+  }
+  const NodeSampler sampler(caster.scene(), node);
+  const int replicas = opt.replicas;
+  std::vector<WeightTally> tallies(static_cast<size_t>(replicas));
+  std::vector<Sobol4> sobol;
+  std::vector<std::mt19937_64> rng;
+  for (int r = 0; r < replicas; ++r) {
+    sobol.emplace_back(mixSeed(opt.seed, static_cast<std::uint64_t>(node), static_cast<std::uint64_t>(r)));
+    rng.emplace_back(mixSeed(opt.seed ^ 0x5bd1e995u, static_cast<std::uint64_t>(node), static_cast<std::uint64_t>(r)));
+  }
+  const std::int64_t cap = std::max<std::int64_t>(1, opt.rays_per_node / replicas);
+  std::int64_t per_replica =
+      opt.target_error > 0 ? std::min(cap, std::max<std::int64_t>(1, opt.min_rays_per_node / replicas)) : cap;
+  std::int64_t done = 0;
+  for (;;) {
+    for (int r = 0; r < replicas; ++r) {
+      sobol[static_cast<size_t>(r)].seek(static_cast<std::uint32_t>(done));
+      for (std::int64_t i = done; i < per_replica; ++i) {
+        const NodeSampler::Ray ray = sampler.map(sobol[static_cast<size_t>(r)].next());
+        tracePath(caster, band, caster.offsetOrigin(ray.point, ray.normal), ray.direction, ray.face,
+                  rng[static_cast<size_t>(r)], tallies[static_cast<size_t>(r)]);
+      }
+    }
+    done = per_replica;
+    if (opt.target_error <= 0 || per_replica >= cap) break;
+    std::set<int> targets;
+    for (const WeightTally& t : tallies)
+      for (const auto& kv : t) targets.insert(kv.first);
+    double worst = 0.0;
+    for (int target : targets) worst = std::max(worst, weightStats(tallies, target, double(per_replica)).second);
+    if (worst <= opt.target_error) break;
+    per_replica = std::min(cap, 2 * per_replica);
+  }
+  row.rays = per_replica * replicas;
+  std::set<int> targets;
+  for (const WeightTally& t : tallies)
+    for (const auto& kv : t) targets.insert(kv.first);
+  for (int target : targets) {
+    const auto [mean, err] = weightStats(tallies, target, double(per_replica));
+    if (target == kSpace) {
+      row.space[0] = mean, row.space[1] = err;
+    } else if (target == kBlocked) {
+      row.blocked[0] = mean, row.blocked[1] = err;
+    } else {
+      row.values.emplace_back(target, mean);
+      row.errors.emplace_back(target, err);
+    }
+  }
+  return row;
+}
+
+}  // namespace
+
+Eigen::VectorXd SpecularBand::kappa() const {
+  return (Eigen::VectorXd::Ones(specular.size()) - specular - transmittance).cwiseMax(0.0);
+}
+
+bool SpecularBand::anyRedirects() const {
+  return !empty() && (specular.maxCoeff() > 0 || transmittance.maxCoeff() > 0);
+}
+
+Vec3 specularDirection(const Scene& scene, int face, const Vec3& point, const Vec3& dir, bool front) {
+  const Face& f = scene.faces()[static_cast<size_t>(face)];
+  const Vec3 facet = front ? f.normal : Vec3(-f.normal);  // towards the side the ray came from
+  Vec3 n = scene.shadingNormal(face, point);
+  if (!front) n = -n;
+  Vec3 out = dir - 2.0 * dir.dot(n) * n;
+  if (out.dot(facet) <= 0) out = dir - 2.0 * dir.dot(facet) * facet;
+  return out.normalized();
+}
+
+ViewFactorResult traceSpecularRows(const RayCaster& caster, const SpecularBand& band, const ViewFactorOptions& opt) {
+  const Scene& scene = caster.scene();
+  const int n = static_cast<int>(scene.nodes().size());
+  if (band.specular.size() != n || band.transmittance.size() != n)
+    throw std::invalid_argument("specular optics need one value per node");
+  if (opt.replicas < 2) throw std::invalid_argument("specular rows need at least 2 replicas for an error estimate");
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<TracedRow> rows(static_cast<size_t>(n));
+  int finished = 0;
+#ifdef _OPENMP
+  const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+#endif
+  for (int i = 0; i < n; ++i) {
+    if (opt.cast_rows.empty() || opt.cast_rows[static_cast<size_t>(i)])
+      rows[static_cast<size_t>(i)] = traceRow(caster, band, i, opt);
+#ifdef _OPENMP
+#pragma omp critical(radnet_specular_progress)
+#endif
+    {
+      ++finished;
+      if (opt.progress) opt.progress(finished, n);
+    }
+  }
+  ViewFactorResult res;
+  res.space = res.space_error = res.blocked = res.blocked_error = Eigen::VectorXd::Zero(n);
+  res.rays.assign(static_cast<size_t>(n), 0);
+  std::vector<Eigen::Triplet<double>> f, e;
+  for (int i = 0; i < n; ++i) {
+    const TracedRow& row = rows[static_cast<size_t>(i)];
+    for (const auto& [j, v] : row.values) f.emplace_back(i, j, v);
+    for (const auto& [j, v] : row.errors) e.emplace_back(i, j, v);
+    res.space[i] = row.space[0], res.space_error[i] = row.space[1];
+    res.blocked[i] = row.blocked[0], res.blocked_error[i] = row.blocked[1];
+    res.rays[static_cast<size_t>(i)] = row.rays;
+    res.total_rays += row.rays;
+  }
+  res.view_factors.resize(n, n);
+  res.view_factors.setFromTriplets(f.begin(), f.end());
+  res.standard_error.resize(n, n);
+  res.standard_error.setFromTriplets(e.begin(), e.end());
+  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+RedirectedLight redirectedCollimated(const RayCaster& caster, const SpecularBand& band, const Vec3& toward_source,
+                                     int samples, std::uint64_t seed, int replicas) {
+  const Scene& scene = caster.scene();
+  const int n = static_cast<int>(scene.nodes().size());
+  RedirectedLight out;
+  out.arrived_m2 = out.stderr_m2 = Eigen::VectorXd::Zero(n);
+  if (!band.anyRedirects()) return out;
+  const Vec3 travel = -toward_source;
+  const std::int64_t per_replica = std::max(1, samples / std::max(1, replicas));
+  std::vector<std::vector<WeightTally>> tallies(static_cast<size_t>(n));
+  std::vector<std::int64_t> rays(static_cast<size_t>(n), 0);
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 1)
+#endif
+  for (int j = 0; j < n; ++j) {
+    if (!band.redirects(j)) continue;
+    const Node& node = scene.nodes()[static_cast<size_t>(j)];
+    const double rs = band.specular[j], tau = band.transmittance[j];
+    const NodeSampler sampler(scene, j);
+    std::vector<WeightTally>& mine = tallies[static_cast<size_t>(j)];
+    mine.resize(static_cast<size_t>(replicas));
+    for (int r = 0; r < replicas; ++r) {
+      Sobol4 sobol(mixSeed(seed ^ 0x9e3779b9u, static_cast<std::uint64_t>(j), static_cast<std::uint64_t>(r)));
+      std::mt19937_64 rng(mixSeed(seed ^ 0x85ebca6bu, static_cast<std::uint64_t>(j), static_cast<std::uint64_t>(r)));
+      std::uniform_real_distribution<double> uniform(0.0, 1.0);
+      for (std::int64_t k = 0; k < per_replica; ++k) {
+        const auto u = sobol.next();
+        const NodeSampler::Ray at = sampler.mapPoint(u[0], u[1]);
+        const double cosine = at.normal.dot(toward_source);
+        if (!(cosine > 0)) continue;  // the node's side faces away from the source here
+        const Vec3 lit_from = caster.offsetOrigin(at.point, at.normal);
+        ++rays[static_cast<size_t>(j)];
+        if (caster.occluded(lit_from, toward_source, at.face)) continue;
+        // Each sample stands for A_j cos / N of the beam's cross-section (m²).
+        const double w = node.area_m2 * cosine / double(per_replica) * (rs + tau);
+        const bool front = node.side > 0;
+        if (uniform(rng) * (rs + tau) < rs)
+          tracePath(caster, band, lit_from, specularDirection(scene, at.face, at.point, travel, front), at.face, rng,
+                    mine[static_cast<size_t>(r)], w, true);
+        else
+          tracePath(caster, band, caster.offsetOrigin(at.point, -at.normal), travel, at.face, rng,
+                    mine[static_cast<size_t>(r)], w, true);
+      }
+    }
+  }
+  // Replica sums from every redirecting node are independent: means and variances add.
+  for (int j = 0; j < n; ++j) {
+    const std::vector<WeightTally>& t = tallies[static_cast<size_t>(j)];
+    out.rays += rays[static_cast<size_t>(j)];
+    if (t.empty()) continue;
+    std::set<int> targets;
+    for (const WeightTally& w : t)
+      for (const auto& kv : w)
+        if (kv.first >= 0) targets.insert(kv.first);
+    for (int target : targets) {
+      // weightStats divides by per_replica; the weights already carry 1/N: scale back.
+      const auto [mean, err] = weightStats(t, target, 1.0);
+      out.arrived_m2[target] += mean;
+      out.stderr_m2[target] = std::hypot(out.stderr_m2[target], err);
+    }
+  }
+  return out;
+}
+
+}  // namespace radnet::geometry
