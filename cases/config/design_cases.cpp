@@ -145,7 +145,10 @@ std::vector<std::string> GeometryCase::opticalMaterials() const {
 void parseOpticalSets(const YamlDocument& doc, GeometryCase& c) {
   c.optical_sets.push_back({"base", c.emissivity, c.absorptivity});
   const YAML::Node sets = doc.root()["optics"];
-  if (!sets) return;
+  if (!sets) {
+    applySpecularOptics(doc, c);
+    return;
+  }
   if (!sets.IsMap() || sets.size() == 0)
     throw doc.error(sets, "optics: expected a mapping of named optical sets, e.g. 'eol: {white_paint: "
                           "{absorptivity: 0.45}}'");
@@ -186,6 +189,7 @@ void parseOpticalSets(const YamlDocument& doc, GeometryCase& c) {
     }
     c.optical_sets.push_back(std::move(set));
   }
+  applySpecularOptics(doc, c);  // every set's ε, α as the network's (ε/κ, α/κ) when a surface is specular
 }
 
 void parseDesignCases(const YamlDocument& doc, GeometryCase& c) {

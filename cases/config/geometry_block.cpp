@@ -348,8 +348,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
   checkSceneScale(doc, geom, c.scene);
   checkCoincidentSurfaces(doc, geom, c.scene);
   assignNodeMaterials(c, ctx.node_material);
-  parseOpticalSets(doc, c);
-  applySpecularOptics(doc, c);
+  parseOpticalSets(doc, c);  // and, with specular surfaces, the network's ε/κ, α/κ (applySpecularOptics)
 
   c.solver = parseSolverSettings(doc, root["solver"]);
   if (root["solver"]) c.view_factors = parseViewFactorSettings(doc, root["solver"]["view_factors"]);

@@ -149,6 +149,42 @@ TracedRow traceRow(const RayCaster& caster, const SpecularBand& band, int node, 
   return row;
 }
 
+// Node j's share of the beam: `replicas` × `per_replica` points, each lit one starting the
+// reflected or transmitted path at its weight A_j cos / N (m² per unit flux). Returns the points.
+std::int64_t redirectFromNode(const RayCaster& caster, const SpecularBand& band, int j, const Vec3& toward_source,
+                              std::int64_t per_replica, int replicas, std::uint64_t seed,
+                              std::vector<WeightTally>& mine) {
+  const Scene& scene = caster.scene();
+  const Node& node = scene.nodes()[static_cast<size_t>(j)];
+  const double rs = band.specular[j], tau = band.transmittance[j];
+  const Vec3 travel = -toward_source;
+  const NodeSampler sampler(scene, j);
+  std::int64_t rays = 0;
+  mine.resize(static_cast<size_t>(replicas));
+  for (int r = 0; r < replicas; ++r) {
+    Sobol4 sobol(mixSeed(seed ^ 0x9e3779b9u, static_cast<std::uint64_t>(j), static_cast<std::uint64_t>(r)));
+    std::mt19937_64 rng(mixSeed(seed ^ 0x85ebca6bu, static_cast<std::uint64_t>(j), static_cast<std::uint64_t>(r)));
+    std::uniform_real_distribution<double> uniform(0.0, 1.0);
+    for (std::int64_t k = 0; k < per_replica; ++k) {
+      const auto u = sobol.next();
+      const NodeSampler::Ray at = sampler.mapPoint(u[0], u[1]);
+      const double cosine = at.normal.dot(toward_source);
+      if (!(cosine > 0)) continue;  // the node's side faces away from the source here
+      const Vec3 lit_from = caster.offsetOrigin(at.point, at.normal);
+      ++rays;
+      if (caster.occluded(lit_from, toward_source, at.face)) continue;
+      const double w = node.area_m2 * cosine / double(per_replica) * (rs + tau);
+      if (uniform(rng) * (rs + tau) < rs)
+        tracePath(caster, band, lit_from, specularDirection(scene, at.face, at.point, travel, node.side > 0), at.face,
+                  rng, mine[static_cast<size_t>(r)], w, true);
+      else
+        tracePath(caster, band, caster.offsetOrigin(at.point, -at.normal), travel, at.face, rng,
+                  mine[static_cast<size_t>(r)], w, true);
+    }
+  }
+  return rays;
+}
+
 }  // namespace
 
 Eigen::VectorXd SpecularBand::kappa() const {
@@ -221,44 +257,16 @@ RedirectedLight redirectedCollimated(const RayCaster& caster, const SpecularBand
   RedirectedLight out;
   out.arrived_m2 = out.stderr_m2 = Eigen::VectorXd::Zero(n);
   if (!band.anyRedirects()) return out;
-  const Vec3 travel = -toward_source;
   const std::int64_t per_replica = std::max(1, samples / std::max(1, replicas));
   std::vector<std::vector<WeightTally>> tallies(static_cast<size_t>(n));
   std::vector<std::int64_t> rays(static_cast<size_t>(n), 0);
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 1)
 #endif
-  for (int j = 0; j < n; ++j) {
-    if (!band.redirects(j)) continue;
-    const Node& node = scene.nodes()[static_cast<size_t>(j)];
-    const double rs = band.specular[j], tau = band.transmittance[j];
-    const NodeSampler sampler(scene, j);
-    std::vector<WeightTally>& mine = tallies[static_cast<size_t>(j)];
-    mine.resize(static_cast<size_t>(replicas));
-    for (int r = 0; r < replicas; ++r) {
-      Sobol4 sobol(mixSeed(seed ^ 0x9e3779b9u, static_cast<std::uint64_t>(j), static_cast<std::uint64_t>(r)));
-      std::mt19937_64 rng(mixSeed(seed ^ 0x85ebca6bu, static_cast<std::uint64_t>(j), static_cast<std::uint64_t>(r)));
-      std::uniform_real_distribution<double> uniform(0.0, 1.0);
-      for (std::int64_t k = 0; k < per_replica; ++k) {
-        const auto u = sobol.next();
-        const NodeSampler::Ray at = sampler.mapPoint(u[0], u[1]);
-        const double cosine = at.normal.dot(toward_source);
-        if (!(cosine > 0)) continue;  // the node's side faces away from the source here
-        const Vec3 lit_from = caster.offsetOrigin(at.point, at.normal);
-        ++rays[static_cast<size_t>(j)];
-        if (caster.occluded(lit_from, toward_source, at.face)) continue;
-        // Each sample stands for A_j cos / N of the beam's cross-section (m²).
-        const double w = node.area_m2 * cosine / double(per_replica) * (rs + tau);
-        const bool front = node.side > 0;
-        if (uniform(rng) * (rs + tau) < rs)
-          tracePath(caster, band, lit_from, specularDirection(scene, at.face, at.point, travel, front), at.face, rng,
-                    mine[static_cast<size_t>(r)], w, true);
-        else
-          tracePath(caster, band, caster.offsetOrigin(at.point, -at.normal), travel, at.face, rng,
-                    mine[static_cast<size_t>(r)], w, true);
-      }
-    }
-  }
+  for (int j = 0; j < n; ++j)
+    if (band.redirects(j))
+      rays[static_cast<size_t>(j)] = redirectFromNode(caster, band, j, toward_source, per_replica, replicas, seed,
+                                                      tallies[static_cast<size_t>(j)]);
   // Replica sums from every redirecting node are independent: means and variances add.
   for (int j = 0; j < n; ++j) {
     const std::vector<WeightTally>& t = tallies[static_cast<size_t>(j)];
