@@ -83,6 +83,16 @@ void replicaStatistics(const std::vector<double>& estimates, double& value, doub
   stderr_value = m > 1 ? std::sqrt(std::max(0.0, (sum2 - m * value * value) / (m - 1)) / m) : value;
 }
 
+// Whether this process computes entry k (an empty mask: every entry).
+bool mine(const std::vector<char>& mask, int k) { return mask.empty() || mask[static_cast<size_t>(k)]; }
+
+// The albedo where the planet's outward unit normal (body frame) points: by latitude when
+// the case gives a table.
+double albedoAtPoint(const EnvironmentOptions& opt, const Eigen::Matrix3d& eciFromBody, const Eigen::Vector3d& normal) {
+  if (opt.albedo_by_latitude.empty()) return opt.albedo;
+  return albedoAt(opt, units::radToDeg(std::asin(std::clamp((eciFromBody * normal).z(), -1.0, 1.0))));
+}
+
 // Albedo and (for a planet whose emission follows the Sun) planet IR irradiance of one node
 // and their σ from the replicas, W/m²: π Σ L w / N per replica, with the albedo's
 // L = a S max(0, ŝ·n) / π and the IR's L = exitance(ŝ·n, S) / π at each hit.
@@ -106,17 +116,47 @@ void planetRadianceLoads(const geometry::PlanetRays& r, const Eigen::Vector3d& c
       const double cos_sun = normal.dot(pos.sun_body);
       if (ir_by_hit) ir_part += opt.planet_ir.exitance(cos_sun, flux) * r.weights[k];
       if (cos_sun <= 0) continue;  // night side
-      const double a =
-          opt.albedo_by_latitude.empty()
-              ? opt.albedo
-              : albedoAt(opt, units::radToDeg(std::asin(std::clamp((eciFromBody * normal).z(), -1.0, 1.0))));
-      albedo_part += a * cos_sun * r.weights[k];
+      albedo_part += albedoAtPoint(opt, eciFromBody, normal) * cos_sun * r.weights[k];
     }
     albedo[static_cast<size_t>(rep)] = flux * albedo_part / per_replica;
     ir[static_cast<size_t>(rep)] = ir_part / per_replica;
   }
   replicaStatistics(albedo, out.albedo(i, p), out.albedo_stderr(i, p));
   if (ir_by_hit) replicaStatistics(ir, out.earth_ir(i, p), out.earth_ir_stderr(i, p));
+}
+
+// Albedo (solar band) and planet IR (IR band) that mirrors and windows pass on, added to
+// position p's loads with their σ from the replicas: each arrival brings L(hit) × weight,
+// L the planet's radiance where the light left (a S max(0, cos z)/π, exitance/π).
+void redirectedPlanetLoads(const geometry::RedirectedPlanetPaths& albedo_paths,
+                           const geometry::RedirectedPlanetPaths& ir_paths, const Eigen::Vector3d& center, double re,
+                           const Eigen::VectorXd& area, const SweepPosition& pos, const EnvironmentOptions& opt,
+                           EnvironmentLoads& out, int p) {
+  const double flux = pos.solar_flux_w_m2;
+  const Eigen::Matrix3d eciFromBody = pos.body_from_eci.transpose();
+  const auto add = [&](const geometry::RedirectedPlanetPaths& paths, bool albedo) {
+    if (paths.arrivals.empty()) return;
+    Eigen::MatrixXd by_replica = Eigen::MatrixXd::Zero(area.size(), paths.replicas);
+    for (const geometry::RedirectedPlanetPaths::Arrival& a : paths.arrivals) {
+      const Eigen::Vector3d normal = (paths.hit_points[static_cast<size_t>(a.hit)] - center) / re;
+      const double cos_sun = normal.dot(pos.sun_body);
+      const double exitance = albedo ? albedoAtPoint(opt, eciFromBody, normal) * flux * std::max(0.0, cos_sun)
+                                     : opt.planet_ir.exitance(cos_sun, flux);
+      by_replica(a.node, a.replica) += exitance / M_PI * a.weight;  // each replica estimates the whole
+    }
+    Eigen::MatrixXd& load = albedo ? out.albedo : out.earth_ir;
+    Eigen::MatrixXd& sigma = albedo ? out.albedo_stderr : out.earth_ir_stderr;
+    for (Eigen::Index i = 0; i < area.size(); ++i) {
+      if (!mine(opt.planet_nodes, static_cast<int>(i))) continue;  // ranks join by owner: each adds its nodes'
+      double value = 0.0, error = 0.0;
+      const Eigen::VectorXd row = by_replica.row(i);
+      replicaStatistics(std::vector<double>(row.data(), row.data() + row.size()), value, error);
+      load(i, p) += value / area[i];
+      sigma(i, p) = std::hypot(sigma(i, p), error / area[i]);
+    }
+  };
+  add(albedo_paths, true);
+  add(ir_paths, false);
 }
 
 }  // namespace
@@ -136,10 +176,10 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
   planet.relative_error = opt.planet_rays > 0 ? 0.0 : opt.relative_error;
   planet.seed = opt.seed;
   planet.nodes = opt.planet_nodes;
-  const auto mine = [](const std::vector<char>& mask, int k) { return mask.empty() || mask[static_cast<size_t>(k)]; };
   if (!opt.sun_positions.empty() && opt.sun_positions.size() != static_cast<size_t>(P))
     throw std::invalid_argument("environment loads: the position mask must have one entry per position");
   std::vector<geometry::PlanetRays> rays;
+  geometry::RedirectedPlanetPaths albedo_paths, ir_paths;  // planet light that mirrors and windows pass on
   Eigen::Vector3d cached_center(0, 0, 0);
   for (int p = 0; p < P; ++p) {
     const SweepPosition& pos = positions[static_cast<size_t>(p)];
@@ -149,6 +189,10 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
     const bool reuse = earth_fixed && !rays.empty() && (center - cached_center).norm() <= 1e-9 * center.norm();
     if (!reuse) {
       rays = geometry::planetRays(caster, center, re, planet);
+      albedo_paths = geometry::redirectedPlanetPaths(caster, opt.solar_specular, center, re, opt.specular_samples,
+                                                     opt.seed);
+      ir_paths = geometry::redirectedPlanetPaths(caster, opt.ir_specular, center, re, opt.specular_samples, opt.seed);
+      out.planet_rays += albedo_paths.rays + ir_paths.rays;
       cached_center = center;
       ++out.planet_casts;
       for (const auto& r : rays) out.planet_rays += r.rays;
@@ -163,6 +207,7 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
       }
       planetRadianceLoads(r, center, re, pos, opt, i, p, out);
     }
+    redirectedPlanetLoads(albedo_paths, ir_paths, center, re, area, pos, opt, out, p);
     if (opt.progress) opt.progress(p + 1, P);
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

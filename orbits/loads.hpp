@@ -46,6 +46,9 @@ struct EnvironmentOptions {
   /// The solar band's specular reflectance and transmittance per node (empty: none): direct
   /// sunlight they redirect is traced on to what it reaches (geometry::redirectedCollimated).
   geometry::SpecularBand solar_specular;
+  /// The IR band's (empty: none): planet IR through mirrors and windows (albedo follows the
+  /// solar band's).
+  geometry::SpecularBand ir_specular;
   /// Sample points per redirecting node and lit position (16 replicas): a node's redirected
   /// beam is one smooth term (no shadow edge within a flat mirror), 1,024 points put its
   /// σ near 1e-3 of the beam where part of it is shadowed.

@@ -277,6 +277,7 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
     r.radiative.kappa_ir = c.specular_ir.kappa();
     r.radiative.kappa_solar = c.specular_solar.kappa();
     r.radiative.solar_specular = c.specular_solar;
+    r.radiative.ir_specular = c.specular_ir;
     network_area = bandArea(area, r.radiative.kappa_ir);
     if (r.solar_correction)
       r.radiative.solar_network = buildNetwork(c, bandArea(area, r.radiative.kappa_solar), *r.solar_correction);

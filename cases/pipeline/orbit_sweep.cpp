@@ -77,6 +77,7 @@ void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings,
     } else {
       orbits::EnvironmentOptions env = o.environment;
       env.solar_specular = in.radiative.solar_specular;
+      env.ir_specular = in.radiative.ir_specular;
       if (show_progress) env.progress = progressBar(progress, "orbit loads", "positions");
       if (cluster::distributed()) {  // each rank its sun positions and planet nodes, then joined
         env.sun_positions = cluster::ownedMask(static_cast<long long>(positions.size()));

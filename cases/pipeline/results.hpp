@@ -42,7 +42,7 @@ struct RadiativeNetwork {
   /// κ = 1 − ρs − τ per node in each band (the network's radiosity M̃ is J / κ); empty: 1.
   Eigen::VectorXd kappa_ir, kappa_solar;
   /// ρs and τ per node in the solar band (empty: none): the loads follow sunlight through them.
-  geometry::SpecularBand solar_specular;
+  geometry::SpecularBand solar_specular, ir_specular;
   const solver::Network& solarNetwork() const { return solar_network ? *solar_network : *network; }
   const Eigen::VectorXd& surfaceArea() const { return surface_area.size() ? surface_area : network->area(); }
   solver::EigenPairs pairs;

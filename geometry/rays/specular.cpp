@@ -1,5 +1,6 @@
 #include "geometry/rays/specular.hpp"
 
+#include "geometry/irradiance/queries.hpp"
 #include "geometry/rays/sampling.hpp"
 
 #include <algorithm>
@@ -185,6 +186,57 @@ std::int64_t redirectFromNode(const RayCaster& caster, const SpecularBand& band,
   return rays;
 }
 
+// Node j's share of the planet's light: a point and a direction in the sphere's cone per
+// sample; unobstructed ones start the reflected or transmitted path, each arrival kept with its
+// sphere point. Returns the points whose side faced the sphere.
+std::int64_t planetFromNode(const RayCaster& caster, const SpecularBand& band, int j, const Vec3& center,
+                            double radius, std::int64_t per_replica, int replicas, std::uint64_t seed,
+                            RedirectedPlanetPaths& out) {
+  const Scene& scene = caster.scene();
+  const Node& node = scene.nodes()[static_cast<size_t>(j)];
+  const double rs = band.specular[j], tau = band.transmittance[j];
+  const NodeSampler sampler(scene, j);
+  std::int64_t rays = 0;
+  for (int r = 0; r < replicas; ++r) {
+    Sobol4 sobol(mixSeed(seed ^ 0xc2b2ae35u, static_cast<std::uint64_t>(j), static_cast<std::uint64_t>(r)));
+    std::mt19937_64 rng(mixSeed(seed ^ 0x27d4eb2fu, static_cast<std::uint64_t>(j), static_cast<std::uint64_t>(r)));
+    std::uniform_real_distribution<double> uniform(0.0, 1.0);
+    for (std::int64_t k = 0; k < per_replica; ++k) {
+      const auto u = sobol.next();
+      const NodeSampler::Ray at = sampler.mapPoint(u[0], u[1]);
+      const Vec3 to_center = center - at.point;
+      const double distance = to_center.norm();
+      if (!(distance > radius)) continue;
+      // Uniform in the cone of half-angle asin(R/d) about the centre: Ω = 2π (1 − cos θmax).
+      const double cos_max = std::sqrt(1.0 - (radius / distance) * (radius / distance));
+      const double cos_t = 1.0 - u[2] * (1.0 - cos_max), sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
+      const Vec3 axis = to_center / distance;
+      const Vec3 e0 = (std::abs(axis.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(axis).normalized();
+      const Vec3 e1 = axis.cross(e0);
+      const double phi = 2.0 * M_PI * u[3];
+      const Vec3 w = cos_t * axis + sin_t * (std::cos(phi) * e0 + std::sin(phi) * e1);
+      const double cosine = at.normal.dot(w);
+      if (!(cosine > 0)) continue;
+      ++rays;
+      Vec3 hit;
+      const Vec3 from = caster.offsetOrigin(at.point, at.normal);
+      if (!raySphere(at.point, w, center, radius, hit) || caster.occluded(from, w, at.face)) continue;
+      const double weight = node.area_m2 * 2.0 * M_PI * (1.0 - cos_max) * cosine / double(per_replica) * (rs + tau);
+      WeightTally tally;
+      if (uniform(rng) * (rs + tau) < rs)
+        tracePath(caster, band, from, specularDirection(scene, at.face, at.point, -w, node.side > 0), at.face, rng,
+                  tally, weight, true);
+      else
+        tracePath(caster, band, caster.offsetOrigin(at.point, -at.normal), -w, at.face, rng, tally, weight, true);
+      for (const auto& [target, value] : tally)
+        if (target >= 0)
+          out.arrivals.push_back({target, r, static_cast<int>(out.hit_points.size()), value});
+      out.hit_points.push_back(hit);
+    }
+  }
+  return rays;
+}
+
 }  // namespace
 
 Eigen::VectorXd SpecularBand::kappa() const {
@@ -282,6 +334,35 @@ RedirectedLight redirectedCollimated(const RayCaster& caster, const SpecularBand
       out.arrived_m2[target] += mean;
       out.stderr_m2[target] = std::hypot(out.stderr_m2[target], err);
     }
+  }
+  return out;
+}
+
+RedirectedPlanetPaths redirectedPlanetPaths(const RayCaster& caster, const SpecularBand& band,
+                                            const Vec3& sphere_center, double sphere_radius, int samples,
+                                            std::uint64_t seed, int replicas) {
+  const int n = static_cast<int>(caster.scene().nodes().size());
+  RedirectedPlanetPaths out;
+  out.replicas = replicas;
+  if (!band.anyRedirects()) return out;
+  const std::int64_t per_replica = std::max(1, samples / std::max(1, replicas));
+  std::vector<RedirectedPlanetPaths> parts(static_cast<size_t>(n));
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 1)
+#endif
+  for (int j = 0; j < n; ++j)
+    if (band.redirects(j))
+      parts[static_cast<size_t>(j)].rays =
+          planetFromNode(caster, band, j, sphere_center, sphere_radius, per_replica, replicas, seed,
+                         parts[static_cast<size_t>(j)]);
+  for (const RedirectedPlanetPaths& part : parts) {  // in node order: the same for any thread count
+    const int offset = static_cast<int>(out.hit_points.size());
+    out.hit_points.insert(out.hit_points.end(), part.hit_points.begin(), part.hit_points.end());
+    for (RedirectedPlanetPaths::Arrival a : part.arrivals) {
+      a.hit += offset;
+      out.arrivals.push_back(a);
+    }
+    out.rays += part.rays;
   }
   return out;
 }

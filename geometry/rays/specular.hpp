@@ -61,6 +61,31 @@ struct RedirectedLight {
 RedirectedLight redirectedCollimated(const RayCaster& caster, const SpecularBand& band, const Vec3& toward_source,
                                      int samples, std::uint64_t seed = 1, int replicas = 16);
 
+/// Planet light (albedo, planet IR) that specular and transmissive surfaces pass on, as paths
+/// whose radiance is the caller's: each arrival's power is L(hit) × weight, L the sphere's
+/// radiance at the point the light left (W m⁻² sr⁻¹), weight in m² sr.
+struct RedirectedPlanetPaths {
+  struct Arrival {
+    int node = -1;     ///< where the redirected light arrives (the whole arrival)
+    int replica = 0;   ///< which replica's sample it came from
+    int hit = 0;       ///< index into hit_points: where on the sphere it left
+    double weight = 0.0;  ///< m² sr
+  };
+  std::vector<Vec3> hit_points;  ///< body frame, m
+  std::vector<Arrival> arrivals;
+  int replicas = 0;
+  std::int64_t rays = 0;
+};
+
+/// From `samples` points per redirecting node (Sobol, `replicas` shifted sequences), a
+/// direction each uniform in the cone the sphere subtends from that point; unobstructed ones
+/// bring the sphere's light, which the node reflects (ρs) or passes (τ) on, traced as the
+/// exchange rays. Radiance-free, so one set serves every position while the sphere holds still
+/// in the body frame.
+RedirectedPlanetPaths redirectedPlanetPaths(const RayCaster& caster, const SpecularBand& band,
+                                            const Vec3& sphere_center, double sphere_radius, int samples,
+                                            std::uint64_t seed = 1, int replicas = 16);
+
 /// Where a ray travelling along `dir` that meets face `face` at `point` from its `front`
 /// side goes on: reflected about the surface normal (the exact one of a curved primitive).
 /// A shading normal may send the reflection into the surface near a facet's edge: the facet
