@@ -4,6 +4,7 @@
 // Sun onto the plate behind it, and the reciprocity of traced exchange rows.
 #include "geometry/irradiance/sun_grid.hpp"
 #include "geometry/rays/specular.hpp"
+#include "geometry/scene/facet_creases.hpp"
 #include "geometry/scene/primitives.hpp"
 
 #include <catch2/catch.hpp>
@@ -157,4 +158,29 @@ TEST_CASE("planet light through a window: τ of the sphere's irradiance reaches 
   CHECK(std::abs(mean - truth) <= 4.0 * sigma);
   CHECK(std::abs(mean - truth) <= 0.02 * truth);
   CHECK(sigma < 0.01 * truth);
+}
+
+TEST_CASE("facet creases: a mesh sphere's neighbouring facets meet at about 360°/azimuthal segments, a box's none") {
+  // A 12 × 24 sphere as a mesh (its exact shape forgotten): neighbours along a parallel meet
+  // at up to 15° (360/24), along a meridian at 180/12 = 15° too; the largest crease lies
+  // between them and 2 × 15° (at a pole's fan the chords bend by both), and every edge is smooth.
+  geometry::TriangleSoup ball = geometry::sphere(Vec3::Zero(), 1.0, Vec3::UnitZ(), 0, 180, {}, 12, 24);
+  ball.shape = {};
+  geometry::Scene scene;
+  scene.addSurface("ball", "ball", ball, "ball", "");
+  scene.addSurface("exact", "exact", geometry::sphere(Vec3(5, 0, 0), 1.0, Vec3::UnitZ(), 0, 180, {}, 12, 24), "exact",
+                   "");
+  const auto box = geometry::boxFaces(Vec3(-5, 0, 0), Vec3(1, 1, 1), 3);
+  for (int k = 0; k < 6; ++k) scene.addSurface(std::string("box") + geometry::kBoxFaceNames[k], "box", box[k], "box", "");
+  const geometry::FacetCreases mesh = geometry::facetCreases(scene, scene.nodeIndex("ball"));
+  INFO("mesh sphere: largest crease " << mesh.largest_deg << "°, " << mesh.smooth_edges << " smooth edges");
+  CHECK(mesh.largest_deg >= 14.0);
+  CHECK(mesh.largest_deg <= 30.0);
+  CHECK(mesh.smooth_edges > 12 * 24);
+  // The primitive knows its exact normal: its facets are left out.
+  CHECK(geometry::facetCreases(scene, scene.nodeIndex("exact")).smooth_edges == 0);
+  // A box's 90° edges are corners the model means; its split faces are flat.
+  const geometry::FacetCreases cube = geometry::facetCreases(scene, scene.nodeIndex("box"));
+  CHECK(cube.smooth_edges == 0);
+  CHECK(cube.largest_deg == 0.0);
 }

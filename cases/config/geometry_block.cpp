@@ -351,6 +351,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
   parseOpticalSets(doc, c);  // and, with specular surfaces, the network's ε/κ, α/κ (applySpecularOptics)
 
   c.solver = parseSolverSettings(doc, root["solver"]);
+  warnFacettedMirrors(c);
   if (root["solver"]) c.view_factors = parseViewFactorSettings(doc, root["solver"]["view_factors"]);
   parseDesignCases(doc, c);
   Eigen::VectorXd area(c.scene.nodes().size());

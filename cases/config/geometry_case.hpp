@@ -138,6 +138,10 @@ YamlDocument includeDocument(const YamlDocument& doc, const YAML::Node& node, co
 /// @throws InputError at `optics:` when a set's ε (α) + ρs + τ exceeds 1
 void applySpecularOptics(const YamlDocument& doc, GeometryCase& c);
 
+/// A warning for each specular node whose facets (without an exact curved normal) meet at
+/// creases that put more than solver.accuracy into what it reflects.
+void warnFacettedMirrors(GeometryCase& c);
+
 /// Parses `materials:` (with `include:` of material files) into `materials`.
 void parseMaterials(const YamlDocument& doc, const YAML::Node& node, std::map<std::string, Material>& materials,
                     IncludedFiles& included, int depth);
