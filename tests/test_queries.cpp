@@ -1,6 +1,7 @@
 // Ray-casting queries for the orbit stage: lit areas and planet rays.
 #include "geometry/scene/primitives.hpp"
 #include "geometry/irradiance/queries.hpp"
+#include "geometry/rays/sampling.hpp"
 
 #include <catch2/catch.hpp>
 

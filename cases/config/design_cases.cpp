@@ -125,6 +125,71 @@ DesignCase parseCase(const YamlDocument& doc, const std::string& name, const YAM
   return d;
 }
 
+
+// The base optical set: the materials' ε, α and, in every set, ρs and τ per node and band
+// (zeros where diffuse; applySpecularOptics empties them when nothing redirects).
+OpticalSet baseOpticalSet(const GeometryCase& c) {
+  OpticalSet set{"base", c.emissivity, c.absorptivity, c.emissivity, c.absorptivity, {}, {}, false};
+  const Eigen::Index n = c.emissivity.size();
+  set.specular_ir = {Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n)};
+  set.specular_solar = set.specular_ir;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Material& m = c.materials.at(c.node_material[static_cast<size_t>(i)]);
+    set.specular_ir.specular[i] = m.specular_ir, set.specular_ir.transmittance[i] = m.transmittance_ir;
+    set.specular_solar.specular[i] = m.specular_solar, set.specular_solar.transmittance[i] = m.transmittance_solar;
+  }
+  return set;
+}
+
+constexpr const char* kSpecularKeys[] = {"specular_reflectance", "transmittance", "solar_specular_reflectance",
+                                         "solar_transmittance"};
+
+// optics.<set>.<material>: the material's ε, α, ρs, τ overridden in the set, on every node
+// made of it. A solar ρs or τ not given keeps the material's, unless the material's own
+// followed its IR value: then it follows the set's.
+void overrideMaterial(const YamlDocument& doc, GeometryCase& c, const YAML::Node& key, const YAML::Node& value,
+                      const std::string& what, OpticalSet& set) {
+  const std::string m = key.Scalar(), mwhat = what + "." + m;
+  const std::vector<std::string> materials = c.opticalMaterials();
+  if (std::find(materials.begin(), materials.end(), m) == materials.end())
+    throw doc.error(key, mwhat + ": unknown material '" + m + "'" + didYouMean(m, materials) +
+                             (c.materials.count(m) ? "; it has no optical properties" : ""));
+  doc.expectMap(value, mwhat, {"emissivity", "absorptivity", "specular_reflectance", "transmittance",
+                               "solar_specular_reflectance", "solar_transmittance"});
+  if (value.size() == 0) throw doc.error(value, mwhat + ": give emissivity, absorptivity, or specular reflectance or transmittance");
+  const Material& mat = c.materials.at(m);
+  for (const auto& [k, curve] : {std::pair{"emissivity", &mat.emissivity_curve}, std::pair{"absorptivity", &mat.absorptivity_curve}})
+    if (value[k] && !curve->warming.temperature_k.empty())
+      throw doc.error(value[k], mwhat + "." + k + ": '" + m + "' gives its " + k +
+                                    " as a table against temperature, which every optical set follows; "
+                                    "define a second material for the other coating");
+  for (const char* k : kSpecularKeys)
+    if (value[k] && mat.hasCurves())
+      throw doc.error(value[k], mwhat + "." + k + ": '" + m + "' has ε or α against temperature; a specular or "
+                                    "transmissive surface needs constant optics");
+  const auto number = [&](const char* k, double fallback) {
+    return value[k] ? doc.number(value[k], mwhat + "." + k + " (a fraction, –)", 0, 1) : fallback;
+  };
+  const double rs_ir = number("specular_reflectance", mat.specular_ir), tau_ir = number("transmittance", mat.transmittance_ir);
+  const double rs_solar = number("solar_specular_reflectance", mat.solar_specular_given ? mat.specular_solar : rs_ir);
+  const double tau_solar = number("solar_transmittance", mat.solar_transmittance_given ? mat.transmittance_solar : tau_ir);
+  const double e = number("emissivity", mat.emissivity), a = number("absorptivity", mat.absorptivity);
+  constexpr double kRounding = 1e-9;  // sums of values printed to 9 digits
+  if (e + rs_ir + tau_ir > 1.0 + kRounding || a + rs_solar + tau_solar > 1.0 + kRounding)
+    throw doc.error(value, mwhat + ": in the " + (e + rs_ir + tau_ir > 1.0 + kRounding ? "IR band emissivity" : "solar band absorptivity") +
+                               " + specular reflectance + transmittance exceeds 1 (the diffuse reflectance is what remains of 1)");
+  if (std::find(c.node_material.begin(), c.node_material.end(), m) == c.node_material.end())
+    c.warnings.push_back(mwhat + ": no surface is made of '" + m + "', so the override changes nothing");
+  for (size_t i = 0; i < c.node_material.size(); ++i) {
+    if (c.node_material[i] != m) continue;
+    const auto k = static_cast<Eigen::Index>(i);
+    set.emissivity[k] = set.surface_emissivity[k] = e;
+    set.absorptivity[k] = set.surface_absorptivity[k] = a;
+    set.specular_ir.specular[k] = rs_ir, set.specular_ir.transmittance[k] = tau_ir;
+    set.specular_solar.specular[k] = rs_solar, set.specular_solar.transmittance[k] = tau_solar;
+  }
+}
+
 }  // namespace
 
 bool isCaseName(const std::string& name) {
@@ -143,7 +208,7 @@ std::vector<std::string> GeometryCase::opticalMaterials() const {
 }
 
 void parseOpticalSets(const YamlDocument& doc, GeometryCase& c) {
-  c.optical_sets.push_back({"base", c.emissivity, c.absorptivity});
+  c.optical_sets.push_back(baseOpticalSet(c));
   const YAML::Node sets = doc.root()["optics"];
   if (!sets) {
     applySpecularOptics(doc, c);
@@ -152,41 +217,17 @@ void parseOpticalSets(const YamlDocument& doc, GeometryCase& c) {
   if (!sets.IsMap() || sets.size() == 0)
     throw doc.error(sets, "optics: expected a mapping of named optical sets, e.g. 'eol: {white_paint: "
                           "{absorptivity: 0.45}}'");
-  std::vector<std::string> materials;
-  for (const auto& [m, props] : c.materials)
-    if (props.has_optics) materials.push_back(m);
   std::set<std::string> seen = {"base"};
   for (const auto& kv : sets) {
     if (kv.first.Scalar() == "base")
       throw doc.error(kv.first, "optics.base: 'base' is the materials as given; name the set otherwise");
-    OpticalSet set{caseName(doc, kv.first, "optics", seen), c.emissivity, c.absorptivity};
+    OpticalSet set = c.optical_sets.front();
+    set.name = caseName(doc, kv.first, "optics", seen);
     const std::string what = "optics." + set.name;
     if (!kv.second.IsMap() || kv.second.size() == 0)
       throw doc.error(kv.second, what + ": expected a mapping of materials to their overrides, e.g. "
                                         "'white_paint: {absorptivity: 0.45}'");
-    for (const auto& mv : kv.second) {
-      const std::string m = mv.first.Scalar(), mwhat = what + "." + m;
-      if (std::find(materials.begin(), materials.end(), m) == materials.end())
-        throw doc.error(mv.first, mwhat + ": unknown material '" + m + "'" + didYouMean(m, materials) +
-                                      (c.materials.count(m) ? "; it has no optical properties" : ""));
-      doc.expectMap(mv.second, mwhat, {"emissivity", "absorptivity"});
-      if (mv.second.size() == 0) throw doc.error(mv.second, mwhat + ": give emissivity and/or absorptivity");
-      const Material& mat = c.materials.at(m);
-      for (const auto& [key, curve] : {std::pair{"emissivity", &mat.emissivity_curve}, std::pair{"absorptivity", &mat.absorptivity_curve}})
-        if (mv.second[key] && !curve->warming.temperature_k.empty())
-          throw doc.error(mv.second[key], mwhat + "." + key + ": '" + m + "' gives its " + key +
-                                              " as a table against temperature, which every optical set follows; "
-                                              "define a second material for the other coating");
-      if (std::find(c.node_material.begin(), c.node_material.end(), m) == c.node_material.end())
-        c.warnings.push_back(mwhat + ": no surface is made of '" + m + "', so the override changes nothing");
-      for (size_t i = 0; i < c.node_material.size(); ++i) {
-        if (c.node_material[i] != m) continue;
-        const auto k = static_cast<Eigen::Index>(i);
-        if (mv.second["emissivity"]) set.emissivity[k] = doc.number(mv.second["emissivity"], mwhat + ".emissivity", 0, 1);
-        if (mv.second["absorptivity"])
-          set.absorptivity[k] = doc.number(mv.second["absorptivity"], mwhat + ".absorptivity", 0, 1);
-      }
-    }
+    for (const auto& mv : kv.second) overrideMaterial(doc, c, mv.first, mv.second, what, set);
     c.optical_sets.push_back(std::move(set));
   }
   applySpecularOptics(doc, c);  // every set's ε, α as the network's (ε/κ, α/κ) when a surface is specular
@@ -254,6 +295,10 @@ void parseOpticalUncertainty(const YamlDocument& doc, GeometryCase& c) {
     throw doc.error(u, "uncertainty: give the 1σ of absorptivity and/or emissivity (absolute, e.g. 0.03)");
   if (!c.thermal)
     throw doc.error(u, "uncertainty: the samples give temperature percentiles and need a 'thermal:' block");
+  for (const OpticalSet& set : c.optical_sets)
+    if (set.own_specular)
+      throw doc.error(u, "uncertainty: optical set '" + set.name + "' changes specular reflectance or transmittance, "
+                         "which gives it networks of its own; sampling ε and α around such a set is not supported");
   OpticalUncertainty o;
   if (u["absorptivity"]) o.absorptivity_sigma = doc.number(u["absorptivity"], "uncertainty.absorptivity (1σ)", 0, 0.5);
   if (u["emissivity"]) o.emissivity_sigma = doc.number(u["emissivity"], "uncertainty.emissivity (1σ)", 0, 0.5);

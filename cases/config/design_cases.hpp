@@ -5,6 +5,7 @@
 // optional sampling of the optical properties (`uncertainty:`). All of them share the one
 // geometry, its view factors and its one eigendecomposition.
 #include "cases/config/orbit_settings.hpp"
+#include "geometry/rays/specular.hpp"
 
 #include <Eigen/Dense>
 
@@ -20,7 +21,15 @@ namespace radnet::cases {
 /// materials as given.
 struct OpticalSet {
   std::string name;
-  Eigen::VectorXd emissivity, absorptivity;  ///< per radiative node, –
+  /// Per radiative node, –: the network's ε/κ, α/κ where a surface is specular or
+  /// transmissive (GeometryCase::emissivity), else the materials' values.
+  Eigen::VectorXd emissivity, absorptivity;
+  Eigen::VectorXd surface_emissivity, surface_absorptivity;  ///< the surfaces' own, –
+  /// The set's ρs and τ per node in each band (empty: no surface redirects in this set).
+  geometry::SpecularBand specular_ir, specular_solar;
+  /// Its ρs or τ differ from the base case's somewhere: the set has networks of its own,
+  /// traced with its optics and solved without a decomposition of their own (docs/solver.md).
+  bool own_specular = false;
 };
 
 /// One design case: the base case with some blocks overridden.

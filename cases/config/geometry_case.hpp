@@ -42,6 +42,9 @@ struct Material {
   /// remains, ρd = 1 − ε − ρs − τ. Zero: a diffuse, opaque surface.
   double specular_ir = 0.0, transmittance_ir = 0.0;
   double specular_solar = 0.0, transmittance_solar = 0.0;
+  /// The solar values were given (not defaulted to the IR ones): an optical set that changes
+  /// the IR value leaves them, where a defaulted one follows it.
+  bool solar_specular_given = false, solar_transmittance_given = false;
   bool isSpecular() const {
     return specular_ir > 0 || transmittance_ir > 0 || specular_solar > 0 || transmittance_solar > 0;
   }

@@ -50,6 +50,8 @@ void parseSpecular(const YamlDocument& doc, const YAML::Node& v, const std::stri
   m.transmittance_ir = fraction("transmittance", 0.0);
   m.specular_solar = fraction("solar_specular_reflectance", m.specular_ir);
   m.transmittance_solar = fraction("solar_transmittance", m.transmittance_ir);
+  m.solar_specular_given = bool(v["solar_specular_reflectance"]);
+  m.solar_transmittance_given = bool(v["solar_transmittance"]);
   if (!m.isSpecular()) return;
   const YAML::Node& where = v["specular_reflectance"] ? v["specular_reflectance"]
                             : v["transmittance"]      ? v["transmittance"]
@@ -139,32 +141,36 @@ Eigen::VectorXd perKappa(const Eigen::VectorXd& value, const Eigen::VectorXd& ka
 }  // namespace
 
 void applySpecularOptics(const YamlDocument& doc, GeometryCase& c) {
-  const Eigen::Index n = c.emissivity.size();
-  geometry::SpecularBand ir{Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n)}, solar = ir;
-  bool any = false;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Material& m = c.materials.at(c.node_material[static_cast<size_t>(i)]);
-    ir.specular[i] = m.specular_ir, ir.transmittance[i] = m.transmittance_ir;
-    solar.specular[i] = m.specular_solar, solar.transmittance[i] = m.transmittance_solar;
-    any = any || m.isSpecular();
-  }
   c.surface_emissivity = c.emissivity;
   c.surface_absorptivity = c.absorptivity;
-  if (!any) return;
-  c.specular_ir = ir;
-  c.specular_solar = solar;
-  const Eigen::VectorXd kappa_ir = ir.kappa(), kappa_solar = solar.kappa();
+  const OpticalSet& base = c.optical_sets.front();
+  for (size_t k = 1; k < c.optical_sets.size(); ++k) {
+    OpticalSet& set = c.optical_sets[k];
+    set.own_specular = set.specular_ir.specular != base.specular_ir.specular ||
+                       set.specular_ir.transmittance != base.specular_ir.transmittance ||
+                       set.specular_solar.specular != base.specular_solar.specular ||
+                       set.specular_solar.transmittance != base.specular_solar.transmittance;
+  }
   for (OpticalSet& set : c.optical_sets) {
-    for (Eigen::Index i = 0; i < n; ++i)
+    if (!set.specular_ir.anyRedirects() && !set.specular_solar.anyRedirects()) {
+      set.specular_ir = set.specular_solar = geometry::SpecularBand{};  // diffuse and opaque throughout
+      continue;
+    }
+    const Eigen::VectorXd kappa_ir = set.specular_ir.kappa(), kappa_solar = set.specular_solar.kappa();
+    for (Eigen::Index i = 0; i < kappa_ir.size(); ++i)
       if (set.emissivity[i] > kappa_ir[i] + 1e-9 || set.absorptivity[i] > kappa_solar[i] + 1e-9)
-        throw doc.error(doc.root()["optics"], "optics." + set.name + ": node '" + c.node_names[static_cast<size_t>(i)] +
-                                                  "' would have emissivity (absorptivity) + specular reflectance + "
-                                                  "transmittance above 1 in a band");
+        throw doc.error(doc.root()["optics"] ? doc.root()["optics"] : doc.root()["materials"],
+                        (set.name == "base" ? std::string("materials") : "optics." + set.name) + ": node '" +
+                            c.node_names[static_cast<size_t>(i)] +
+                            "' would have emissivity (absorptivity) + specular reflectance + transmittance above 1 "
+                            "in a band");
     set.emissivity = perKappa(set.emissivity, kappa_ir);
     set.absorptivity = perKappa(set.absorptivity, kappa_solar);
   }
-  c.emissivity = perKappa(c.emissivity, kappa_ir);
-  c.absorptivity = perKappa(c.absorptivity, kappa_solar);
+  c.specular_ir = base.specular_ir;  // empty when the base case has nothing that redirects
+  c.specular_solar = base.specular_solar;
+  c.emissivity = base.emissivity;
+  c.absorptivity = base.absorptivity;
 }
 
 // Per degree of crease, the error a facetted specular surface puts in what it reflects: a
@@ -173,10 +179,12 @@ void applySpecularOptics(const YamlDocument& doc, GeometryCase& c) {
 constexpr double kFacetErrorPerDeg = 0.012;
 
 void warnFacettedMirrors(GeometryCase& c) {
-  if (!c.hasSpecular()) return;
   for (size_t i = 0; i < c.node_names.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);
-    const double rs = std::max(c.specular_ir.specular[k], c.specular_solar.specular[k]);
+    double rs = 0.0;  // the largest of any band under any optical set
+    for (const OpticalSet& set : c.optical_sets)
+      if (!set.specular_ir.empty())
+        rs = std::max({rs, set.specular_ir.specular[k], set.specular_solar.specular[k]});
     if (!(rs > 0)) continue;
     const geometry::FacetCreases creases = geometry::facetCreases(c.scene, static_cast<int>(i));
     const double error = kFacetErrorPerDeg * creases.largest_deg * rs;

@@ -74,6 +74,16 @@ std::optional<double> lookupResult(const GeometryRunResult& r, const Expectation
     return r.sweep->absorbed_total.row(i).segment(first, count).dot(w);
   }
   if (x.quantity == Q::OrbitMeanAbsorbed || x.quantity == Q::OrbitMaxAbsorbedSolar) return std::nullopt;
+  if ((x.quantity == Q::RadiativeExchange || x.quantity == Q::GrSpace) && x.case_given &&
+      x.design_case < static_cast<int>(c.optics.size())) {  // the GR of the case's optical set
+    const auto set = std::find(c.optics_names.begin(), c.optics_names.end(), c.optics[static_cast<size_t>(x.design_case)]);
+    const auto k = set - c.optics_names.begin();
+    if (k > 0 && static_cast<size_t>(k) <= c.optics_exchange.size()) {
+      const solver::ExchangeFactors& ex = c.optics_exchange[static_cast<size_t>(k) - 1];
+      const int j = x.to.empty() ? -1 : r.radiative.network->indexOf(x.to);
+      return x.quantity == Q::GrSpace ? ex.gr_space[i] : ex.gr(i, j);
+    }
+  }
   if (x.quantity == Q::Temperature && x.case_given && spans) {  // index: the position within the design case
     Expectation global = x;
     global.index = at(c.position_start, x.design_case) + std::max(0, x.index);

@@ -13,14 +13,15 @@ void writeOptics(Hdf5Writer& h5, const GeometryCase& c, const DesignCasesResult&
   for (size_t k = 0; k < c.optical_sets.size(); ++k) {
     const OpticalSet& set = c.optical_sets[k];
     const std::string group = "/optics/" + set.name;
-    // The sets hold the network's ε/κ, α/κ where a surface is specular: written as the surfaces'.
-    h5.writeVector(group + "/emissivity",
-                   c.hasSpecular() ? Eigen::VectorXd(set.emissivity.cwiseProduct(c.specular_ir.kappa())) : set.emissivity,
-                   "1");
-    h5.writeVector(group + "/absorptivity",
-                   c.hasSpecular() ? Eigen::VectorXd(set.absorptivity.cwiseProduct(c.specular_solar.kappa()))
-                                   : set.absorptivity,
-                   "1");
+    // The surfaces' own ε, α (the network's are ε/κ, α/κ where a surface is specular).
+    h5.writeVector(group + "/emissivity", set.surface_emissivity, "1");
+    h5.writeVector(group + "/absorptivity", set.surface_absorptivity, "1");
+    if (!set.specular_ir.empty()) {
+      h5.writeVector(group + "/specular_reflectance", set.specular_ir.specular, "1");
+      h5.writeVector(group + "/transmittance", set.specular_ir.transmittance, "1");
+      h5.writeVector(group + "/solar_specular_reflectance", set.specular_solar.specular, "1");
+      h5.writeVector(group + "/solar_transmittance", set.specular_solar.transmittance, "1");
+    }
     if (k == 0) {
       h5.link("/network/radiative_exchange", group + "/radiative_exchange");
       h5.link("/network/gr_space", group + "/gr_space");

@@ -40,6 +40,10 @@ LoadReuse findReuse(const GeometryCase& c, int k, const std::vector<CaseRun>& ru
   for (int j = 0; j < k; ++j) {
     const DesignCase& e = c.design_cases[static_cast<size_t>(j)];
     if (e.load_signature != d.load_signature || !runs[static_cast<size_t>(j)].sweep) continue;
+    // Mirrors and windows carry part of the loads: only under the same ρs and τ.
+    if (e.optics != d.optics && (c.optical_sets[static_cast<size_t>(e.optics)].own_specular ||
+                                 c.optical_sets[static_cast<size_t>(d.optics)].own_specular))
+      continue;
     const std::array<double, 3> from = factors(*e.orbit), to = factors(*d.orbit);
     if (!(from[0] > 0 && from[1] > 0 && from[2] > 0)) continue;
     if ((day_night(*e.orbit) || day_night(*d.orbit)) && from[0] != to[0]) continue;
@@ -64,11 +68,12 @@ void sweepCase(const DesignContext& ctx, int k, GeometryRunResult& r, std::vecto
   BandCores& bc = cores[static_cast<size_t>(d.optics)];
   if (!bc.solar) {
     StageTimer timer(t, Stage::BandSolves);
-    bc = bandCores(ctx.radiative, set);
+    bc = bandCores(networksOf(ctx, d.optics).radiative, set);
     r.cases.band_cores += 2;
   }
   const LoadReuse reuse = findReuse(c, k, runs);
-  run.sweep = runSweep({*d.orbit, ctx.caster, ctx.radiative, *bc.solar, *bc.ir, ctx.solver, ctx.view_factor_stderr,
+  const SetNetworks nets = networksOf(ctx, d.optics);
+  run.sweep = runSweep({*d.orbit, ctx.caster, nets.radiative, *bc.solar, *bc.ir, ctx.solver, nets.view_factor_stderr,
                         reuse.from, reuse.direct, reuse.albedo, reuse.earth_ir},
                        t, show_progress, progress);
 }
@@ -77,6 +82,7 @@ void sweepCase(const DesignContext& ctx, int k, GeometryRunResult& r, std::vecto
 // has a table. GR for each new ε is a rank-|U| update of the case's own GR (the one
 // eigendecomposition's, or the dense one), U the nodes with an ε table: O(n² |U|) a call.
 std::shared_ptr<const solver::TemperatureOptics> temperatureOptics(const DesignContext& ctx, const OpticalSet& set,
+                                                                   const Eigen::VectorXd& area,
                                                                    const solver::ExchangeFactors& nominal,
                                                                    const ThermalSettings& ts) {
   const GeometryCase& c = ctx.c;
@@ -95,7 +101,7 @@ std::shared_ptr<const solver::TemperatureOptics> temperatureOptics(const DesignC
     if (!m.emissivity_curve.warming.temperature_k.empty()) varying.push_back(static_cast<int>(i));
   }
   if (optics->nodes.empty()) return nullptr;
-  auto update = std::make_shared<const solver::EmissivityUpdate>(nominal.gr, set.emissivity, ctx.area, varying);
+  auto update = std::make_shared<const solver::EmissivityUpdate>(nominal.gr, set.emissivity, area, varying);
   optics->exchange = [update, &ts, nr](const Eigen::VectorXd& emissivity) {
     const solver::ExchangeFactors ex = (*update)(emissivity.head(nr));
     if (ex.status != solver::Status::Converged)
@@ -111,14 +117,15 @@ ThermalOutcome solveCase(const DesignContext& ctx, int k, const GeometryRunResul
   const DesignCase& d = ctx.c.design_cases[static_cast<size_t>(k)];
   const OpticalSet& set = ctx.c.optical_sets[static_cast<size_t>(d.optics)];
   const solver::ExchangeFactors& exchange = exchangeOf(r, d.optics);
-  const double gr_truncation = exchange.from_pairs ? std::max(0.0, ctx.radiative.pairs.probe_exchange_error) : 0.0;
-  const ThermalErrorInputs errors{ctx.view_factor_stderr, ctx.lost_view_factor_stderr, set.emissivity, ctx.area,
+  const SetNetworks nets = networksOf(ctx, d.optics);
+  const double gr_truncation = exchange.from_pairs ? std::max(0.0, nets.radiative.pairs.probe_exchange_error) : 0.0;
+  const ThermalErrorInputs errors{nets.view_factor_stderr, nets.lost_view_factor_stderr, set.emissivity, nets.area,
                                   gr_truncation};
   ThermalOutcome out;
   std::ostringstream log;
   try {
     out.thermal = runThermal(*run.settings, exchange, run.sweep ? &*run.sweep : nullptr, out.timings, log, &errors,
-                             temperatureOptics(ctx, set, exchange, *run.settings));
+                             temperatureOptics(ctx, set, nets.area, exchange, *run.settings));
   } catch (const NumericalError& e) {  // which design case failed, by name
     if (ctx.c.design_cases.size() < 2) throw;
     throw NumericalError("design case '" + d.name + "': " + e.what());
@@ -185,6 +192,15 @@ void caseStatistics(const std::vector<CaseRun>& runs, DesignCasesResult& out) {
 
 }  // namespace
 
+SetNetworks networksOf(const DesignContext& ctx, int optics) {
+  const auto k = static_cast<size_t>(optics);
+  if (k < ctx.own_networks.size() && ctx.own_networks[k]) {
+    const OwnOpticsNetwork& own = *ctx.own_networks[k];
+    return {own.radiative, own.view_factor_stderr, own.lost_view_factor_stderr, own.area};
+  }
+  return {ctx.radiative, ctx.view_factor_stderr, ctx.lost_view_factor_stderr, ctx.area};
+}
+
 BandCores bandCores(const RadiativeNetwork& radiative, const OpticalSet& set) {
   const Eigen::VectorXd one = Eigen::VectorXd::Ones(set.emissivity.size());
   BandCores cores;
@@ -240,8 +256,9 @@ void runDesignCases(const DesignContext& ctx, GeometryRunResult& r, std::vector<
   DesignCasesResult& out = r.cases;
   for (size_t k = 0; k < c.optical_sets.size(); ++k) {
     out.optics_names.push_back(c.optical_sets[k].name);
-    if (k > 0) out.optics_exchange.push_back(exchangeFactors(ctx.radiative, c.optical_sets[k].emissivity, ctx.solver,
-                                                             r.timings));
+    if (k > 0)
+      out.optics_exchange.push_back(exchangeFactors(networksOf(ctx, static_cast<int>(k)).radiative,
+                                                    c.optical_sets[k].emissivity, ctx.solver, r.timings));
   }
   std::vector<BandCores> cores(c.optical_sets.size());
   runs.assign(c.design_cases.size(), CaseRun{});  // sized once: earlier cases' references stay valid

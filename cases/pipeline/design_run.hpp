@@ -23,7 +23,28 @@ struct DesignContext {
   const solver::SparseRowMatrix& view_factor_stderr;       ///< σ_F (n×n), –
   const Eigen::VectorXd& lost_view_factor_stderr;  ///< σ of F_space + F_blocked (n), –
   const Eigen::VectorXd& area;                     ///< of the radiative nodes, m²
+  /// Per optical set, the networks of a set that changes ρs or τ (null: the case's).
+  std::vector<std::shared_ptr<const struct OwnOpticsNetwork>> own_networks = {};
 };
+
+/// An optical set that changes specular reflectance or transmittance: its F̃ traced with its
+/// own optics, per band, on Ã = A κ of its own (docs/solver.md, "Optical sets that change ρs
+/// or τ"). Not decomposed: the case's one decomposition preconditions its solves.
+struct OwnOpticsNetwork {
+  RadiativeNetwork radiative;
+  solver::SparseRowMatrix view_factor_stderr;  ///< σ of its F̃ (n×n), –
+  Eigen::VectorXd lost_view_factor_stderr;     ///< σ of its F̃_space + F̃_blocked (n), –
+  Eigen::VectorXd area;                        ///< its IR network's areas Ã, m²
+};
+
+/// What an optical set is solved on: its own networks, or the case's.
+struct SetNetworks {
+  const RadiativeNetwork& radiative;
+  const solver::SparseRowMatrix& view_factor_stderr;
+  const Eigen::VectorXd& lost_view_factor_stderr;
+  const Eigen::VectorXd& area;
+};
+SetNetworks networksOf(const DesignContext& ctx, int optics);
 
 /// One design case's own results, kept apart for the optical samples.
 struct CaseRun {

@@ -1,7 +1,5 @@
 #include "cases/pipeline/geometry_run.hpp"
 
-#include <cmath>
-
 #include "cases/cluster/cluster.hpp"
 #include "cases/config/error_budget.hpp"
 #include "cases/pipeline/design_run.hpp"
@@ -14,7 +12,9 @@
 #include "geometry/rays/view_factors.hpp"
 #include "solver/radiative/policy.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 #include <ostream>
 
 namespace radnet::cases {
@@ -54,8 +54,9 @@ Eigen::VectorXd largestReflectance(const GeometryCase& c) {
   }
   Eigen::VectorXd rho = Eigen::VectorXd::Zero(n);
   for (const OpticalSet& set : c.optical_sets)
-    rho = rho.cwiseMax((1.0 + margin_e - set.emissivity.array()).matrix())
-              .cwiseMax((1.0 + margin_a - set.absorptivity.array()).matrix());
+    if (!set.own_specular)  // a set with networks of its own is not decomposed
+      rho = rho.cwiseMax((1.0 + margin_e - set.emissivity.array()).matrix())
+                .cwiseMax((1.0 + margin_a - set.absorptivity.array()).matrix());
   return rho.cwiseMin(1.0);
 }
 
@@ -65,7 +66,8 @@ solver::EigenPairs decomposeOnce(const solver::Network& net, const GeometryCase&
   solver::EigenPairs pairs;
   if (cluster::rank() == 0) {
     std::vector<Eigen::VectorXd> emissivities;
-    for (const OpticalSet& set : c.optical_sets) emissivities.push_back(set.emissivity);
+    for (const OpticalSet& set : c.optical_sets)
+      if (!set.own_specular) emissivities.push_back(set.emissivity);
     pairs = decomposeNetwork(net, largestReflectance(c), emissivities, settings, timings);
     shareEigenPairs(pairs);
   } else {
@@ -124,10 +126,11 @@ Eigen::VectorXd bandArea(const Eigen::VectorXd& area, const Eigen::VectorXd& kap
 
 // The rows that see a surface redirecting in either band (or are one: a pure mirror's row
 // is replaced by F̃_space = 1): these are traced, the others keep the diffuse F.
-std::vector<char> specularRows(const GeometryCase& c, const geometry::ViewFactorEstimate& diffuse) {
-  const Eigen::Index n = c.emissivity.size();
+std::vector<char> specularRows(const geometry::SpecularBand& ir, const geometry::SpecularBand& solar,
+                               const geometry::ViewFactorEstimate& diffuse) {
+  const Eigen::Index n = ir.specular.size();
   const auto redirects = [&](Eigen::Index j) {
-    return c.specular_ir.redirects(static_cast<int>(j)) || c.specular_solar.redirects(static_cast<int>(j));
+    return ir.redirects(static_cast<int>(j)) || solar.redirects(static_cast<int>(j));
   };
   std::vector<char> rows(static_cast<size_t>(n), 0);
   for (Eigen::Index i = 0; i < diffuse.view_factors.outerSize(); ++i)
@@ -135,7 +138,7 @@ std::vector<char> specularRows(const GeometryCase& c, const geometry::ViewFactor
       if (it.value() > 0 && (redirects(it.col()) || redirects(i))) rows[static_cast<size_t>(i)] = 1;
   for (Eigen::Index i = 0; i < n; ++i) {
     if (redirects(i)) rows[static_cast<size_t>(i)] = 1;  // its own row: what leaves it meets others' optics
-    if (c.specular_ir.kappa()[i] <= 0 || c.specular_solar.kappa()[i] <= 0) rows[static_cast<size_t>(i)] = 1;
+    if (ir.kappa()[i] <= 0 || solar.kappa()[i] <= 0) rows[static_cast<size_t>(i)] = 1;
   }
   // Rows seeing a redirector that saw nothing in return (F_ji > 0, F_ij = 0 by sampling).
   for (Eigen::Index i = 0; i < diffuse.view_factors.outerSize(); ++i)
@@ -165,10 +168,16 @@ geometry::ReciprocityCorrection specularBand(const GeometryCase& c, const geomet
   return geometry::enforceReciprocity(bandArea(area, kappa), merged, rays);
 }
 
+// F before any specular trace and each row's ray count (its variance weight).
+struct DiffuseStage {
+  geometry::ViewFactorEstimate estimate;
+  Eigen::VectorXd rays;
+};
+
 // F by ray casting or the exact method, then the variance-weighted reciprocity and
 // closure correction (docs/geometry.md); with specular or transmissive surfaces, F̃ per band.
 void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, const Eigen::VectorXd& area,
-                     GeometryRunResult& r, bool show_progress, std::ostream& progress) {
+                     GeometryRunResult& r, bool show_progress, std::ostream& progress, DiffuseStage* diffuse) {
   const Eigen::Index n = area.size();
   StageTimer timer(r.timings, Stage::ViewFactors);
   Eigen::VectorXd rays(n);
@@ -182,8 +191,9 @@ void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, c
   } else {
     estimate = exactStage(c, caster, r, rays, show_progress, progress);
   }
+  if (diffuse) *diffuse = {estimate, rays};  // what an optical set's own networks start from
   if (c.hasSpecular()) {
-    const std::vector<char> rows = specularRows(c, estimate);
+    const std::vector<char> rows = specularRows(c.specular_ir, c.specular_solar, estimate);
     if (c.solarSpecularDiffers())
       r.solar_correction = specularBand(c, caster, estimate, c.specular_solar, rows, area, rays, r, nullptr);
     geometry::ViewFactorEstimate traced;
@@ -221,6 +231,44 @@ std::unique_ptr<solver::Network> buildNetwork(const GeometryCase& c, const Eigen
   if (solver::policy::storeSparse(correction.view_factors.nonZeros(), n))
     return std::make_unique<solver::Network>(c.node_names, area, f, correction.blocked, tol);
   return std::make_unique<solver::Network>(c.node_names, area, Eigen::MatrixXd(f), correction.blocked, tol);
+}
+
+// An optical set that changes ρs or τ: its own F̃ per band, traced from the diffuse F with
+// its optics (a set that redirects nothing keeps the diffuse F), on its own Ã = A κ; the
+// case's pairs only precondition its solves (docs/solver.md).
+std::shared_ptr<const OwnOpticsNetwork> ownOpticsNetwork(const GeometryCase& c, const geometry::RayCaster& caster,
+                                                         const Eigen::VectorXd& area, const DiffuseStage& diffuse,
+                                                         const OpticalSet& set, const solver::EigenPairs& pairs,
+                                                         GeometryRunResult& r) {
+  auto own = std::make_shared<OwnOpticsNetwork>();
+  RadiativeNetwork& net = own->radiative;
+  geometry::ViewFactorEstimate estimate = diffuse.estimate;
+  if (set.specular_ir.empty()) {
+    net.network = buildNetwork(c, area, geometry::enforceReciprocity(area, estimate, diffuse.rays));
+  } else {
+    const std::vector<char> rows = specularRows(set.specular_ir, set.specular_solar, diffuse.estimate);
+    const bool bands_differ = set.specular_ir.specular != set.specular_solar.specular ||
+                              set.specular_ir.transmittance != set.specular_solar.transmittance;
+    net.kappa_ir = set.specular_ir.kappa();
+    net.kappa_solar = set.specular_solar.kappa();
+    if (bands_differ)
+      net.solar_network = buildNetwork(
+          c, bandArea(area, net.kappa_solar),
+          specularBand(c, caster, diffuse.estimate, set.specular_solar, rows, area, diffuse.rays, r, nullptr));
+    net.network = buildNetwork(
+        c, bandArea(area, net.kappa_ir),
+        specularBand(c, caster, diffuse.estimate, set.specular_ir, rows, area, diffuse.rays, r, &estimate));
+    net.surface_area = area;
+    net.solar_specular = set.specular_solar;
+    net.ir_specular = set.specular_ir;
+  }
+  net.pairs = pairs;
+  net.decomposed_ir = false;
+  own->area = net.network->area();
+  own->view_factor_stderr = estimate.standard_error;
+  own->lost_view_factor_stderr =
+      (estimate.space_error.array().square() + estimate.blocked_error.array().square()).sqrt();
+  return own;
 }
 
 // Nodes a thermal engineer must hear about by name: one that absorbs nothing at any position
@@ -269,7 +317,10 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
 
   Eigen::VectorXd area(n);
   for (int i = 0; i < n; ++i) area[i] = scene.nodes()[static_cast<size_t>(i)].area_m2;
-  viewFactorStage(c, caster, area, r, show_progress, progress);
+  const bool own_optics = std::any_of(c.optical_sets.begin(), c.optical_sets.end(),
+                                      [](const OpticalSet& set) { return set.own_specular; });
+  DiffuseStage diffuse;
+  viewFactorStage(c, caster, area, r, show_progress, progress, own_optics ? &diffuse : nullptr);
   StageTimer t_net(r.timings, Stage::Network);
   Eigen::VectorXd network_area = area;
   if (c.hasSpecular()) {  // the network's areas are A κ of the band (docs/solver.md)
@@ -292,8 +343,16 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
   for (const std::string& w : decompositionWarnings(r.radiative.pairs, r.solver))
     progress << "radnet: warning: " << w << "\n";
   r.radiative.exchange = exchangeFactors(r.radiative, c.emissivity, r.solver, r.timings);
-  const DesignContext ctx{c, caster, r.radiative, r.solver, r.view_factor_stderr, r.lost_view_factor_stderr,
-                          network_area};
+  DesignContext ctx{c, caster, r.radiative, r.solver, r.view_factor_stderr, r.lost_view_factor_stderr, network_area};
+  if (own_optics) {
+    StageTimer t_own(r.timings, Stage::ViewFactors);
+    ctx.own_networks.resize(c.optical_sets.size());
+    for (size_t k = 0; k < c.optical_sets.size(); ++k)
+      if (c.optical_sets[k].own_specular)
+        ctx.own_networks[k] = ownOpticsNetwork(c, caster, area, diffuse, c.optical_sets[k], r.radiative.pairs, r);
+    progress << "radnet: optical sets that change ρs or τ: networks of their own traced (not decomposed; the one "
+             << "decomposition preconditions their solves)\n";
+  }
   std::vector<CaseRun> runs;
   runDesignCases(ctx, r, runs, show_progress, progress);
   suspiciousNodeWarnings(c, r, progress);

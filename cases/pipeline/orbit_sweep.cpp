@@ -12,9 +12,17 @@
 namespace radnet::cases {
 namespace {
 
-// The relative residual a solar band of its own network is solved to when the case keeps
-// rank-k answers (refine tolerance 0): its G̃ is not the decomposed one.
-constexpr double kOwnSolarNetworkTolerance = 1e-8;
+// The relative residual a band on a network of its own (not the decomposed G̃) is solved to
+// when the case keeps rank-k answers (refine tolerance 0).
+constexpr double kOwnNetworkTolerance = 1e-8;
+
+// The refinement tolerance of a band solve on `band`: the case's, or, on a network the one
+// decomposition does not describe (the solar band's own, an optical set's own), at least
+// kOwnNetworkTolerance: the core only preconditions those.
+double bandTolerance(const RadiativeNetwork& radiative, const solver::Network& band, double tol) {
+  const bool decomposed = radiative.decomposed_ir && &band == radiative.network.get();
+  return decomposed ? tol : (tol > 0 ? tol : kOwnNetworkTolerance);
+}
 
 // One band for all positions at once: M_o = ρ ∘ E (n×cols); the solution and the absorbed
 // power (1 − ρ) A (E + H), W.
@@ -174,7 +182,7 @@ SweepResult runSweep(const SweepInputs& in, StageTimings& timings, bool show_pro
   // tolerance: the core of the one decomposition only preconditions it.
   Eigen::MatrixXd ext(n, 2 * P);
   ext << sw.irradiance.direct, sw.irradiance.albedo;
-  const double solar_tol = &solar_net == &net ? tol : (tol > 0 ? tol : kOwnSolarNetworkTolerance);
+  const double solar_tol = bandTolerance(in.radiative, solar_net, tol);
   const BandOutcome solar_band = solveBand(solar, solar_net, ext, solar_tol, "solar");
   sw.absorbed_solar = solar_band.absorbed.leftCols(P);
   sw.absorbed_albedo = solar_band.absorbed.rightCols(P);
@@ -184,7 +192,7 @@ SweepResult runSweep(const SweepInputs& in, StageTimings& timings, bool show_pro
   sw.solar_band_method = solar_band.solution.method;
   sw.energy_balance_error = solarEnergyBalanceError(solar_net, sw);
   // IR band (ρ = 1 − ε): the planet's IR, interreflected.
-  const BandOutcome ir_band = solveBand(ir, net, sw.irradiance.earth_ir, tol, "IR");
+  const BandOutcome ir_band = solveBand(ir, net, sw.irradiance.earth_ir, bandTolerance(in.radiative, net, tol), "IR");
   sw.absorbed_earth_ir = ir_band.absorbed;
   sw.ir_residual = ir_band.solution.max_residual;
   sw.ir_refine_iterations = ir_band.solution.refine_iterations;
@@ -206,10 +214,10 @@ Eigen::MatrixXd absorbedPower(const solver::LowRankBandSolver& solar, const solv
   const Eigen::Index P = irradiance.direct.cols();
   Eigen::MatrixXd ext(net.size(), 2 * P);
   ext << irradiance.direct, irradiance.albedo;
-  const double solar_tol =
-      &solar_net == &net ? refine_tolerance : (refine_tolerance > 0 ? refine_tolerance : kOwnSolarNetworkTolerance);
-  const Eigen::MatrixXd sun = solveBand(solar, solar_net, ext, solar_tol, "solar").absorbed;
-  return sun.leftCols(P) + sun.rightCols(P) + solveBand(ir, net, irradiance.earth_ir, refine_tolerance, "IR").absorbed;
+  const Eigen::MatrixXd sun =
+      solveBand(solar, solar_net, ext, bandTolerance(radiative, solar_net, refine_tolerance), "solar").absorbed;
+  return sun.leftCols(P) + sun.rightCols(P) +
+         solveBand(ir, net, irradiance.earth_ir, bandTolerance(radiative, net, refine_tolerance), "IR").absorbed;
 }
 
 void summarizeUncertainty(SweepResult& sw, double accuracy, std::ostream& progress) {

@@ -8,21 +8,6 @@
 
 namespace radnet::geometry {
 
-bool raySphere(const Vec3& origin, const Vec3& dir, const Vec3& center, double radius, Vec3& hit) {
-  // |o + t d − c|² = r²: t² + 2 b t + c = 0 with b = d·(o − c), c = |o − c|² − r².
-  const Vec3 oc = origin - center;
-  const double b = dir.dot(oc), c = oc.squaredNorm() - radius * radius;
-  const double disc = b * b - c;
-  if (disc < 0) return false;
-  const double root = std::sqrt(disc);
-  // The numerically stable near root (no cancellation when |b| ≫ root, i.e. far planets).
-  double t = c > 0 ? c / (-b + root) : -b + root;
-  if (b > 0 && c > 0) return false;  // sphere behind the origin
-  if (!(t > 0)) return false;
-  hit = origin + t * dir;
-  return true;
-}
-
 namespace {
 
 // One replica of a node's shadow rays: Σ c, Σ c L and Σ c² (L − ratio)² over `samples`

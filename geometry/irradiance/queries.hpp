@@ -65,7 +65,4 @@ std::vector<PlanetRays> planetRays(const RayCaster& caster, const Vec3& sphere_c
 std::vector<PlanetRays> planetRays(const RayCaster& caster, const Vec3& sphere_center, double sphere_radius,
                                    std::int64_t rays_per_node, std::uint64_t seed = 1);
 
-/// Where a ray from `origin` along unit `dir` first meets a sphere (t > 0), if it does.
-bool raySphere(const Vec3& origin, const Vec3& dir, const Vec3& center, double radius, Vec3& hit);
-
 }  // namespace radnet::geometry

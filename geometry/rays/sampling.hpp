@@ -68,4 +68,7 @@ class NodeSampler {
   double side_ = 1.0;
 };
 
+/// Where a ray from `origin` along unit `dir` first meets a sphere (t > 0), if it does.
+bool raySphere(const Vec3& origin, const Vec3& dir, const Vec3& center, double radius, Vec3& hit);
+
 }  // namespace radnet::geometry

@@ -1,6 +1,5 @@
 #include "geometry/rays/specular.hpp"
 
-#include "geometry/irradiance/queries.hpp"
 #include "geometry/rays/sampling.hpp"
 
 #include <algorithm>
