@@ -27,6 +27,17 @@ geometry::Scene vGroove(int m, double w) {
   return scene;
 }
 
+// A 1 m plate facing +z at z = 0 under a 3 m glass sheet (both sides nodes) at 0.2 m that
+// overhangs it by 1 m all round.
+geometry::Scene plateUnderGlass() {
+  geometry::Scene scene;
+  scene.addSurface("plate", "plate", geometry::rectangle(Vec3::Zero(), Vec3(1, 0, 0), Vec3(0, 1, 0), 1, 1), "plate",
+                   "");
+  scene.addSurface("glass", "glass",
+                   geometry::rectangle(Vec3(-1, -1, 0.2), Vec3(3, 0, 0), Vec3(0, 3, 0), 1, 1), "glass", "glass.back");
+  return scene;
+}
+
 }  // namespace
 
 TEST_CASE("specular V-groove: the apparent absorptance of a beam along the bisector is 1 − ρ^m") {
@@ -54,11 +65,7 @@ TEST_CASE("specular V-groove: the apparent absorptance of a beam along the bisec
 }
 
 TEST_CASE("window: τ of the beam reaches the plate behind it, the rest stops at the glass") {
-  geometry::Scene scene;
-  scene.addSurface("plate", "plate", geometry::rectangle(Vec3::Zero(), Vec3(1, 0, 0), Vec3(0, 1, 0), 1, 1), "plate",
-                   "");
-  scene.addSurface("glass", "glass",
-                   geometry::rectangle(Vec3(-1, -1, 0.2), Vec3(3, 0, 0), Vec3(0, 3, 0), 1, 1), "glass", "glass.back");
+  const geometry::Scene scene = plateUnderGlass();
   const geometry::RayCaster caster(scene);
   const int plate = scene.nodeIndex("plate"), glass = scene.nodeIndex("glass");
   geometry::SpecularBand band{Eigen::VectorXd::Zero(3), Eigen::VectorXd::Zero(3)};
@@ -118,11 +125,7 @@ TEST_CASE("planet light through a window: τ of the sphere's irradiance reaches 
   // the glass. A sphere of uniform radiance L gives a surface element that sees all of it
   // E = π L (R/d)² cos β (β between the normal and the centre), so the plate receives
   // τ π L R² ∫ h / d³ dA; the paths' weights (power per unit radiance) must sum to that.
-  geometry::Scene scene;
-  scene.addSurface("plate", "plate", geometry::rectangle(Vec3::Zero(), Vec3(1, 0, 0), Vec3(0, 1, 0), 1, 1), "plate",
-                   "");
-  scene.addSurface("glass", "glass",
-                   geometry::rectangle(Vec3(-1, -1, 0.2), Vec3(3, 0, 0), Vec3(0, 3, 0), 1, 1), "glass", "glass.back");
+  const geometry::Scene scene = plateUnderGlass();
   const geometry::RayCaster caster(scene);
   const int plate = scene.nodeIndex("plate"), glass = scene.nodeIndex("glass");
   const double tau = 0.85, radius = 1.0, height = 10.0;

@@ -312,9 +312,17 @@ void warnUnfollowedTables(GeometryCase& c) {
                            "temperatures for it to follow)");
 }
 
+// `solver:` and its `view_factors:`.
+void parseSolverBlock(const YamlDocument& doc, GeometryCase& c) {
+  const YAML::Node& root = doc.root();
+  c.solver = parseSolverSettings(doc, root["solver"]);
+  if (root["solver"]) c.view_factors = parseViewFactorSettings(doc, root["solver"]["view_factors"]);
+}
+
 }  // namespace
 
 bool isGeometryCase(const YamlDocument& doc) { return doc.root().IsMap() && doc.root()["geometry"].IsDefined(); }
+
 
 GeometryCase loadGeometryCase(const YamlDocument& doc) {
   const YAML::Node& root = doc.root();
@@ -350,9 +358,8 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
   assignNodeMaterials(c, ctx.node_material);
   parseOpticalSets(doc, c);  // and, with specular surfaces, the network's ε/κ, α/κ (applySpecularOptics)
 
-  c.solver = parseSolverSettings(doc, root["solver"]);
-  warnFacettedMirrors(c);
-  if (root["solver"]) c.view_factors = parseViewFactorSettings(doc, root["solver"]["view_factors"]);
+  parseSolverBlock(doc, c);
+  warnFacettedMirrors(c);  // against solver.accuracy
   parseDesignCases(doc, c);
   Eigen::VectorXd area(c.scene.nodes().size());
   for (size_t i = 0; i < c.scene.nodes().size(); ++i) area[static_cast<Eigen::Index>(i)] = c.scene.nodes()[i].area_m2;

@@ -271,6 +271,22 @@ std::shared_ptr<const OwnOpticsNetwork> ownOpticsNetwork(const GeometryCase& c, 
   return own;
 }
 
+// Every optical set's own networks (null: the set is solved on the case's).
+std::vector<std::shared_ptr<const OwnOpticsNetwork>> ownOpticsNetworks(const GeometryCase& c,
+                                                                       const geometry::RayCaster& caster,
+                                                                       const Eigen::VectorXd& area,
+                                                                       const DiffuseStage& diffuse,
+                                                                       GeometryRunResult& r, std::ostream& progress) {
+  StageTimer timer(r.timings, Stage::ViewFactors);
+  std::vector<std::shared_ptr<const OwnOpticsNetwork>> own(c.optical_sets.size());
+  for (size_t k = 0; k < c.optical_sets.size(); ++k)
+    if (c.optical_sets[k].own_specular)
+      own[k] = ownOpticsNetwork(c, caster, area, diffuse, c.optical_sets[k], r.radiative.pairs, r);
+  progress << "radnet: optical sets that change ρs or τ: networks of their own traced (not decomposed; the one "
+           << "decomposition preconditions their solves)\n";
+  return own;
+}
+
 // Nodes a thermal engineer must hear about by name: one that absorbs nothing at any position
 // although it sees space (its fronts face inward, or it hides inside a closed part), and one
 // whose temperature falls below kColdestLikelyK (nothing heats it). Boundary nodes (a fixed
@@ -344,15 +360,7 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
     progress << "radnet: warning: " << w << "\n";
   r.radiative.exchange = exchangeFactors(r.radiative, c.emissivity, r.solver, r.timings);
   DesignContext ctx{c, caster, r.radiative, r.solver, r.view_factor_stderr, r.lost_view_factor_stderr, network_area};
-  if (own_optics) {
-    StageTimer t_own(r.timings, Stage::ViewFactors);
-    ctx.own_networks.resize(c.optical_sets.size());
-    for (size_t k = 0; k < c.optical_sets.size(); ++k)
-      if (c.optical_sets[k].own_specular)
-        ctx.own_networks[k] = ownOpticsNetwork(c, caster, area, diffuse, c.optical_sets[k], r.radiative.pairs, r);
-    progress << "radnet: optical sets that change ρs or τ: networks of their own traced (not decomposed; the one "
-             << "decomposition preconditions their solves)\n";
-  }
+  if (own_optics) ctx.own_networks = ownOpticsNetworks(c, caster, area, diffuse, r, progress);
   std::vector<CaseRun> runs;
   runDesignCases(ctx, r, runs, show_progress, progress);
   suspiciousNodeWarnings(c, r, progress);

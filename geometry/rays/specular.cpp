@@ -149,6 +149,21 @@ TracedRow traceRow(const RayCaster& caster, const SpecularBand& band, int node, 
   return row;
 }
 
+// Light travelling along `travel` that reaches node j at sample `at` (its side), carried on at
+// weight w: reflected (probability ρs/(ρs + τ)) or passed through, every arrival recorded whole.
+void passOn(const RayCaster& caster, const SpecularBand& band, int j, const NodeSampler::Ray& at, const Vec3& travel,
+            std::mt19937_64& rng, WeightTally& tally, double w) {
+  const Scene& scene = caster.scene();
+  const double rs = band.specular[j], tau = band.transmittance[j];
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  if (uniform(rng) * (rs + tau) < rs)
+    tracePath(caster, band, caster.offsetOrigin(at.point, at.normal),
+              specularDirection(scene, at.face, at.point, travel, scene.nodes()[static_cast<size_t>(j)].side > 0),
+              at.face, rng, tally, w, true);
+  else
+    tracePath(caster, band, caster.offsetOrigin(at.point, -at.normal), travel, at.face, rng, tally, w, true);
+}
+
 // Node j's share of the beam: `replicas` × `per_replica` points, each lit one starting the
 // reflected or transmitted path at its weight A_j cos / N (m² per unit flux). Returns the points.
 std::int64_t redirectFromNode(const RayCaster& caster, const SpecularBand& band, int j, const Vec3& toward_source,
@@ -164,7 +179,6 @@ std::int64_t redirectFromNode(const RayCaster& caster, const SpecularBand& band,
   for (int r = 0; r < replicas; ++r) {
     Sobol4 sobol(mixSeed(seed ^ 0x9e3779b9u, static_cast<std::uint64_t>(j), static_cast<std::uint64_t>(r)));
     std::mt19937_64 rng(mixSeed(seed ^ 0x85ebca6bu, static_cast<std::uint64_t>(j), static_cast<std::uint64_t>(r)));
-    std::uniform_real_distribution<double> uniform(0.0, 1.0);
     for (std::int64_t k = 0; k < per_replica; ++k) {
       const auto u = sobol.next();
       const NodeSampler::Ray at = sampler.mapPoint(u[0], u[1]);
@@ -173,13 +187,8 @@ std::int64_t redirectFromNode(const RayCaster& caster, const SpecularBand& band,
       const Vec3 lit_from = caster.offsetOrigin(at.point, at.normal);
       ++rays;
       if (caster.occluded(lit_from, toward_source, at.face)) continue;
-      const double w = node.area_m2 * cosine / double(per_replica) * (rs + tau);
-      if (uniform(rng) * (rs + tau) < rs)
-        tracePath(caster, band, lit_from, specularDirection(scene, at.face, at.point, travel, node.side > 0), at.face,
-                  rng, mine[static_cast<size_t>(r)], w, true);
-      else
-        tracePath(caster, band, caster.offsetOrigin(at.point, -at.normal), travel, at.face, rng,
-                  mine[static_cast<size_t>(r)], w, true);
+      passOn(caster, band, j, at, travel, rng, mine[static_cast<size_t>(r)],
+             node.area_m2 * cosine / double(per_replica) * (rs + tau));
     }
   }
   return rays;
@@ -199,7 +208,6 @@ std::int64_t planetFromNode(const RayCaster& caster, const SpecularBand& band, i
   for (int r = 0; r < replicas; ++r) {
     Sobol4 sobol(mixSeed(seed ^ 0xc2b2ae35u, static_cast<std::uint64_t>(j), static_cast<std::uint64_t>(r)));
     std::mt19937_64 rng(mixSeed(seed ^ 0x27d4eb2fu, static_cast<std::uint64_t>(j), static_cast<std::uint64_t>(r)));
-    std::uniform_real_distribution<double> uniform(0.0, 1.0);
     for (std::int64_t k = 0; k < per_replica; ++k) {
       const auto u = sobol.next();
       const NodeSampler::Ray at = sampler.mapPoint(u[0], u[1]);
@@ -220,13 +228,9 @@ std::int64_t planetFromNode(const RayCaster& caster, const SpecularBand& band, i
       Vec3 hit;
       const Vec3 from = caster.offsetOrigin(at.point, at.normal);
       if (!raySphere(at.point, w, center, radius, hit) || caster.occluded(from, w, at.face)) continue;
-      const double weight = node.area_m2 * 2.0 * M_PI * (1.0 - cos_max) * cosine / double(per_replica) * (rs + tau);
       WeightTally tally;
-      if (uniform(rng) * (rs + tau) < rs)
-        tracePath(caster, band, from, specularDirection(scene, at.face, at.point, -w, node.side > 0), at.face, rng,
-                  tally, weight, true);
-      else
-        tracePath(caster, band, caster.offsetOrigin(at.point, -at.normal), -w, at.face, rng, tally, weight, true);
+      passOn(caster, band, j, at, -w, rng, tally,
+             node.area_m2 * 2.0 * M_PI * (1.0 - cos_max) * cosine / double(per_replica) * (rs + tau));
       for (const auto& [target, value] : tally)
         if (target >= 0)
           out.arrivals.push_back({target, r, static_cast<int>(out.hit_points.size()), value});
