@@ -71,6 +71,9 @@ compare("GR to space of the set eol", a["optics/eol/gr_space"][()], eol["network
 for key in ["emissivity", "absorptivity", "specular_reflectance", "solar_specular_reflectance", "transmittance",
             "solar_transmittance"]:
     compare(f"/optics/eol/{key}", a["optics/eol/" + key][()], eol["optics/base/" + key][()])
+# The set's G̃ is its own: one decomposition for the case's optics, one for the set's.
+if int(a["report"].attrs["eigendecompositions"]) != 2:
+    failures.append(f"/report eigendecompositions {a['report'].attrs['eigendecompositions']}, expected 2")
 if np.abs(a["loads/solar"][P:] - a["loads/solar"][:P]).max() < 1.0:
     failures.append("the eol case's solar loads equal the bol case's: the set's optics were not used")
 

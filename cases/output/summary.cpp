@@ -269,7 +269,8 @@ void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std
                out, 0);
   const int cases = r.cases.caseCount();
   if (cases > 1)
-    out << "design cases: " << cases << " on " << r.cases.eigendecompositions << " eigendecomposition, "
+    out << "design cases: " << cases << " on " << r.cases.eigendecompositions << " eigendecomposition"
+        << (r.cases.eigendecompositions == 1 ? "" : "s") << ", "
         << r.cases.band_cores << " band cores\n";
   if (r.thermal && cases > 1) printEnvelope(r, thermal_layout, out);
   for (int k = 0; k < cases; ++k) {

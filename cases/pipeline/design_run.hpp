@@ -28,8 +28,8 @@ struct DesignContext {
 };
 
 /// An optical set that changes specular reflectance or transmittance: its F̃ traced with its
-/// own optics, per band, on Ã = A κ of its own (docs/solver.md, "Optical sets that change ρs
-/// or τ"). Not decomposed: the case's one decomposition preconditions its solves.
+/// own optics, per band, on Ã = A κ of its own, and its own eigendecomposition (its G̃ is not
+/// the case's; docs/solver.md, "Optical sets that change ρs or τ").
 struct OwnOpticsNetwork {
   RadiativeNetwork radiative;
   solver::SparseRowMatrix view_factor_stderr;  ///< σ of its F̃ (n×n), –

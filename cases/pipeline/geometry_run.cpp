@@ -54,27 +54,34 @@ Eigen::VectorXd largestReflectance(const GeometryCase& c) {
   }
   Eigen::VectorXd rho = Eigen::VectorXd::Zero(n);
   for (const OpticalSet& set : c.optical_sets)
-    if (!set.own_specular)  // a set with networks of its own is not decomposed
+    if (!set.own_specular)  // a set with networks of its own has its own decomposition
       rho = rho.cwiseMax((1.0 + margin_e - set.emissivity.array()).matrix())
                 .cwiseMax((1.0 + margin_a - set.absorptivity.array()).matrix());
   return rho.cwiseMin(1.0);
 }
 
-// The one decomposition: on rank 0, broadcast to the others (who time their wait).
-solver::EigenPairs decomposeOnce(const solver::Network& net, const GeometryCase& c,
-                                 const solver::SolverSettings& settings, StageTimings& timings) {
+// A decomposition on rank 0, broadcast to the others (who time their wait).
+solver::EigenPairs decomposeShared(const solver::Network& net, const Eigen::VectorXd& reflectance,
+                                   const std::vector<Eigen::VectorXd>& emissivities,
+                                   const solver::SolverSettings& settings, StageTimings& timings) {
   solver::EigenPairs pairs;
   if (cluster::rank() == 0) {
-    std::vector<Eigen::VectorXd> emissivities;
-    for (const OpticalSet& set : c.optical_sets)
-      if (!set.own_specular) emissivities.push_back(set.emissivity);
-    pairs = decomposeNetwork(net, largestReflectance(c), emissivities, settings, timings);
+    pairs = decomposeNetwork(net, reflectance, emissivities, settings, timings);
     shareEigenPairs(pairs);
   } else {
     StageTimer waiting(timings, Stage::Eigendecomposition);
     shareEigenPairs(pairs);
   }
   return pairs;
+}
+
+// The one decomposition that serves every optical set with the case's ρs and τ.
+solver::EigenPairs decomposeOnce(const solver::Network& net, const GeometryCase& c,
+                                 const solver::SolverSettings& settings, StageTimings& timings) {
+  std::vector<Eigen::VectorXd> emissivities;
+  for (const OpticalSet& set : c.optical_sets)
+    if (!set.own_specular) emissivities.push_back(set.emissivity);
+  return decomposeShared(net, largestReflectance(c), emissivities, settings, timings);
 }
 
 // F by the exact method, with the rows it leaves to sampling (auto) cast as rays.
@@ -234,12 +241,11 @@ std::unique_ptr<solver::Network> buildNetwork(const GeometryCase& c, const Eigen
 }
 
 // An optical set that changes ρs or τ: its own F̃ per band, traced from the diffuse F with
-// its optics (a set that redirects nothing keeps the diffuse F), on its own Ã = A κ; the
-// case's pairs only precondition its solves (docs/solver.md).
-std::shared_ptr<const OwnOpticsNetwork> ownOpticsNetwork(const GeometryCase& c, const geometry::RayCaster& caster,
+// its optics (a set that redirects nothing keeps the diffuse F), on its own Ã = A κ
+// (docs/solver.md, "Optical sets that change ρs or τ").
+std::shared_ptr<OwnOpticsNetwork> ownOpticsNetwork(const GeometryCase& c, const geometry::RayCaster& caster,
                                                          const Eigen::VectorXd& area, const DiffuseStage& diffuse,
-                                                         const OpticalSet& set, const solver::EigenPairs& pairs,
-                                                         GeometryRunResult& r) {
+                                                   const OpticalSet& set, GeometryRunResult& r) {
   auto own = std::make_shared<OwnOpticsNetwork>();
   RadiativeNetwork& net = own->radiative;
   geometry::ViewFactorEstimate estimate = diffuse.estimate;
@@ -262,8 +268,6 @@ std::shared_ptr<const OwnOpticsNetwork> ownOpticsNetwork(const GeometryCase& c, 
     net.solar_specular = set.specular_solar;
     net.ir_specular = set.specular_ir;
   }
-  net.pairs = pairs;
-  net.decomposed_ir = false;
   own->area = net.network->area();
   own->view_factor_stderr = estimate.standard_error;
   own->lost_view_factor_stderr =
@@ -271,20 +275,30 @@ std::shared_ptr<const OwnOpticsNetwork> ownOpticsNetwork(const GeometryCase& c, 
   return own;
 }
 
-// Every optical set's own networks (null: the set is solved on the case's).
+// Every optical set's own networks (null: the set is solved on the case's), each with its
+// own decomposition: its G̃ is not the case's.
 std::vector<std::shared_ptr<const OwnOpticsNetwork>> ownOpticsNetworks(const GeometryCase& c,
                                                                        const geometry::RayCaster& caster,
                                                                        const Eigen::VectorXd& area,
                                                                        const DiffuseStage& diffuse,
                                                                        GeometryRunResult& r, std::ostream& progress) {
-  StageTimer timer(r.timings, Stage::ViewFactors);
-  std::vector<std::shared_ptr<const OwnOpticsNetwork>> own(c.optical_sets.size());
-  for (size_t k = 0; k < c.optical_sets.size(); ++k)
-    if (c.optical_sets[k].own_specular)
-      own[k] = ownOpticsNetwork(c, caster, area, diffuse, c.optical_sets[k], r.radiative.pairs, r);
-  progress << "radnet: optical sets that change ρs or τ: networks of their own traced (not decomposed; the one "
-           << "decomposition preconditions their solves)\n";
-  return own;
+  std::vector<std::shared_ptr<const OwnOpticsNetwork>> out(c.optical_sets.size());
+  for (size_t k = 0; k < c.optical_sets.size(); ++k) {
+    const OpticalSet& set = c.optical_sets[k];
+    if (!set.own_specular) continue;
+    StageTimer timer(r.timings, Stage::ViewFactors);
+    const std::shared_ptr<OwnOpticsNetwork> own = ownOpticsNetwork(c, caster, area, diffuse, set, r);
+    timer.stop();
+    const Eigen::VectorXd one = Eigen::VectorXd::Ones(set.emissivity.size());
+    own->radiative.pairs = decomposeShared(*own->radiative.network, (one - set.emissivity).cwiseMax(one - set.absorptivity),
+                                           {set.emissivity}, r.solver, r.timings);
+    for (const std::string& w : decompositionWarnings(own->radiative.pairs, r.solver))
+      progress << "radnet: warning: optical set '" << set.name << "': " << w << "\n";
+    progress << "radnet: optical set '" << set.name << "' changes ρs or τ: its own traced network and "
+             << "eigendecomposition (rank " << own->radiative.pairs.rank() << ")\n";
+    out[k] = own;
+  }
+  return out;
 }
 
 // Nodes a thermal engineer must hear about by name: one that absorbs nothing at any position

@@ -16,12 +16,11 @@ namespace {
 // when the case keeps rank-k answers (refine tolerance 0).
 constexpr double kOwnNetworkTolerance = 1e-8;
 
-// The refinement tolerance of a band solve on `band`: the case's, or, on a network the one
-// decomposition does not describe (the solar band's own, an optical set's own), at least
-// kOwnNetworkTolerance: the core only preconditions those.
+// The refinement tolerance of a band solve on `band`: the case's, or, on a network the
+// decomposition does not describe (the solar band's own), at least kOwnNetworkTolerance: the
+// core only preconditions it.
 double bandTolerance(const RadiativeNetwork& radiative, const solver::Network& band, double tol) {
-  const bool decomposed = radiative.decomposed_ir && &band == radiative.network.get();
-  return decomposed ? tol : (tol > 0 ? tol : kOwnNetworkTolerance);
+  return &band == radiative.network.get() ? tol : (tol > 0 ? tol : kOwnNetworkTolerance);
 }
 
 // One band for all positions at once: M_o = ρ ∘ E (n×cols); the solution and the absorbed

@@ -58,11 +58,8 @@ std::string rankWarning(const solver::EigenPairs& pairs, const solver::SolverSet
 solver::ExchangeFactors exchangeFactors(const RadiativeNetwork& radiative, const Eigen::VectorXd& emissivity,
                                         const solver::SolverSettings& settings, StageTimings& timings) {
   StageTimer timer(timings, Stage::ExchangeFactors);
-  // A network the pairs do not decompose (an optical set's own) gets the exact GR.
-  solver::ExchangeFactors ex = radiative.decomposed_ir
-                                   ? solver::policy::exchangeFactors(*radiative.network, radiative.pairs, emissivity,
-                                                                     settings)
-                                   : solver::exchangeFactorsDense(*radiative.network, emissivity);
+  solver::ExchangeFactors ex =
+      solver::policy::exchangeFactors(*radiative.network, radiative.pairs, emissivity, settings);
   timer.stop();
   if (ex.status != solver::Status::Converged)
     throw NumericalError(std::string("exchange factors ") + solver::toString(ex.status) + ": " + ex.message);

@@ -46,10 +46,6 @@ struct RadiativeNetwork {
   const solver::Network& solarNetwork() const { return solar_network ? *solar_network : *network; }
   const Eigen::VectorXd& surfaceArea() const { return surface_area.size() ? surface_area : network->area(); }
   solver::EigenPairs pairs;
-  /// false: `network` is not the one `pairs` decompose (an optical set's own, traced with its
-  /// ρs and τ): the pairs only precondition its band solves, which are always refined to the
-  /// tolerance, and its GR is solved densely.
-  bool decomposed_ir = true;
   std::optional<solver::ExchangeFactors> exchange;  ///< GR, when the nodes' emissivities are known
 };
 
