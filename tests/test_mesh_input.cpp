@@ -1,13 +1,17 @@
 // Meshes as CAD and FE tools write them (issue 29): coincidence without false positives,
 // cleaning (degenerate, repeated, welded, cracked, inward), partitions, transforms.
 #include "geometry/scene/coincidence.hpp"
+#include "geometry/scene/mesh_io.hpp"
 #include "geometry/scene/mesh_partition.hpp"
 #include "geometry/scene/mesh_repair.hpp"
 #include "geometry/scene/primitives.hpp"
 
+#include "temp_dir.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <sstream>
 
 using namespace radnet::geometry;
 
@@ -195,4 +199,65 @@ TEST_CASE("transformMesh turns about the origin, then places") {
   s.vertices = {Vec3(0, 1, 0)};
   transformMesh(s, Eigen::AngleAxisd(M_PI / 2, Vec3::UnitX()).matrix(), Vec3(0, 0, 0.05));
   CHECK((s.vertices[0] - Vec3(0, 0, 1.05)).norm() < 1e-15);
+}
+
+TEST_CASE("OBJ vertex normals: one per smooth vertex, none at hard edges or where welding joins two") {
+  radnet::test::TempDir dir;
+  // An octahedron whose corners carry their radial normals (a coarse sphere): every corner
+  // names the same `vn` wherever it is used, so each vertex keeps it.
+  std::string smooth = "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n"
+                       "vn 2 0 0\nvn -1 0 0\nvn 0 1 0\nvn 0 -1 0\nvn 0 0 1\nvn 0 0 -1\n";
+  for (const char* f : {"1 3 5", "3 2 5", "2 4 5", "4 1 5", "3 1 6", "2 3 6", "4 2 6", "1 4 6"}) {
+    std::istringstream corners(f);
+    smooth += "f";
+    for (int v; corners >> v;) smooth += " " + std::to_string(v) + "//" + std::to_string(v);
+    smooth += "\n";
+  }
+  const TriangleSoup octahedron = readMesh(dir.write("octahedron.obj", smooth), 1.0);
+  REQUIRE(octahedron.normals.size() == 6);
+  for (size_t v = 0; v < 6; ++v) {
+    CHECK(octahedron.normals[v].norm() == Approx(1.0));  // made unit ("vn 2 0 0")
+    CHECK(octahedron.normals[v].dot(octahedron.vertices[v]) == Approx(1.0));
+  }
+  // A square of two triangles whose shared corners are given different normals (a crease):
+  // those corners get none; corners named once keep theirs; a file without `vn` gives none.
+  const std::string creased = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\nvn 0 0.6 0.8\n"
+                              "f 1//1 2//1 3//1\nf 1//2 3//2 4//2\n";
+  const TriangleSoup square = readMesh(dir.write("square.obj", creased), 1.0);
+  REQUIRE(square.normals.size() == 4);
+  CHECK(square.normals[0].isZero());
+  CHECK(square.normals[2].isZero());
+  CHECK(square.normals[1].isApprox(Vec3(0, 0, 1)));
+  CHECK(square.normals[3].isApprox(Vec3(0, 0.6, 0.8)));
+  CHECK(readMesh(dir.write("plain.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"), 1.0).normals.empty());
+  // Two copies of a corner with different normals welded into one: it keeps none; turning
+  // the mesh turns its normals.
+  TriangleSoup two;
+  two.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 0), Vec3(0, -1, 0)};
+  two.triangles = {{0, 1, 2}, {3, 4, 1}};
+  two.normals = {Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+  cleanMesh(two);
+  REQUIRE(two.normals.size() == 4);
+  CHECK(two.normals[0].isZero());
+  CHECK(two.normals[1].isApprox(Vec3(0, 0, 1)));
+  transformMesh(two, Eigen::AngleAxisd(M_PI / 2, Vec3::UnitX()).toRotationMatrix(), Vec3(5, 0, 0));
+  CHECK(two.normals[1].isApprox(Vec3(0, -1, 0)));
+}
+
+TEST_CASE("shading normals: the file's vertex normals interpolated over the facet, facing its side") {
+  TriangleSoup soup;
+  soup.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  soup.triangles = {{0, 1, 2}};
+  // Normals pointing away from the facet's front (+z): the facet's side decides.
+  soup.normals = {Vec3(0, 0, -1), Vec3(0.6, 0, -0.8), Vec3(0, 0.6, -0.8)};
+  Scene scene;
+  scene.addSurface("tri", "tri", soup, "tri", "");
+  scene.addSurface("flat", "flat", rectangle(Vec3(3, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 1, 1), "flat", "");
+  REQUIRE(scene.hasSmoothNormal(0));
+  CHECK(!scene.hasSmoothNormal(1));  // a surface without normals, after one with
+  CHECK(scene.shadingNormal(0, Vec3(1, 0, 0)).isApprox(Vec3(-0.6, 0, 0.8)));  // at a corner: its own
+  const Vec3 centroid(1.0 / 3, 1.0 / 3, 0);
+  const Vec3 mean = -(soup.normals[0] + soup.normals[1] + soup.normals[2]).normalized();
+  CHECK(scene.shadingNormal(0, centroid).isApprox(mean));
+  CHECK(scene.shadingNormal(1, Vec3(3.5, 0.5, 0)).isApprox(Vec3(0, 0, 1)));
 }

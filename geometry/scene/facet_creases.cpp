@@ -15,7 +15,7 @@ FacetCreases facetCreases(const Scene& scene, int node) {
   const Node& n = scene.nodes()[static_cast<size_t>(node)];
   for (int f : n.faces) {
     const Face& face = scene.faces()[static_cast<size_t>(f)];
-    if (scene.surfaceShape(face.surface).kind != CurvedShape::Kind::None) continue;
+    if (scene.hasSmoothNormal(f)) continue;
     for (int k = 0; k < 3; ++k) {
       Point a = point(face.v[static_cast<size_t>(k)]), b = point(face.v[static_cast<size_t>((k + 1) % 3)]);
       if (b < a) std::swap(a, b);

@@ -21,8 +21,8 @@ constexpr double kSharpEdgeDeg = 30.0;
 constexpr double kFlatDeg = 0.05;
 
 /// The creases of node `node`'s facets, edges matched by their vertices' exact positions
-/// (meshes are welded before they join the scene). Facets of a primitive that knows its exact
-/// surface (CurvedShape) are left out: their reflections use the exact normal.
+/// (meshes are welded before they join the scene). Facets that reflect about a smooth normal
+/// (a primitive's exact surface, a file's vertex normals) are left out.
 FacetCreases facetCreases(const Scene& scene, int node);
 
 }  // namespace radnet::geometry

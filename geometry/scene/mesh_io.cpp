@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -74,6 +75,94 @@ void checkPlyHeader(const std::string& path) {
   throw GeometryError(path + ": not a PLY file with a complete header (no end_header)");
 }
 
+// An OBJ index (1-based; negative counts back from the `count` read so far), 0-based.
+int objIndex(const std::string& text, size_t count, const std::string& token, const std::string& path, size_t line_no) {
+  long idx = 0;
+  try {
+    idx = std::stol(text);
+  } catch (const std::exception&) {
+    throw GeometryError(path + ":" + std::to_string(line_no) + ": malformed face index '" + token + "'");
+  }
+  if (idx == 0 || std::abs(idx) > 2000000000L)
+    throw GeometryError(path + ":" + std::to_string(line_no) + ": face index " + token + " out of range");
+  return static_cast<int>(idx > 0 ? idx - 1 : static_cast<long>(count) + idx);
+}
+
+// The vertex indices (0-based) of one OBJ face line's "v/vt/vn" tokens, and in `normals`
+// each corner's normal index (−1: none given).
+std::vector<int> objFace(std::istringstream& ls, size_t vertex_count, size_t normal_count, const std::string& path,
+                         size_t line_no, std::vector<int>& normals) {
+  std::vector<int> poly;
+  normals.clear();
+  std::string token;
+  while (ls >> token) {
+    poly.push_back(objIndex(token.substr(0, token.find('/')), vertex_count, token, path, line_no));
+    const size_t second = token.find('/') == std::string::npos ? std::string::npos : token.find('/', token.find('/') + 1);
+    const bool has_normal = second != std::string::npos && second + 1 < token.size();
+    normals.push_back(has_normal ? objIndex(token.substr(second + 1), normal_count, token, path, line_no) : -1);
+  }
+  return poly;
+}
+
+// Per vertex, the one normal its corners give (OBJ `vn`): zero where none is given or where
+// corners give it different ones (a hard edge: the facets keep their own normals there).
+class VertexNormals {
+ public:
+  void corner(int vertex, int normal) {
+    if (vertex < 0) return;
+    const size_t v = static_cast<size_t>(vertex);
+    if (v >= normal_of_.size()) normal_of_.resize(v + 1, kUnset);
+    int& slot = normal_of_[v];
+    if (normal < 0 || normal >= static_cast<int>(normals.size())) slot = kConflict;
+    else if (slot == kUnset) slot = normal;
+    else if (slot != kConflict && !(normals[static_cast<size_t>(slot)] - normals[static_cast<size_t>(normal)]).isZero(1e-9))
+      slot = kConflict;
+  }
+  /// Per vertex of `count`; empty when the file gives no normals.
+  std::vector<Vec3> perVertex(size_t count) const {
+    if (normals.empty()) return {};
+    std::vector<Vec3> out(count, Vec3::Zero());
+    for (size_t v = 0; v < count && v < normal_of_.size(); ++v)
+      if (normal_of_[v] >= 0) out[v] = normals[static_cast<size_t>(normal_of_[v])];
+    return out;
+  }
+  std::vector<Vec3> normals;  ///< the file's `vn` lines, unit (zero: a zero-length one)
+
+ private:
+  static constexpr int kUnset = -1, kConflict = -2;
+  std::vector<int> normal_of_;
+};
+
+// An OBJ `vn` line's normal, made unit (zero when it has no length).
+Vec3 objNormal(std::istringstream& ls, const std::string& path, size_t line_no) {
+  double x, y, z;
+  if (!(ls >> x >> y >> z)) throw GeometryError(path + ":" + std::to_string(line_no) + ": malformed normal");
+  const Vec3 n(x, y, z);
+  return n.norm() > 0 && std::isfinite(n.norm()) ? Vec3(n.normalized()) : Vec3::Zero();
+}
+
+// The vertex normals of an OBJ file read by CGAL (which keeps the file's vertex order).
+std::vector<Vec3> objVertexNormals(const std::string& path, size_t vertex_count) {
+  std::ifstream in(path);
+  VertexNormals normals;
+  std::string line;
+  size_t line_no = 0, vertices = 0;
+  std::vector<int> corner_normals;
+  while (std::getline(in, line)) {
+    ++line_no;
+    std::istringstream ls(line);
+    std::string tag;
+    if (!(ls >> tag)) continue;
+    if (tag == "v") ++vertices;
+    else if (tag == "vn") normals.normals.push_back(objNormal(ls, path, line_no));
+    else if (tag == "f") {
+      const std::vector<int> poly = objFace(ls, vertices, normals.normals.size(), path, line_no, corner_normals);
+      for (size_t k = 0; k < poly.size(); ++k) normals.corner(poly[k], corner_normals[k]);
+    }
+  }
+  return vertices == vertex_count ? normals.perVertex(vertex_count) : std::vector<Vec3>{};
+}
+
 }  // namespace
 
 TriangleSoup readMesh(const std::string& path, double scale) {
@@ -108,33 +197,15 @@ TriangleSoup readMesh(const std::string& path, double scale) {
     }
     addPolygon(soup, poly, path, i, static_cast<int>(i));
   }
+  if (ext == ".obj") soup.normals = objVertexNormals(path, points.size());
   return soup;
 }
 
 namespace {
 
-// The vertex indices (0-based) of one OBJ face line's "v/vt/vn" tokens; negative indices
-// count back from the vertices read so far.
-std::vector<int> objFace(std::istringstream& ls, size_t vertex_count, const std::string& path, size_t line_no) {
-  std::vector<int> poly;
-  std::string token;
-  while (ls >> token) {
-    long idx = 0;  // "v/vt/vn": the vertex
-    try {
-      idx = std::stol(token.substr(0, token.find('/')));
-    } catch (const std::exception&) {
-      throw GeometryError(path + ":" + std::to_string(line_no) + ": malformed face index '" + token + "'");
-    }
-    if (idx == 0 || std::abs(idx) > 2000000000L)
-      throw GeometryError(path + ":" + std::to_string(line_no) + ": face index " + token + " out of range");
-    poly.push_back(static_cast<int>(idx > 0 ? idx - 1 : static_cast<long>(vertex_count) + idx));
-  }
-  return poly;
-}
-
 // One group's polygons as a soup that keeps only the vertices it uses, renumbered.
 MeshGroup objGroup(const std::string& name, const std::vector<std::pair<int, std::vector<int>>>& polys,
-                   const std::vector<Vec3>& vertices, const std::string& path) {
+                   const std::vector<Vec3>& vertices, const std::vector<Vec3>& normals, const std::string& path) {
   MeshGroup g{name, {}};
   std::vector<int> remap(vertices.size(), -1);
   for (size_t i = 0; i < polys.size(); ++i) {
@@ -148,6 +219,7 @@ MeshGroup objGroup(const std::string& name, const std::vector<std::pair<int, std
       if (remap[static_cast<size_t>(v)] < 0) {
         remap[static_cast<size_t>(v)] = static_cast<int>(g.soup.vertices.size());
         g.soup.vertices.push_back(vertices[static_cast<size_t>(v)]);
+        if (!normals.empty()) g.soup.normals.push_back(normals[static_cast<size_t>(v)]);
       }
       poly.push_back(remap[static_cast<size_t>(v)]);
     }
@@ -168,6 +240,8 @@ std::vector<MeshGroup> readObjGroups(const std::string& path, double scale) {
   std::string line, current = "default";
   size_t line_no = 0;
   int faces = 0;  // the file's face count so far: each face's element number
+  VertexNormals normals;
+  std::vector<int> corner_normals;
   while (std::getline(in, line)) {
     ++line_no;
     std::istringstream ls(line);
@@ -181,8 +255,11 @@ std::vector<MeshGroup> readObjGroups(const std::string& path, double scale) {
       std::string name;
       ls >> name;
       current = name.empty() ? "default" : name;
+    } else if (tag == "vn") {
+      normals.normals.push_back(objNormal(ls, path, line_no));
     } else if (tag == "f") {
-      std::vector<int> poly = objFace(ls, vertices.size(), path, line_no);
+      std::vector<int> poly = objFace(ls, vertices.size(), normals.normals.size(), path, line_no, corner_normals);
+      for (size_t k = 0; k < poly.size(); ++k) normals.corner(poly[k], corner_normals[k]);
       auto it = std::find_if(groups.begin(), groups.end(), [&](const auto& g) { return g.first == current; });
       if (it == groups.end()) {
         groups.push_back({current, {}});
@@ -192,7 +269,8 @@ std::vector<MeshGroup> readObjGroups(const std::string& path, double scale) {
     }
   }
   std::vector<MeshGroup> out;
-  for (const auto& [name, polys] : groups) out.push_back(objGroup(name, polys, vertices, path));
+  const std::vector<Vec3> per_vertex = normals.perVertex(vertices.size());
+  for (const auto& [name, polys] : groups) out.push_back(objGroup(name, polys, vertices, per_vertex, path));
   if (out.empty()) throw GeometryError(path + ": the mesh has no faces");
   return out;
 }

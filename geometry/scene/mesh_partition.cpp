@@ -77,6 +77,7 @@ std::vector<MeshGroup> gather(const TriangleSoup& soup, const std::vector<int>& 
         r = static_cast<int>(out.vertices.size());
         out.vertices.push_back(soup.vertices[static_cast<size_t>(v)]);
         if (has_nominal) out.nominal.push_back(soup.nominal[static_cast<size_t>(v)]);
+        if (soup.normals.size() == soup.vertices.size()) out.normals.push_back(soup.normals[static_cast<size_t>(v)]);
       }
       tri[static_cast<size_t>(k)] = r;
     }

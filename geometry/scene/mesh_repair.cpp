@@ -104,6 +104,9 @@ double holeArea(const EdgeMap& edges, const std::vector<Vec3>& p) {
   return total;
 }
 
+// Two file normals of a welded vertex closer than this (unit vectors, ~0.06°) are one.
+constexpr double kSameNormal = 1e-3;
+
 // Welds the vertices (the first seen of each cluster stands for it), keeping only those the
 // triangles use; returns each old vertex's new index.
 std::vector<int> weldVertices(TriangleSoup& soup, double tolerance, MeshReport& r) {
@@ -114,8 +117,9 @@ std::vector<int> weldVertices(TriangleSoup& soup, double tolerance, MeshReport& 
   for (const auto& t : soup.triangles)
     for (int v : t) used[static_cast<size_t>(v)] = 1;
   std::vector<int> renumber(soup.vertices.size(), -1), new_index(soup.vertices.size(), -1);
-  std::vector<Vec3> vertices, nominal;
+  std::vector<Vec3> vertices, nominal, normals;
   const bool has_nominal = soup.nominal.size() == soup.vertices.size();
+  const bool has_normals = soup.normals.size() == soup.vertices.size();
   for (size_t v = 0; v < soup.vertices.size(); ++v) {
     if (!used[v]) continue;
     int& slot = renumber[static_cast<size_t>(cluster[v])];
@@ -123,12 +127,16 @@ std::vector<int> weldVertices(TriangleSoup& soup, double tolerance, MeshReport& 
       slot = static_cast<int>(vertices.size());
       vertices.push_back(welder.point(cluster[v]));
       if (has_nominal) nominal.push_back(soup.nominal[v]);
+      if (has_normals) normals.push_back(soup.normals[v]);
+    } else if (has_normals && !(normals[static_cast<size_t>(slot)] - soup.normals[v]).isZero(kSameNormal)) {
+      normals[static_cast<size_t>(slot)].setZero();  // welded across a hard edge: facet normals there
     }
     if (soup.vertices[v] != welder.point(cluster[v])) ++r.welded_vertices;
     new_index[v] = slot;
   }
   soup.vertices = std::move(vertices);
   soup.nominal = std::move(nominal);
+  soup.normals = std::move(normals);
   return new_index;
 }
 
@@ -214,6 +222,7 @@ MeshReport cleanMesh(TriangleSoup& soup, double weld_tolerance_m) {
 void transformMesh(TriangleSoup& soup, const Eigen::Matrix3d& rotation, const Vec3& translation) {
   for (Vec3& v : soup.vertices) v = rotation * v + translation;
   for (Vec3& v : soup.nominal) v = rotation * v + translation;
+  for (Vec3& n : soup.normals) n = rotation * n;
 }
 
 void flipWinding(TriangleSoup& soup) {

@@ -147,6 +147,7 @@ void Scene::addSurface(const std::string& surface, const std::string& label, con
     }
     faces_.push_back(f);
   }
+  keepCornerNormals(soup);
   if (misfits > 0)
     noteDefect("triangles that do not fit their neighbours (on an edge of three or more triangles, or wound against "
                "a neighbour), kept with their sides as written: check the winding",
@@ -263,9 +264,43 @@ Vec3 CurvedShape::normalAt(const Vec3& p, const Vec3& facet_normal) const {
   return n.dot(facet_normal) >= 0 ? n : Vec3(-n);
 }
 
+void Scene::keepCornerNormals(const TriangleSoup& soup) {
+  const bool has_normals = soup.normals.size() == soup.vertices.size();
+  if (!has_normals && corner_normals_.empty()) return;  // no surface so far has any
+  corner_normals_.resize(faces_.size() - soup.triangles.size());  // earlier surfaces: zeros
+  for (const auto& tri : soup.triangles) {
+    std::array<Vec3, 3> corners{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+    if (has_normals)
+      for (size_t k = 0; k < 3; ++k) corners[k] = soup.normals[static_cast<size_t>(tri[k])];
+    corner_normals_.push_back(corners);
+  }
+}
+
+bool Scene::hasSmoothNormal(int f) const {
+  const Face& face = faces_[static_cast<size_t>(f)];
+  if (shapes_[static_cast<size_t>(face.surface)].kind != CurvedShape::Kind::None) return true;
+  if (corner_normals_.empty()) return false;
+  const auto& c = corner_normals_[static_cast<size_t>(f)];
+  return c[0].squaredNorm() > 0 && c[1].squaredNorm() > 0 && c[2].squaredNorm() > 0;
+}
+
 Vec3 Scene::shadingNormal(int f, const Vec3& p) const {
   const Face& face = faces_[static_cast<size_t>(f)];
-  return shapes_[static_cast<size_t>(face.surface)].normalAt(p, face.normal);
+  const CurvedShape& shape = shapes_[static_cast<size_t>(face.surface)];
+  if (shape.kind != CurvedShape::Kind::None || !hasSmoothNormal(f)) return shape.normalAt(p, face.normal);
+  // Phong: the corners' normals weighted by p's barycentric coordinates in the facet.
+  const auto& c = corner_normals_[static_cast<size_t>(f)];
+  const Vec3 e1 = face.v[1] - face.v[0], e2 = face.v[2] - face.v[0], d = p - face.v[0];
+  const double d11 = e1.dot(e1), d12 = e1.dot(e2), d22 = e2.dot(e2), d1 = d.dot(e1), d2 = d.dot(e2);
+  const double det = d11 * d22 - d12 * d12;
+  if (!(det > 0)) return face.normal;
+  const double b1 = std::clamp((d22 * d1 - d12 * d2) / det, 0.0, 1.0);
+  const double b2 = std::clamp((d11 * d2 - d12 * d1) / det, 0.0, 1.0 - b1);
+  const Vec3 n = (1.0 - b1 - b2) * c[0] + b1 * c[1] + b2 * c[2];
+  const double len = n.norm();
+  if (!(len > 0)) return face.normal;
+  // The file's normals may face either way of our winding: the facet's side decides.
+  return n.dot(face.normal) >= 0 ? Vec3(n / len) : Vec3(-n / len);
 }
 
 }  // namespace radnet::geometry

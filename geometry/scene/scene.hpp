@@ -51,6 +51,10 @@ struct TriangleSoup {
   /// triangle is its own face. Meshes split per element and messages use it.
   std::vector<int> element;
   CurvedShape shape;  ///< the exact surface, where a primitive knows it
+  /// Per vertex, the unit surface normal the file gives (OBJ `vn`); empty: none. A zero
+  /// vector where the file gives a vertex several normals (a hard edge): the triangles on it
+  /// keep their facet normal. Specular reflection interpolates them (Scene::shadingNormal).
+  std::vector<Vec3> normals;
 };
 
 /// A thermal node: a set of triangle sides.
@@ -112,8 +116,12 @@ class Scene {
   Eigen::VectorXi backNodes() const;
 
   /// The unit normal at point p of face f, on its front side: the exact curved surface's
-  /// where the face's surface has one (CurvedShape), else the facet's.
+  /// where the face's surface has one (CurvedShape), the file's vertex normals interpolated
+  /// (Phong) where all three corners have one, else the facet's.
   Vec3 shadingNormal(int f, const Vec3& p) const;
+  /// Whether face f reflects about more than its facet normal (a curved primitive's exact
+  /// normal, or the file's vertex normals).
+  bool hasSmoothNormal(int f) const;
 
   /// Longest extent of the bounding box, m (scale for ray offsets and tolerances).
   double extent() const;
@@ -130,6 +138,8 @@ class Scene {
  private:
   int nodeFor(const std::string& name, int side, const std::string& label);
   /// Adds face f (its surface set) with vertices of its own: one CGAL refused to join.
+  /// Appends the corner normals of the faces addSurface just added from `soup`.
+  void keepCornerNormals(const TriangleSoup& soup);
   Mesh::Face_index addLooseFace(const Face& f, const TriangleSoup& soup, const std::array<int, 3>& tri);
 
   Mesh mesh_;
@@ -140,6 +150,9 @@ class Scene {
   std::vector<std::string> labels_;  ///< per surface
   std::vector<int> first_face_;      ///< per surface
   std::vector<CurvedShape> shapes_;  ///< per surface
+  /// Per face, its corners' normals from the file (TriangleSoup::normals); empty until a
+  /// surface brings some, then one entry per face (zeros: none).
+  std::vector<std::array<Vec3, 3>> corner_normals_;
   std::vector<Vec3> nominal_;        ///< per mesh vertex
   std::vector<int> vertex_surface_;  ///< per mesh vertex
 };
