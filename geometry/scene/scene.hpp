@@ -103,8 +103,6 @@ class Scene {
   /// How messages name surface s (e.g. "mesh 'antenna' from parts/a.stl"), and its first face.
   const std::string& surfaceLabel(int s) const { return labels_[static_cast<size_t>(s)]; }
   int surfaceFirstFace(int s) const { return first_face_[static_cast<size_t>(s)]; }
-  /// The exact curved surface surface s approximates (Kind::None: flat, or a mesh).
-  const CurvedShape& surfaceShape(int s) const { return shapes_[static_cast<size_t>(s)]; }
   const Mesh& mesh() const { return mesh_; }
   int nodeIndex(const std::string& name) const;
 
