@@ -191,8 +191,12 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
       rays = geometry::planetRays(caster, center, re, planet);
       albedo_paths = geometry::redirectedPlanetPaths(caster, opt.solar_specular, center, re, opt.specular_samples,
                                                      opt.seed);
-      ir_paths = geometry::redirectedPlanetPaths(caster, opt.ir_specular, center, re, opt.specular_samples, opt.seed);
-      out.planet_rays += albedo_paths.rays + ir_paths.rays;
+      // Bands with the same ρs and τ pass the planet's light the same way: one trace serves both.
+      const bool same = opt.ir_specular.sameAs(opt.solar_specular);
+      ir_paths = same ? albedo_paths
+                      : geometry::redirectedPlanetPaths(caster, opt.ir_specular, center, re, opt.specular_samples,
+                                                        opt.seed);
+      out.planet_rays += albedo_paths.rays + (same ? 0 : ir_paths.rays);
       cached_center = center;
       ++out.planet_casts;
       for (const auto& r : rays) out.planet_rays += r.rays;

@@ -95,8 +95,7 @@ struct GeometryCase {
   bool hasSpecular() const { return !specular_ir.empty(); }
   /// The solar band needs its own traced network (its ρs or τ differ from the IR band's somewhere).
   bool solarSpecularDiffers() const {
-    return hasSpecular() && (specular_ir.specular != specular_solar.specular ||
-                             specular_ir.transmittance != specular_solar.transmittance);
+    return hasSpecular() && !specular_ir.sameAs(specular_solar);
   }
   ViewFactorSettings view_factors;
   solver::SolverSettings solver;

@@ -146,10 +146,7 @@ void applySpecularOptics(const YamlDocument& doc, GeometryCase& c) {
   const OpticalSet& base = c.optical_sets.front();
   for (size_t k = 1; k < c.optical_sets.size(); ++k) {
     OpticalSet& set = c.optical_sets[k];
-    set.own_specular = set.specular_ir.specular != base.specular_ir.specular ||
-                       set.specular_ir.transmittance != base.specular_ir.transmittance ||
-                       set.specular_solar.specular != base.specular_solar.specular ||
-                       set.specular_solar.transmittance != base.specular_solar.transmittance;
+    set.own_specular = !set.specular_ir.sameAs(base.specular_ir) || !set.specular_solar.sameAs(base.specular_solar);
   }
   for (OpticalSet& set : c.optical_sets) {
     if (!set.specular_ir.anyRedirects() && !set.specular_solar.anyRedirects()) {

@@ -253,8 +253,7 @@ std::shared_ptr<OwnOpticsNetwork> ownOpticsNetwork(const GeometryCase& c, const 
     net.network = buildNetwork(c, area, geometry::enforceReciprocity(area, estimate, diffuse.rays));
   } else {
     const std::vector<char> rows = specularRows(set.specular_ir, set.specular_solar, diffuse.estimate);
-    const bool bands_differ = set.specular_ir.specular != set.specular_solar.specular ||
-                              set.specular_ir.transmittance != set.specular_solar.transmittance;
+    const bool bands_differ = !set.specular_ir.sameAs(set.specular_solar);
     net.kappa_ir = set.specular_ir.kappa();
     net.kappa_solar = set.specular_solar.kappa();
     if (bands_differ)

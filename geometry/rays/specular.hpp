@@ -28,6 +28,11 @@ struct SpecularBand {
     return specular[node] > 0 || transmittance[node] > 0;
   }
   bool anyRedirects() const;
+  /// The same ρs and τ at every node (both empty counts as the same).
+  bool sameAs(const SpecularBand& other) const {
+    return specular.size() == other.specular.size() && transmittance.size() == other.transmittance.size() &&
+           specular == other.specular && transmittance == other.transmittance;
+  }
 };
 
 /// A ray's weight, relative to the one it started with, below which Russian roulette decides
