@@ -180,6 +180,8 @@ TEST_CASE("facet creases: a mesh sphere's neighbouring facets meet at about 360�
   CHECK(mesh.largest_deg >= 14.0);
   CHECK(mesh.largest_deg <= 30.0);
   CHECK(mesh.smooth_edges > 12 * 24);
+  CHECK(mesh.mean_deg > 5.0);  // every edge of a 12 × 24 sphere bends by several degrees
+  CHECK(mesh.mean_deg <= mesh.largest_deg);
   // The primitive knows its exact normal: its facets are left out.
   CHECK(geometry::facetCreases(scene, scene.nodeIndex("exact")).smooth_edges == 0);
   // A box's 90° edges are corners the model means; its split faces are flat.

@@ -184,14 +184,19 @@ void warnFacettedMirrors(GeometryCase& c) {
         rs = std::max({rs, set.specular_ir.specular[k], set.specular_solar.specular[k]});
     if (!(rs > 0)) continue;
     const geometry::FacetCreases creases = geometry::facetCreases(c.scene, static_cast<int>(i));
-    const double error = kFacetErrorPerDeg * creases.largest_deg * rs;
-    if (!(error > c.solver.accuracy)) continue;
+    // The exchange integrates over the surface: between the mean crease's and the largest's
+    // estimate (a Blender sphere of 16k vertices: 1.4 % and 7.1 %, measured 3.2 %); warned on
+    // the largest, to be safe.
+    const double low = kFacetErrorPerDeg * creases.mean_deg * rs, high = kFacetErrorPerDeg * creases.largest_deg * rs;
+    if (!(high > c.solver.accuracy)) continue;
     std::ostringstream w;
-    w << "node '" << c.node_names[i] << "' reflects specularly (ρs " << rs << ") off facets whose neighbours meet at up "
-      << "to " << creases.largest_deg << "° (" << creases.smooth_edges << " such edges): reflected rays leave up to "
-      << 2 * creases.largest_deg << "° off the smooth surface's direction, of order " << 100 * error
+    w << "node '" << c.node_names[i] << "' reflects specularly (ρs " << rs << ") off facets whose neighbours meet at "
+      << creases.mean_deg << "° on average, up to " << creases.largest_deg << "° (" << creases.smooth_edges
+      << " such edges): reflected rays leave up to twice that off the smooth surface's direction, of order "
+      << 100 * low << "–" << 100 * high
       << " % in what it reflects (solver.accuracy " << c.solver.accuracy
-      << "); a sphere, cylinder or cone primitive reflects about its exact normal, or refine the mesh";
+      << "); a sphere, cylinder or cone primitive reflects about its exact normal and an OBJ file's vertex "
+         "normals (`vn`) are followed where given; or refine the mesh";
     c.warnings.push_back(w.str());
   }
 }

@@ -32,7 +32,9 @@ FacetCreases facetCreases(const Scene& scene, int node) {
     if (deg <= kFlatDeg || deg > kSharpEdgeDeg) continue;
     ++out.smooth_edges;
     out.largest_deg = std::max(out.largest_deg, deg);
+    out.mean_deg += deg;
   }
+  if (out.smooth_edges > 0) out.mean_deg /= out.smooth_edges;
   return out;
 }
 

@@ -11,6 +11,7 @@ namespace radnet::geometry {
 /// The creases between neighbouring facets of one node that do not know their exact normal.
 struct FacetCreases {
   double largest_deg = 0.0;  ///< the largest smooth crease (≤ kSharpEdgeDeg), deg
+  double mean_deg = 0.0;     ///< the mean over the smooth edges, deg
   int smooth_edges = 0;      ///< edges with a crease in (kFlatDeg, kSharpEdgeDeg]
 };
 
