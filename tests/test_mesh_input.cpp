@@ -201,7 +201,7 @@ TEST_CASE("transformMesh turns about the origin, then places") {
   CHECK((s.vertices[0] - Vec3(0, 0, 1.05)).norm() < 1e-15);
 }
 
-TEST_CASE("OBJ vertex normals: one per smooth vertex, none at hard edges or where welding joins two") {
+TEST_CASE("OBJ and PLY vertex normals: one per smooth vertex, none at hard edges or where welding joins two") {
   radnet::test::TempDir dir;
   // An octahedron whose corners carry their radial normals (a coarse sphere): every corner
   // names the same `vn` wherever it is used, so each vertex keeps it.
@@ -230,6 +230,18 @@ TEST_CASE("OBJ vertex normals: one per smooth vertex, none at hard edges or wher
   CHECK(square.normals[1].isApprox(Vec3(0, 0, 1)));
   CHECK(square.normals[3].isApprox(Vec3(0, 0.6, 0.8)));
   CHECK(readMesh(dir.write("plain.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"), 1.0).normals.empty());
+  // PLY gives one normal per vertex (nx, ny, nz), made unit; a PLY without them gives none.
+  const std::string ply_head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                               "property float z\n";
+  const std::string ply_faces = "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const TriangleSoup ply = readMesh(dir.write("n.ply", ply_head + "property float nx\nproperty float ny\n"
+                                                         "property float nz\n" + ply_faces +
+                                                         "0 0 0 0 0 2\n1 0 0 0.6 0 0.8\n0 1 0 0 0.6 0.8\n3 0 1 2\n"),
+                                    1.0);
+  REQUIRE(ply.normals.size() == 3);
+  CHECK(ply.normals[0].isApprox(Vec3(0, 0, 1)));
+  CHECK(ply.normals[2].isApprox(Vec3(0, 0.6, 0.8), 1e-6));
+  CHECK(readMesh(dir.write("plain.ply", ply_head + ply_faces + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), 1.0).normals.empty());
   // Two copies of a corner with different normals welded into one: it keeps none; turning
   // the mesh turns its normals.
   TriangleSoup two;

@@ -195,8 +195,8 @@ void warnFacettedMirrors(GeometryCase& c) {
       << " such edges): reflected rays leave up to twice that off the smooth surface's direction, of order "
       << 100 * low << "–" << 100 * high
       << " % in what it reflects (solver.accuracy " << c.solver.accuracy
-      << "); a sphere, cylinder or cone primitive reflects about its exact normal and an OBJ file's vertex "
-         "normals (`vn`) are followed where given; or refine the mesh";
+      << "); a sphere, cylinder or cone primitive reflects about its exact normal and OBJ or PLY vertex "
+         "normals are followed where the file gives them; or refine the mesh";
     c.warnings.push_back(w.str());
   }
 }

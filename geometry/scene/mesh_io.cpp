@@ -3,6 +3,8 @@
 #include "geometry/scene/mesh_checks.hpp"
 
 #include <CGAL/IO/polygon_soup_io.h>
+#include <CGAL/IO/read_ply_points.h>
+#include <CGAL/property_map.h>
 
 #include <algorithm>
 #include <cctype>
@@ -41,8 +43,9 @@ void checkScale(double scale, const std::string& path) {
 
 // A PLY header's vertex element must name its coordinates x, y and z: CGAL reads them by
 // those names and takes any other (an exporter's "Z", or none) as 0, flattening the part
-// without a word. The header is text in ASCII and binary PLY alike.
-void checkPlyHeader(const std::string& path) {
+// without a word. The header is text in ASCII and binary PLY alike. Returns whether the
+// vertices carry normals (nx, ny, nz).
+bool checkPlyHeader(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line, element;
   std::vector<std::string> vertex_properties;
@@ -61,7 +64,10 @@ void checkPlyHeader(const std::string& path) {
           throw GeometryError(path + ": the PLY vertex element has no property '" + axis + "' (it has: " +
                               (found.empty() ? "none" : found) + "); coordinates must be named x, y and z");
         }
-      return;
+      const auto has = [&](const char* p) {
+        return std::find(vertex_properties.begin(), vertex_properties.end(), p) != vertex_properties.end();
+      };
+      return has("nx") && has("ny") && has("nz");
     }
     if (word == "element") {
       ls >> element;
@@ -73,6 +79,29 @@ void checkPlyHeader(const std::string& path) {
     }
   }
   throw GeometryError(path + ": not a PLY file with a complete header (no end_header)");
+}
+
+// A PLY file's vertex normals (nx, ny, nz), in the file's vertex order, made unit (zero where
+// one has no length); empty when they cannot be read or do not match the vertices.
+std::vector<Vec3> plyVertexNormals(const std::string& path, size_t vertex_count) {
+  using PointNormal = std::pair<Point3, Kernel::Vector_3>;
+  std::vector<PointNormal> read;
+  std::ifstream is(path, std::ios::binary);
+  bool ok = false;
+  try {
+    ok = CGAL::IO::read_PLY_with_properties(
+        is, std::back_inserter(read), CGAL::IO::make_ply_point_reader(CGAL::First_of_pair_property_map<PointNormal>()),
+        CGAL::IO::make_ply_normal_reader(CGAL::Second_of_pair_property_map<PointNormal>()));
+  } catch (const std::exception&) {
+    ok = false;
+  }
+  if (!ok || read.size() != vertex_count) return {};
+  std::vector<Vec3> normals;
+  for (const auto& [point, normal] : read) {
+    const Vec3 n(normal.x(), normal.y(), normal.z());
+    normals.push_back(n.norm() > 0 && std::isfinite(n.norm()) ? Vec3(n.normalized()) : Vec3::Zero());
+  }
+  return normals;
 }
 
 // An OBJ index (1-based; negative counts back from the `count` read so far), 0-based.
@@ -172,7 +201,7 @@ TriangleSoup readMesh(const std::string& path, double scale) {
     throw GeometryError(path + ": unknown mesh format '" + ext +
                         "'; expected .off, .obj, .stl, .ply, NASTRAN .bdf/.nas/.dat/.blk, Gmsh .msh or STEP .step/.stp");
   checkMeshFile(path);
-  if (ext == ".ply") checkPlyHeader(path);
+  const bool ply_normals = ext == ".ply" && checkPlyHeader(path);
   std::vector<Point3> points;
   std::vector<std::vector<std::size_t>> polygons;
   bool ok = false;
@@ -198,6 +227,7 @@ TriangleSoup readMesh(const std::string& path, double scale) {
     addPolygon(soup, poly, path, i, static_cast<int>(i));
   }
   if (ext == ".obj") soup.normals = objVertexNormals(path, points.size());
+  if (ply_normals) soup.normals = plyVertexNormals(path, points.size());
   return soup;
 }
 
