@@ -36,7 +36,8 @@ RUN_SEEDS = {"parallel-plates", "lumped-nodes", "infinite-parallel-plates", "two
              "mesh-plate-stl", "mesh-plate-off", "mesh-plate-ply", "mesh-plate-obj", "mesh-plate-binary-stl",
              "mesh-plate-binary-off", "mesh-plate-binary-ply", "mesh-plate-bdf", "mesh-plate-bdf-large",
              "mesh-plate-bdf-free", "mesh-plate-msh", "mesh-plate-msh-22", "mesh-plate-binary-msh",
-             "mesh-plate-binary-msh-22"}
+             "mesh-plate-binary-msh-22", "mesh-plate-obj-normals", "mesh-plate-ply-normals",
+             "mesh-plate-binary-ply-normals"}
 INTERESTING_NUMBERS = ["0", "-0", "-1", "1", "0.5", "1e308", "-1e308", "1e-308", "4.9e-324", "2147483648",
                        "-2147483649", "9223372036854775808", "1e9", "1e15", "3", "100000000", "0x10", "1_000",
                        ".nan", ".inf", "-.inf", "nan", "1e", "--1", "1.5.2", "360", "-360", "90", "180", "1e-9"]
@@ -76,8 +77,23 @@ def plate_meshes():
     binary_ply = (b"ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
                   b"property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n" +
                   b"".join(struct.pack("<3f", *p) for p in v) + b"".join(struct.pack("<B3i", 3, *t) for t in tris))
+    # Vertex normals (specular reflection follows them): OBJ corners `v/vt/vn`, `v//vn` and a
+    # negative index; PLY nx, ny, nz, ASCII and binary.
+    obj_normals = ("o plate\n" + "".join(f"v {x} {y} {z}\n" for x, y, z in v) + "vt 0 0\nvn 0 0 1\nvn 0 0.6 0.8\n"
+                   "f 1/1/1 2/1/1 3/1/2\nf 1//1 3//2 4//-1\n")
+    ply_normals = ("ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                   "property float nx\nproperty float ny\nproperty float nz\n"
+                   "element face 2\nproperty list uchar int vertex_indices\nend_header\n" +
+                   "".join(f"{x} {y} {z} 0 0 1\n" for x, y, z in v) + "".join(f"3 {a} {b} {c}\n" for a, b, c in tris))
+    binary_ply_normals = (b"ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n"
+                          b"property float y\nproperty float z\nproperty float nx\nproperty float ny\n"
+                          b"property float nz\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n" +
+                          b"".join(struct.pack("<6f", *p, 0, 0, 1) for p in v) +
+                          b"".join(struct.pack("<B3i", 3, *t) for t in tris))
     out = {"stl": stl.encode(), "off": off.encode(), "ply": ply.encode(), "obj": obj.encode(),
-           "binary-stl": bytes(binary), "binary-off": binary_off, "binary-ply": binary_ply}
+           "binary-stl": bytes(binary), "binary-off": binary_off, "binary-ply": binary_ply,
+           "obj-normals": obj_normals.encode(), "ply-normals": ply_normals.encode(),
+           "binary-ply-normals": binary_ply_normals}
     out.update(nastran_plates(v))
     out.update(gmsh_plates(v))
     return out
