@@ -57,18 +57,23 @@ void parseSpecular(const YamlDocument& doc, const YAML::Node& v, const std::stri
                             : v["transmittance"]      ? v["transmittance"]
                             : v["solar_specular_reflectance"] ? v["solar_specular_reflectance"]
                                                               : v["solar_transmittance"];
-  if (m.hasCurves())
-    throw doc.error(where, what + ": a specular or transmissive surface with ε or α against temperature is not "
-                                  "supported; give constant optics");
   constexpr double kRounding = 1e-9;  // sums of values printed to 9 digits
+  // A table must keep the band's budget at every temperature: its largest value counts.
+  const auto largest = [](const solver::OpticalCurve& curve, double constant) {
+    double most = curve.warming.value.empty() ? constant : 0.0;
+    for (const solver::TemperatureTable* t : {&curve.warming, &curve.cooling})
+      for (double v : t->value) most = std::max(most, v);
+    return most;
+  };
   const auto check = [&](double absorbed, double specular, double transmitted, const char* band, const char* a) {
     if (absorbed + specular + transmitted > 1.0 + kRounding)
       throw doc.error(where, what + ": the " + band + " band's " + a + " + specular reflectance + transmittance = " +
                                  std::to_string(absorbed + specular + transmitted) +
                                  " exceeds 1 (the diffuse reflectance is what remains of 1)");
   };
-  check(m.emissivity, m.specular_ir, m.transmittance_ir, "IR", "emissivity");
-  check(m.absorptivity, m.specular_solar, m.transmittance_solar, "solar", "absorptivity");
+  check(largest(m.emissivity_curve, m.emissivity), m.specular_ir, m.transmittance_ir, "IR", "emissivity");
+  check(largest(m.absorptivity_curve, m.absorptivity), m.specular_solar, m.transmittance_solar, "solar",
+        "absorptivity");
 }
 
 }  // namespace

@@ -89,8 +89,9 @@ std::shared_ptr<const solver::TemperatureOptics> temperatureOptics(const DesignC
   const Eigen::Index n = ts.nodeCount(), nr = set.emissivity.size();
   auto optics = std::make_shared<solver::TemperatureOptics>();
   optics->nominal_emissivity = optics->nominal_absorptivity = Eigen::VectorXd::Ones(n);
-  optics->nominal_emissivity.head(nr) = set.emissivity;
-  optics->nominal_absorptivity.head(nr) = set.absorptivity;
+  // The surfaces' own ε, α: the tables give those; the network's ε̃ = ε/κ only inside GR.
+  optics->nominal_emissivity.head(nr) = set.surface_emissivity;
+  optics->nominal_absorptivity.head(nr) = set.surface_absorptivity;
   std::vector<int> varying;  // nodes whose ε changes
   for (Eigen::Index i = 0; i < nr; ++i) {
     const Material& m = c.materials.at(c.node_material[static_cast<size_t>(i)]);
@@ -102,8 +103,12 @@ std::shared_ptr<const solver::TemperatureOptics> temperatureOptics(const DesignC
   }
   if (optics->nodes.empty()) return nullptr;
   auto update = std::make_shared<const solver::EmissivityUpdate>(nominal.gr, set.emissivity, area, varying);
-  optics->exchange = [update, &ts, nr](const Eigen::VectorXd& emissivity) {
-    const solver::ExchangeFactors ex = (*update)(emissivity.head(nr));
+  // κ = 1 − ρs − τ of the IR band (1 where diffuse): a pure mirror (κ = 0) has ε = 0.
+  const Eigen::VectorXd kappa = set.specular_ir.empty() ? Eigen::VectorXd::Ones(nr) : set.specular_ir.kappa();
+  optics->exchange = [update, &ts, kappa, varying, network = set.emissivity](const Eigen::VectorXd& emissivity) {
+    Eigen::VectorXd network_emissivity = network;  // the set's ε̃; the tables' nodes at ε(T)/κ
+    for (int u : varying) network_emissivity[u] = kappa[u] > 0 ? std::min(1.0, emissivity[u] / kappa[u]) : 0.0;
+    const solver::ExchangeFactors ex = (*update)(network_emissivity);
     if (ex.status != solver::Status::Converged)
       throw NumericalError(std::string("exchange factors for ε(T) ") + solver::toString(ex.status) + ": " + ex.message);
     return thermalExchange(ts, ex);

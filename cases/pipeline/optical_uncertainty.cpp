@@ -214,6 +214,8 @@ std::vector<OpticalSet> shiftedSets(const GeometryCase& c, const std::vector<std
     for (OpticalSet& set : sets) {
       set.absorptivity[k] = ka > 0 ? std::clamp(set.absorptivity[k] + da[m] / ka, 0.0, 1.0) : 0.0;
       set.emissivity[k] = ke > 0 ? std::clamp(set.emissivity[k] + de[m] / ke, 0.0, 1.0) : 0.0;
+      set.surface_absorptivity[k] = set.absorptivity[k] * (ka > 0 ? ka : 0.0);  // the surfaces' own, kept in step
+      set.surface_emissivity[k] = set.emissivity[k] * (ke > 0 ? ke : 0.0);
     }
   }
   return sets;
