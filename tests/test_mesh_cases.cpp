@@ -613,3 +613,52 @@ TEST_CASE("STEP: a box's CAD faces are its nodes with exact areas, a cylinder's 
   CHECK(bad.exit_code == 2);
   CHECK_THAT(bad.err, Contains("bad.yaml:5:") && Contains("applies to STEP files only"));
 }
+
+TEST_CASE("specular meshes: facetted mirrors and one-sided windows are warned, smooth normals and two-sided glass not") {
+  TempDir dir;
+  // A trough mirror written in mm: 8 strips over 80° of a 500 mm radius arc, 10° creases.
+  std::string bent, normals;
+  for (int k = 0; k <= 8; ++k) {
+    const double a = (-40.0 + 10.0 * k) * M_PI / 180.0, x = 500.0 * std::sin(a), z = 500.0 * (1.0 - std::cos(a));
+    bent += "v " + std::to_string(x) + " 0 " + std::to_string(z) + "\nv " + std::to_string(x) + " 300 " +
+            std::to_string(z) + "\n";
+    normals += "vn " + std::to_string(-std::sin(a)) + " 0 " + std::to_string(std::cos(a)) + "\n";
+  }
+  std::string faces, smooth_faces;
+  for (int k = 0; k < 8; ++k) {
+    const int a = 2 * k + 1, b = a + 1, c = a + 2, d = a + 3, na = k + 1, nc = k + 2;
+    faces += "f " + std::to_string(a) + " " + std::to_string(c) + " " + std::to_string(d) + "\nf " + std::to_string(a) +
+             " " + std::to_string(d) + " " + std::to_string(b) + "\n";
+    const auto corner = [](int v, int n) { return std::to_string(v) + "//" + std::to_string(n); };
+    smooth_faces += "f " + corner(a, na) + " " + corner(c, nc) + " " + corner(d, nc) + "\nf " + corner(a, na) + " " +
+                    corner(d, nc) + " " + corner(b, na) + "\n";
+  }
+  dir.write("trough.obj", bent + faces);
+  dir.write("smooth.obj", bent + normals + smooth_faces);
+  const std::string head = "materials:\n  mirror: {emissivity: 0.05, absorptivity: 0.08, specular_reflectance: 0.9}\n"
+                           "  glass: {emissivity: 0.84, absorptivity: 0.05, solar_transmittance: 0.9}\n"
+                           "  black: {emissivity: 0.9, absorptivity: 0.9}\ngeometry:\n"
+                           "  - rectangle: {name: plate, origin: [0, 0, 0.2], u: [0.1, 0, 0], v: [0, 0.1, 0], "
+                           "front: black}\n";
+  dir.write("facetted.yaml", "name: f\n" + head + "  - mesh: {name: trough, file: trough.obj, scale: 0.001, "
+                                                   "front: mirror}\n");
+  const Run facetted = runRadnet("validate facetted.yaml", dir);
+  CHECK(facetted.exit_code == 0);
+  // 10° creases × 1.2 %/deg × ρs 0.9 ≈ 11 %: far above solver.accuracy 0.01.
+  CHECK_THAT(facetted.err, Contains("node 'trough' reflects specularly") && Contains("up to 10"));
+  dir.write("smooth.yaml", "name: s\n" + head + "  - mesh: {name: trough, file: smooth.obj, scale: 0.001, "
+                                               "front: mirror}\n");
+  const Run smooth = runRadnet("validate smooth.yaml", dir);
+  CHECK(smooth.exit_code == 0);
+  CHECK(smooth.err.find("reflects specularly") == std::string::npos);  // the file's normals are followed
+  const std::string glass = "  - rectangle: {name: window, origin: [-0.1, -0.1, 0.5], u: [0.3, 0, 0], "
+                            "v: [0, 0.3, 0], front: glass";
+  dir.write("one.yaml", "name: o\n" + head + glass + "}\n");
+  const Run one = runRadnet("validate one.yaml", dir);
+  CHECK(one.exit_code == 0);
+  CHECK_THAT(one.err, Contains("node 'window' transmits") && Contains("no node on their other side"));
+  dir.write("two.yaml", "name: t\n" + head + glass + ", back: glass}\n");
+  const Run two = runRadnet("validate two.yaml", dir);
+  CHECK(two.exit_code == 0);
+  CHECK(two.err.find("transmits") == std::string::npos);
+}

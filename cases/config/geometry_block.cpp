@@ -360,6 +360,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
 
   parseSolverBlock(doc, c);
   warnFacettedMirrors(c);  // against solver.accuracy
+  warnOneSidedWindows(c);
   parseDesignCases(doc, c);
   Eigen::VectorXd area(c.scene.nodes().size());
   for (size_t i = 0; i < c.scene.nodes().size(); ++i) area[static_cast<Eigen::Index>(i)] = c.scene.nodes()[i].area_m2;

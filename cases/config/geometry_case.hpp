@@ -144,6 +144,10 @@ void applySpecularOptics(const YamlDocument& doc, GeometryCase& c);
 /// creases that put more than solver.accuracy into what it reflects.
 void warnFacettedMirrors(GeometryCase& c);
 
+/// A warning for each transmissive node whose triangles have an inactive other side: a
+/// window that passes light one way only.
+void warnOneSidedWindows(GeometryCase& c);
+
 /// Parses `materials:` (with `include:` of material files) into `materials`.
 void parseMaterials(const YamlDocument& doc, const YAML::Node& node, std::map<std::string, Material>& materials,
                     IncludedFiles& included, int depth);

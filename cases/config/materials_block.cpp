@@ -206,4 +206,28 @@ void warnFacettedMirrors(GeometryCase& c) {
   }
 }
 
+void warnOneSidedWindows(GeometryCase& c) {
+  const geometry::Scene& scene = c.scene;
+  for (size_t i = 0; i < c.node_names.size(); ++i) {
+    const auto k = static_cast<Eigen::Index>(i);
+    double tau = 0.0;  // the largest of any band under any optical set
+    for (const OpticalSet& set : c.optical_sets)
+      if (!set.specular_ir.empty())
+        tau = std::max({tau, set.specular_ir.transmittance[k], set.specular_solar.transmittance[k]});
+    if (!(tau > 0)) continue;
+    const geometry::Node& node = scene.nodes()[i];
+    int one_sided = 0;
+    for (int f : node.faces) {
+      const geometry::Face& face = scene.faces()[static_cast<size_t>(f)];
+      one_sided += (node.side > 0 ? face.back_node : face.front_node) < 0;
+    }
+    if (one_sided == 0) continue;
+    std::ostringstream w;
+    w << "node '" << c.node_names[i] << "' transmits (τ up to " << tau << ") but " << one_sided << " of its "
+      << node.faces.size() << " triangles have no node on their other side: light passes out through them, while "
+      << "light arriving on that side stops there (counted as blocked); give both sides of a window its material";
+    c.warnings.push_back(w.str());
+  }
+}
+
 }  // namespace radnet::cases
