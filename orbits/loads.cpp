@@ -180,6 +180,7 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
     throw std::invalid_argument("environment loads: the position mask must have one entry per position");
   std::vector<geometry::PlanetRays> rays;
   geometry::RedirectedPlanetPaths albedo_paths, ir_paths;  // planet light that mirrors and windows pass on
+  bool same_paths = false;  // the bands' ρs, τ agree: albedo_paths serve the IR too
   Eigen::Vector3d cached_center(0, 0, 0);
   for (int p = 0; p < P; ++p) {
     const SweepPosition& pos = positions[static_cast<size_t>(p)];
@@ -192,11 +193,11 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
       albedo_paths = geometry::redirectedPlanetPaths(caster, opt.solar_specular, center, re, opt.specular_samples,
                                                      opt.seed);
       // Bands with the same ρs and τ pass the planet's light the same way: one trace serves both.
-      const bool same = opt.ir_specular.sameAs(opt.solar_specular);
-      ir_paths = same ? albedo_paths
-                      : geometry::redirectedPlanetPaths(caster, opt.ir_specular, center, re, opt.specular_samples,
-                                                        opt.seed);
-      out.planet_rays += albedo_paths.rays + (same ? 0 : ir_paths.rays);
+      same_paths = opt.ir_specular.sameAs(opt.solar_specular);
+      ir_paths = same_paths ? geometry::RedirectedPlanetPaths{}
+                            : geometry::redirectedPlanetPaths(caster, opt.ir_specular, center, re,
+                                                              opt.specular_samples, opt.seed);
+      out.planet_rays += albedo_paths.rays + ir_paths.rays;
       cached_center = center;
       ++out.planet_casts;
       for (const auto& r : rays) out.planet_rays += r.rays;
@@ -211,7 +212,7 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
       }
       planetRadianceLoads(r, center, re, pos, opt, i, p, out);
     }
-    redirectedPlanetLoads(albedo_paths, ir_paths, center, re, area, pos, opt, out, p);
+    redirectedPlanetLoads(albedo_paths, same_paths ? albedo_paths : ir_paths, center, re, area, pos, opt, out, p);
     if (opt.progress) opt.progress(p + 1, P);
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
