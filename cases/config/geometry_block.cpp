@@ -359,8 +359,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
   parseOpticalSets(doc, c);  // and, with specular surfaces, the network's ε/κ, α/κ (applySpecularOptics)
 
   parseSolverBlock(doc, c);
-  warnFacettedMirrors(c);  // against solver.accuracy
-  warnOneSidedWindows(c);
+  warnSpecularSurfaces(c);  // against solver.accuracy
   parseDesignCases(doc, c);
   Eigen::VectorXd area(c.scene.nodes().size());
   for (size_t i = 0; i < c.scene.nodes().size(); ++i) area[static_cast<Eigen::Index>(i)] = c.scene.nodes()[i].area_m2;

@@ -140,13 +140,10 @@ YamlDocument includeDocument(const YamlDocument& doc, const YAML::Node& node, co
 /// @throws InputError at `optics:` when a set's ε (α) + ρs + τ exceeds 1
 void applySpecularOptics(const YamlDocument& doc, GeometryCase& c);
 
-/// A warning for each specular node whose facets (without an exact curved normal) meet at
-/// creases that put more than solver.accuracy into what it reflects.
-void warnFacettedMirrors(GeometryCase& c);
-
-/// A warning for each transmissive node whose triangles have an inactive other side: a
-/// window that passes light one way only.
-void warnOneSidedWindows(GeometryCase& c);
+/// Warnings, by node, for specular meshes whose facets (without exact or file normals) meet at
+/// creases that could put more than solver.accuracy into what they reflect, and for
+/// transmissive nodes whose triangles have an inactive other side (a one-way window).
+void warnSpecularSurfaces(GeometryCase& c);
 
 /// Parses `materials:` (with `include:` of material files) into `materials`.
 void parseMaterials(const YamlDocument& doc, const YAML::Node& node, std::map<std::string, Material>& materials,

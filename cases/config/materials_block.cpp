@@ -175,18 +175,24 @@ void applySpecularOptics(const YamlDocument& doc, GeometryCase& c) {
   c.absorptivity = base.absorptivity;
 }
 
+namespace {
+
 // Per degree of crease, the error a facetted specular surface puts in what it reflects: a
 // specular sphere pair's exchange is 9 % off at 7.5° facets (24 × 48) and 18 % at 15°
 // (docs/geometry.md, "Specular surfaces"), –/deg.
 constexpr double kFacetErrorPerDeg = 0.012;
 
+// Node k's largest specular reflectance (or transmittance) in either band under any optical set.
+double largestOverSets(const GeometryCase& c, Eigen::Index k, Eigen::VectorXd geometry::SpecularBand::*value) {
+  double most = 0.0;
+  for (const OpticalSet& set : c.optical_sets)
+    if (!set.specular_ir.empty()) most = std::max({most, (set.specular_ir.*value)[k], (set.specular_solar.*value)[k]});
+  return most;
+}
+
 void warnFacettedMirrors(GeometryCase& c) {
   for (size_t i = 0; i < c.node_names.size(); ++i) {
-    const auto k = static_cast<Eigen::Index>(i);
-    double rs = 0.0;  // the largest of any band under any optical set
-    for (const OpticalSet& set : c.optical_sets)
-      if (!set.specular_ir.empty())
-        rs = std::max({rs, set.specular_ir.specular[k], set.specular_solar.specular[k]});
+    const double rs = largestOverSets(c, static_cast<Eigen::Index>(i), &geometry::SpecularBand::specular);
     if (!(rs > 0)) continue;
     const geometry::FacetCreases creases = geometry::facetCreases(c.scene, static_cast<int>(i));
     // The exchange integrates over the surface: between the mean crease's and the largest's
@@ -209,11 +215,7 @@ void warnFacettedMirrors(GeometryCase& c) {
 void warnOneSidedWindows(GeometryCase& c) {
   const geometry::Scene& scene = c.scene;
   for (size_t i = 0; i < c.node_names.size(); ++i) {
-    const auto k = static_cast<Eigen::Index>(i);
-    double tau = 0.0;  // the largest of any band under any optical set
-    for (const OpticalSet& set : c.optical_sets)
-      if (!set.specular_ir.empty())
-        tau = std::max({tau, set.specular_ir.transmittance[k], set.specular_solar.transmittance[k]});
+    const double tau = largestOverSets(c, static_cast<Eigen::Index>(i), &geometry::SpecularBand::transmittance);
     if (!(tau > 0)) continue;
     const geometry::Node& node = scene.nodes()[i];
     int one_sided = 0;
@@ -228,6 +230,13 @@ void warnOneSidedWindows(GeometryCase& c) {
       << "light arriving on that side stops there (counted as blocked); give both sides of a window its material";
     c.warnings.push_back(w.str());
   }
+}
+
+}  // namespace
+
+void warnSpecularSurfaces(GeometryCase& c) {
+  warnFacettedMirrors(c);
+  warnOneSidedWindows(c);
 }
 
 }  // namespace radnet::cases
