@@ -3,13 +3,16 @@
 // scene's triangles as view-factor rays do: area-weighted origins, cosine-weighted
 // directions about the front normal. Scenes: flat panels (a boxed bus with wings), a
 // perforated frame (six thick plates with rows of holes, each hole a walled cylinder: what
-// CAD structures look like), and any mesh files given (millimetre STL exports, scaled).
+// CAD structures look like), and any mesh files (millimetre STL exports, scaled) or case
+// files (their whole scene, parts placed by the case's transforms) given.
 //
-//   bench_ray_caster OUT.md [mesh.stl ...]
+//   bench_ray_caster OUT.md [mesh.stl | case.yaml ...]
 #include "bench/bench_support.hpp"
 #include "geometry/rays/bvh.hpp"
 #include "geometry/scene/mesh_io.hpp"
 #include "geometry/scene/primitives.hpp"
+#include "cases/config/geometry_case.hpp"
+#include "cases/config/yaml_document.hpp"
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -143,7 +146,7 @@ int main(int argc, char** argv) {
         "(`first_intersection`, Simple_cartesian<double>) and radnet's SAH hierarchy (geometry/rays/bvh.hpp).\n"
         "Same hit: the same triangle (rays through a shared edge may pick either of its two).\n";
   if (argc > 2) {
-    md << "Mesh files (read in mm):";
+    md << "Files given (meshes read in mm; a case file's whole scene, its parts placed as the case places them):";
     for (int k = 2; k < argc; ++k) md << " `" << std::filesystem::path(argv[k]).filename().string() << "`";
     md << ".\n";
   }
@@ -155,9 +158,16 @@ int main(int argc, char** argv) {
   measure(md, "perforated frame, 6 plates × 5 × 5 holes", perforatedFrame(5));
   measure(md, "perforated frame, 6 plates × 12 × 12 holes", perforatedFrame(12));
   for (int k = 2; k < argc; ++k) {
+    const std::filesystem::path path(argv[k]);
     Triangles t;
-    append(t, readMesh(argv[k], 0.001));
-    measure(md, std::filesystem::path(argv[k]).filename().string() + " (mm)", t);
+    if (path.extension() == ".yaml") {
+      const auto scene_case = radnet::cases::loadGeometryCase(radnet::cases::YamlDocument::load(argv[k]));
+      for (const Face& f : scene_case.scene.faces()) t.push_back(f.v);
+      measure(md, path.filename().string() + " (case)", t);
+    } else {
+      append(t, readMesh(argv[k], 0.001));
+      measure(md, path.filename().string() + " (mm)", t);
+    }
   }
   std::ofstream(out_path) << md.str();
   std::cout << md.str();

@@ -101,6 +101,10 @@ TEST_CASE("BVH first hits are CGAL's, ray for ray, in clutter inside a closed bo
     // constructs, rounded to ~1e-16 m a coordinate.
     if (hit.triangle != ref->first && !(std::abs(hit.t - ref->second) <= 1e-12)) ++mismatched;
     CHECK(hit.t == Approx(ref->second).epsilon(1e-12).margin(1e-13));
+    // The side met, from the sign of Möller–Trumbore's determinant, is the one the triangle's
+    // normal (v1 − v0) × (v2 − v0) gives.
+    const auto& v = triangles[static_cast<size_t>(hit.triangle)];
+    CHECK(hit.front == ((v[1] - v[0]).cross(v[2] - v[0]).dot(d) < 0.0));
     // anyHit: true over the whole ray, false short of the first hit.
     CHECK(bvh.anyHit(o, d));
     CHECK_FALSE(bvh.anyHit(o, d, -1, hit.t * (1.0 - 1e-9)));

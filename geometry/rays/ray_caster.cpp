@@ -19,6 +19,8 @@ std::vector<std::array<Vec3, 3>> sceneTriangles(const Scene& scene) {
 }  // namespace
 
 RayCaster::RayCaster(const Scene& scene) : scene_(scene), bvh_(sceneTriangles(scene)) {
+  side_nodes_.reserve(scene.faces().size());
+  for (const Face& f : scene.faces()) side_nodes_.push_back({f.front_node, f.back_node});
   double max_coord = 0.0;
   for (const Face& f : scene.faces())
     for (const auto& v : f.v) max_coord = std::max(max_coord, v.cwiseAbs().maxCoeff());
@@ -37,7 +39,7 @@ Hit RayCaster::firstHit(const Vec3& origin, const Vec3& dir, int skip) const {
   if (hit.triangle < 0) return out;
   out.face = hit.triangle;
   out.distance = hit.t;
-  out.front = scene_.faces()[static_cast<size_t>(hit.triangle)].normal.dot(dir) < 0.0;
+  out.front = hit.front;
   return out;
 }
 

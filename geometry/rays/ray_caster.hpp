@@ -5,6 +5,9 @@
 #include "geometry/rays/bvh.hpp"
 #include "geometry/scene/scene.hpp"
 
+#include <array>
+#include <vector>
+
 namespace radnet::geometry {
 
 struct Hit {
@@ -30,11 +33,18 @@ class RayCaster {
   /// the rounding error of the point (pbrt's approach), so the ray cannot re-hit its own face.
   Vec3 offsetOrigin(const Vec3& point, const Vec3& side_normal) const;
 
+  /// The node of the side a hit arrived on: −1 when that side is inactive or nothing was hit.
+  /// (A compact copy of the faces' nodes: a ray's tally reads no 120-byte face.)
+  int nodeHit(const Hit& hit) const {
+    return hit.face < 0 ? -1 : side_nodes_[static_cast<size_t>(hit.face)][hit.front ? 0 : 1];
+  }
+
   const Scene& scene() const { return scene_; }
 
  private:
   const Scene& scene_;
   TriangleBvh bvh_;
+  std::vector<std::array<int, 2>> side_nodes_;  ///< per face: front node, back node (−1: inactive)
   double offset_scale_ = 0.0;
 };
 
