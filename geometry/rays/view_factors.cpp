@@ -59,7 +59,7 @@ struct Sample {
 // The batch's samples by their first coordinate (which picks the point along the node's
 // triangles), to 1/kBuckets: consecutive rays then start close together and walk the same
 // part of the hierarchy, which stays in cache: 5–10 % more rays a second on the CubeSatSim
-// frame's 3k–10k-triangle parts, 3 % on the satellite (docs/geometry.md). A counting sort,
+// frame's 3k–10k-triangle parts, within noise on the satellite. A counting sort,
 // a few ns a ray; 16,384 samples (0.6 MB) a batch, as larger ones (65,536) pushed the
 // hierarchy out of the cache and halved the satellite's rate.
 constexpr std::int64_t kBatch = 16384;
