@@ -57,6 +57,8 @@ class NodeSampler {
   Ray map(const std::array<double, 4>& u) const;
   /// A point only (for shadow rays): u[0], u[1] as above.
   Ray mapPoint(double u0, double u1) const;
+  /// The node's triangles.
+  size_t triangleCount() const { return faces_.size(); }
 
  private:
   const Scene& scene_;

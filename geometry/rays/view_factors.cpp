@@ -64,6 +64,7 @@ struct Sample {
 // hierarchy out of the cache and halved the satellite's rate.
 constexpr std::int64_t kBatch = 16384;
 constexpr int kBuckets = 16384;
+constexpr size_t kFewTriangles = 64;
 const std::vector<Sample>& inOriginOrder(const std::vector<Sample>& batch, std::vector<std::int32_t>& start,
                                          std::vector<Sample>& sorted) {
   auto bucket = [](double u0) { return std::min(kBuckets - 1, static_cast<int>(u0 * kBuckets)); };
@@ -75,13 +76,25 @@ const std::vector<Sample>& inOriginOrder(const std::vector<Sample>& batch, std::
   return sorted;
 }
 
-// Casts samples done … per_replica − 1 of every replica into its tally, all replicas' rays in
-// one batch sorted by origin. Each replica draws its own sequence in its own order and a
-// tally counts hits, so the batching changes no result.
+// Casts samples done … per_replica − 1 of every replica into its tally. On a node of many
+// triangles all replicas' rays go in batches sorted by origin; a node of a few (a cell of a
+// subdivided face) gains nothing from the order and casts as it draws. Each replica draws
+// its own sequence in its own order and a tally counts hits: no result depends on the way.
 void castSamples(const RayCaster& caster, const NodeSampler& sampler, std::vector<Sobol4>& sobol,
                  std::vector<Random4>& random, std::int64_t done, std::int64_t per_replica, std::vector<Tally>& tallies) {
-  const auto replicas = static_cast<std::int64_t>(tallies.size());
+  const auto replicas = static_cast<int>(tallies.size());
   for (Sobol4& s : sobol) s.seek(static_cast<std::uint32_t>(done));
+  auto draw = [&](int r) { return sobol.empty() ? random[static_cast<size_t>(r)].next() : sobol[static_cast<size_t>(r)].next(); };
+  auto cast = [&](const std::array<double, 4>& u, int r) {
+    const NodeSampler::Ray ray = sampler.map(u);
+    const Hit hit = caster.firstHit(caster.offsetOrigin(ray.point, ray.normal), ray.direction, ray.face);
+    ++tallies[static_cast<size_t>(r)][classify(caster, hit)];
+  };
+  if (sampler.triangleCount() <= kFewTriangles) {
+    for (int r = 0; r < replicas; ++r)
+      for (std::int64_t i = done; i < per_replica; ++i) cast(draw(r), r);
+    return;
+  }
   const std::int64_t step = std::max<std::int64_t>(1, kBatch / replicas);
   std::vector<Sample> batch, sorted;
   std::vector<std::int32_t> start;
@@ -89,13 +102,8 @@ void castSamples(const RayCaster& caster, const NodeSampler& sampler, std::vecto
     const std::int64_t count = std::min(step, per_replica - i);
     batch.clear();
     for (int r = 0; r < replicas; ++r)
-      for (std::int64_t k = 0; k < count; ++k)
-        batch.push_back({sobol.empty() ? random[static_cast<size_t>(r)].next() : sobol[static_cast<size_t>(r)].next(), r});
-    for (const Sample& s : inOriginOrder(batch, start, sorted)) {
-      const NodeSampler::Ray ray = sampler.map(s.u);
-      const Hit hit = caster.firstHit(caster.offsetOrigin(ray.point, ray.normal), ray.direction, ray.face);
-      ++tallies[static_cast<size_t>(s.replica)][classify(caster, hit)];
-    }
+      for (std::int64_t k = 0; k < count; ++k) batch.push_back({draw(r), r});
+    for (const Sample& s : inOriginOrder(batch, start, sorted)) cast(s.u, s.replica);
   }
 }
 
