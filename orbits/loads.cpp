@@ -1,5 +1,6 @@
 #include "orbits/loads.hpp"
 
+#include "geometry/irradiance/sun_clip.hpp"
 #include "geometry/irradiance/sun_grid.hpp"
 #include "solver/units.hpp"
 
@@ -58,6 +59,13 @@ void directLoads(const geometry::RayCaster& caster, const Eigen::VectorXd& area,
     out.direct.col(p) = flux * lit.projected_m2.cwiseQuotient(area);
     out.direct_stderr.col(p) = flux * lit.stderr_m2.cwiseQuotient(area);
     out.shadow_rays += lit.rays_cast;
+    redirectedSunlight(caster, area, pos, opt, flux, out, p);
+    return;
+  }
+  if (!(cell_m > 0)) {  // the default: exact polygon clipping, no sampling error
+    const geometry::SunlitArea lit = geometry::exactSunlitArea(caster.scene(), pos.sun_body);
+    out.direct.col(p) = flux * lit.projected_m2.cwiseQuotient(area);
+    out.direct_stderr.col(p) = flux * lit.stderr_m2.cwiseQuotient(area);
     redirectedSunlight(caster, area, pos, opt, flux, out, p);
     return;
   }
@@ -170,7 +178,7 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
   EnvironmentLoads out;
   out.direct = out.albedo = out.earth_ir = out.earth_view_factor = Eigen::MatrixXd::Zero(n, P);
   out.direct_stderr = out.albedo_stderr = out.earth_ir_stderr = Eigen::MatrixXd::Zero(n, P);
-  const double cell_m = opt.shadow_cell_m > 0 ? opt.shadow_cell_m : shadowGridSpacing(area, opt.relative_error);
+  const double cell_m = opt.shadow_cell_m;  // 0: exact clipping
   geometry::PlanetRayOptions planet;
   planet.rays_per_node = opt.planet_rays > 0 ? opt.planet_rays : kMaxPlanetRays;
   planet.relative_error = opt.planet_rays > 0 ? 0.0 : opt.relative_error;

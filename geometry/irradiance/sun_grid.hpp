@@ -45,6 +45,7 @@ struct SunlitArea {
   double cell_m = 0.0;           ///< the spacing used, m
   int sampled_nodes = 0;         ///< nodes too small for the grid, shadowed by their own rays
   std::int64_t node_rays = 0;    ///< the shadow rays of those nodes
+  std::int64_t occluding_pairs = 0;  ///< exact clipping (sun_clip.hpp): receiver–occluder pairs clipped
 };
 
 /// Lit projected area of every node for a collimated source in direction `toward_sun`

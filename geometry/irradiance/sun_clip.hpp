@@ -1,0 +1,34 @@
+#pragma once
+// Direct sunlight by exact polygon clipping (docs/geometry.md, "Shadows"). The Sun is a
+// point at infinity, so what a triangle receives is its projection on the plane normal to
+// the Sun minus what nearer triangles cover there. Each sun-facing triangle's projection is
+// cut into convex pieces along the edges of every triangle in front of its plane (clipped
+// to that plane where the two cross), and the pieces inside an occluder are removed; the
+// pieces left are the lit part, their area the lit projection ∫ max(0, n·d) dA exactly up
+// to round-off. Triangles sharing an edge share its projected end points bit for bit, so a
+// closed seam passes no light.
+//
+// The only approximation: a piece cut off with less than `sliver_fraction` of its
+// triangle's projection, or narrower than 4,096 ulps of the largest coordinate (a round-off
+// sliver along a shared edge), is dropped, and the sum of what was dropped is reported per
+// node as the error bound (stderr_m2). A convex body, or a scene where nothing is shadowed,
+// has a bound of zero.
+#include "geometry/irradiance/sun_grid.hpp"
+#include "geometry/scene/scene.hpp"
+
+namespace radnet::geometry {
+
+struct ExactSunOptions {
+  /// Cut-off pieces below this fraction of their triangle's projection are dropped (and
+  /// counted in the error bound): slivers of round-off width along shared edges, –
+  double sliver_fraction = 1e-12;
+};
+
+/// Lit projected area of every node for a collimated source in direction `toward_sun`
+/// (unit, body frame), exactly. Inactive sides shadow but receive nothing; every triangle is
+/// opaque (mirrors and windows pass sunlight on through geometry::redirectedCollimated).
+/// Deterministic whatever the thread count. SunlitArea::occluding_pairs counts the
+/// (receiver, occluder) pairs clipped; cells and node rays are 0.
+SunlitArea exactSunlitArea(const Scene& scene, const Vec3& toward_sun, const ExactSunOptions& options = {});
+
+}  // namespace radnet::geometry
