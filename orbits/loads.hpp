@@ -1,8 +1,9 @@
 #pragma once
 // Environment irradiances per node and sweep position (W/m², averaged over each node):
-//  * direct solar: flux × sunlit fraction × lit projected area / A, the shadows of the
-//    whole spacecraft from one grid of rays along the Sun's direction (geometry/irradiance/sun_grid)
-//    or, when shadow_samples is set, from each node's own shadow rays (litArea);
+//  * direct solar: flux × sunlit fraction × lit projected area / A, the lit projection
+//    exact by polygon clipping (geometry/irradiance/sun_clip); with shadow_cell_m set, from
+//    one grid of rays along the Sun's direction (sun_grid), with shadow_samples from each
+//    node's own shadow rays (litArea);
 //  * albedo: planet rays of each node (self-shadowed) into the cone the Earth subtends,
 //    each ray hitting the Earth at x carries a · S · max(0, ŝ·n(x)) (a Lambertian planet of
 //    radiance a S cos θ_s / π);
@@ -35,7 +36,7 @@ struct EnvironmentOptions {
   /// times the flux; planet: see geometry::PlanetRayOptions), –
   double relative_error = 0.005;
   int shadow_samples = 0;      ///< > 0: this many shadow rays per node instead of the grid
-  double shadow_cell_m = 0.0;  ///< shadow grid spacing, m; 0: from the node areas and relative_error
+  double shadow_cell_m = 0.0;  ///< > 0: shadow by a grid of rays of this spacing, m; 0: exact clipping
   std::int64_t planet_rays = 0;  ///< > 0: this many rays per node; 0: by relative_error up to kMaxPlanetRays
   std::uint64_t seed = 1;
   /// Positions whose direct load, and nodes whose planet loads (albedo, Earth IR, Earth view
@@ -58,9 +59,9 @@ struct EnvironmentOptions {
 /// The cap on planet rays per node when they follow the error target.
 inline constexpr std::int64_t kMaxPlanetRays = 65536;
 
-/// The shadow grid spacing (m) for nodes of these areas: the 10th-percentile node gets
-/// the target relative error (geometry::sunGridSpacing); smaller ones get more error or,
-/// below the grid's resolution, their own shadow rays.
+/// The shadow grid spacing (m) for nodes of these areas that the runs used before exact
+/// clipping (bench/bench_direct_sun compares the two): the 10th-percentile node gets the
+/// target relative error (geometry::sunGridSpacing).
 double shadowGridSpacing(const Eigen::VectorXd& node_area_m2, double relative_error);
 
 struct EnvironmentLoads {

@@ -64,6 +64,41 @@ TEST_CASE("direct solar: a plate facing the Sun gets the full flux, none in ecli
   CHECK(l.planet_casts == 1);                                    // Earth fixed: rays cast once, reused
 }
 
+TEST_CASE("direct solar: a closed box's inside gets exactly nothing at any Sun direction, its outside the cosine") {
+  // The loads' default method (exact clipping): a box with inside nodes, Sun directions
+  // swept round two great circles, one 0.12° off a face axis (where grid rays slipped
+  // through seams before).
+  geometry::Scene s;
+  const auto faces = geometry::boxFaces(Vec3(-0.1, -0.1, -0.15), Vec3(0.2, 0.2, 0.3), 4);
+  for (int f = 0; f < 6; ++f) {
+    const std::string name = geometry::kBoxFaceNames[static_cast<size_t>(f)];
+    s.addSurface(name, name, faces[static_cast<size_t>(f)], "out" + name, "in" + name);
+  }
+  geometry::RayCaster caster(s);
+  orbits::EnvironmentOptions opt;
+  opt.planet_rays = 1024;
+  std::vector<orbits::SweepPosition> ps;
+  const double off = 0.12 * M_PI / 180;
+  for (int k = 0; k < 36; ++k) {
+    const double t = 2 * M_PI * k / 36;
+    ps.push_back(position(Vec3(std::cos(t), std::sin(t) * std::cos(off), std::sin(t) * std::sin(off)), kR + 500e3));
+    ps.push_back(position(Vec3(std::sin(off), std::cos(t), std::sin(t)), kR + 500e3));
+  }
+  const orbits::EnvironmentLoads l = orbits::environmentLoads(caster, areas(s), ps, false, kR, opt);
+  for (int i = 0; i < static_cast<int>(s.nodes().size()); ++i) {
+    const geometry::Node& node = s.nodes()[static_cast<size_t>(i)];
+    const Vec3 outward = s.faces()[static_cast<size_t>(node.faces.front())].normal;
+    for (size_t p = 0; p < ps.size(); ++p) {
+      INFO(node.name << " position " << p);
+      if (node.name.rfind("in", 0) == 0) CHECK(l.direct(i, static_cast<Eigen::Index>(p)) == 0.0);
+      else CHECK(l.direct(i, static_cast<Eigen::Index>(p)) ==
+                 Approx(1361.0 * std::max(0.0, outward.dot(ps[p].sun_body))).margin(1e-9));
+      CHECK(l.direct_stderr(i, static_cast<Eigen::Index>(p)) <= 1e-9 * 1361.0);  // round-off slivers' bound only
+    }
+  }
+  CHECK(l.shadow_rays == 0);
+}
+
 TEST_CASE("Earth IR and albedo of a nadir plate against closed forms") {
   const double h = 500e3, r = kR + h;
   geometry::Scene s;

@@ -25,6 +25,9 @@ void writeUncertainty(Hdf5Writer& h5, const GeometryCase& c, const GeometryRunRe
   h5.writeMatrix("/uncertainty/incident_earth_ir", padNodes(sw.irradiance.earth_ir_stderr, n).transpose(), "W/m^2");
   const orbits::EnvironmentOptions& env = c.design_cases.front().orbit->environment;
   h5.attribute("/report", "budget_load_relative_error", env.relative_error);
+  h5.attribute("/report", "direct_solar_method", env.shadow_samples > 0 ? std::string("shadow rays")
+                                                  : env.shadow_cell_m > 0 ? std::string("shadow grid")
+                                                                           : std::string("exact clipping"));
   h5.attribute("/report", "shadow_grid_spacing_m", sw.irradiance.shadow_cell_m);
   h5.attribute("/report", "shadow_rays", static_cast<long long>(sw.irradiance.shadow_rays));
   h5.attribute("/report", "planet_rays", static_cast<long long>(sw.irradiance.planet_rays));
