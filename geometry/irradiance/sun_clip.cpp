@@ -69,7 +69,8 @@ std::vector<Flat> project(const Scene& scene, const Vec3& d, const Vec3& e1, con
 struct Bins {
   double u0 = 0, v0 = 0, h = 1;
   int nx = 1, ny = 1;
-  std::vector<int> start, items;
+  std::vector<int> start, items;  // each cell's items nearest the Sun first ...
+  std::vector<double> item_wmax;  // ... by their highest corner, kept beside them
   void cells(const Flat& t, int& x0, int& x1, int& y0, int& y1) const {
     x0 = std::clamp(static_cast<int>((t.umin - u0) / h), 0, nx - 1);
     x1 = std::clamp(static_cast<int>((t.umax - u0) / h), 0, nx - 1);
@@ -78,19 +79,28 @@ struct Bins {
   }
 };
 
-// Cells of about twice the mean triangle box, at most 2,048 a side (a few large panels
-// then share cells with many small facets; the candidates stay those boxes that overlap).
+// Cells of about twice the median triangle box (a few large panels then span many cells
+// while the many small facets of a dish or a mast share few), grown while the entries
+// would exceed 16 a triangle or the cells 4 M.
 Bins binFlats(const std::vector<Flat>& flats) {
   Bins b;
-  double umin = std::numeric_limits<double>::max(), vmin = umin, umax = -umin, vmax = -umin, box = 0.0;
+  if (flats.empty()) return b;
+  double umin = std::numeric_limits<double>::max(), vmin = umin, umax = -umin, vmax = -umin;
+  std::vector<double> side;
+  side.reserve(flats.size());
   for (const Flat& t : flats) {
     umin = std::min(umin, t.umin), umax = std::max(umax, t.umax);
     vmin = std::min(vmin, t.vmin), vmax = std::max(vmax, t.vmax);
-    box += (t.umax - t.umin) * (t.vmax - t.vmin);
+    side.push_back(std::sqrt((t.umax - t.umin) * (t.vmax - t.vmin)));
   }
-  if (flats.empty()) return b;
+  std::nth_element(side.begin(), side.begin() + static_cast<std::ptrdiff_t>(side.size() / 2), side.end());
   const double span = std::max({umax - umin, vmax - vmin, 1e-9});
-  b.h = std::max({2.0 * std::sqrt(box / double(flats.size())), span / 2048.0, 1e-12});
+  b.h = std::max({2.0 * side[side.size() / 2], span / 2048.0, 1e-12});
+  for (;; b.h *= 1.5) {
+    double entries = 0.0;
+    for (const Flat& t : flats) entries += (std::floor((t.umax - t.umin) / b.h) + 2) * (std::floor((t.vmax - t.vmin) / b.h) + 2);
+    if (entries <= 16.0 * double(flats.size()) && ((umax - umin) / b.h + 1) * ((vmax - vmin) / b.h + 1) <= 4e6) break;
+  }
   b.u0 = umin, b.v0 = vmin;
   b.nx = static_cast<int>((umax - umin) / b.h) + 1, b.ny = static_cast<int>((vmax - vmin) / b.h) + 1;
   b.start.assign(static_cast<size_t>(b.nx) * static_cast<size_t>(b.ny) + 1, 0);
@@ -111,6 +121,12 @@ Bins binFlats(const std::vector<Flat>& flats) {
           else b.items[static_cast<size_t>(fill[c]++)] = static_cast<int>(k);
         }
     }
+  }
+  b.item_wmax.resize(b.items.size());
+  for (size_t c = 0; c + 1 < b.start.size(); ++c) {
+    const auto first = b.items.begin() + b.start[c], last = b.items.begin() + b.start[c + 1];
+    std::sort(first, last, [&](int i, int j) { return flats[size_t(i)].wmax > flats[size_t(j)].wmax || (flats[size_t(i)].wmax == flats[size_t(j)].wmax && i < j); });
+    for (int i = b.start[c]; i < b.start[c + 1]; ++i) b.item_wmax[size_t(i)] = flats[size_t(b.items[size_t(i)])].wmax;
   }
   return b;
 }
@@ -157,7 +173,8 @@ bool separated(const Polygon& occluder, const Polygon& piece, double min_edge_m)
   for (size_t i = 0, m = occluder.size(); i < m; ++i) {
     const P2& e0 = occluder[i];
     const P2& e1 = occluder[(i + 1) % m];
-    if (std::hypot(e1.x - e0.x, e1.y - e0.y) <= min_edge_m) continue;
+    const double dx = e1.x - e0.x, dy = e1.y - e0.y;
+    if (dx * dx + dy * dy <= min_edge_m * min_edge_m) continue;
     bool all_right = true;
     for (const P2& p : piece)
       if (cross(e0, e1, p) > 0) {
@@ -244,12 +261,12 @@ double litProjection(const Scene& scene, const std::vector<Flat>& flats, const B
     for (int x = x0; x <= x1 && !s.pieces.empty(); ++x) {
       const size_t c = static_cast<size_t>(y) * static_cast<size_t>(bins.nx) + static_cast<size_t>(x);
       for (int i = bins.start[c]; i < bins.start[c + 1] && !s.pieces.empty(); ++i) {
+        if (bins.item_wmax[static_cast<size_t>(i)] <= r.wmin) break;  // the rest lie wholly below r's lowest point
         const int j = bins.items[static_cast<size_t>(i)];
         if (j == k || s.stamp[static_cast<size_t>(j)] == k) continue;
         s.stamp[static_cast<size_t>(j)] = k;
         const Flat& o = flats[static_cast<size_t>(j)];
         if (o.umax <= r.umin || o.umin >= r.umax || o.vmax <= r.vmin || o.vmin >= r.vmax) continue;
-        if (o.wmax <= r.wmin) continue;  // wholly below r's lowest point: behind it everywhere
         if (!inFront(rf, r, scene.faces()[static_cast<size_t>(o.face)], o, tol, s.occluder)) continue;
         ++pairs;
         subtract(s, sliver, tol, dropped);
