@@ -186,6 +186,23 @@ bool separated(const Polygon& occluder, const Polygon& piece, double min_edge_m)
   return false;
 }
 
+// Whether the projections of two triangles are apart (an edge of either separates them;
+// edges shorter than `min_edge_m` are not asked): most candidates whose boxes overlap, long
+// thin CAD triangles above all, are settled here before any clipping.
+bool trianglesApart(const Flat& a, const Flat& b, double min_edge_m) {
+  const auto apart = [&](const Flat& e, const Flat& q) {
+    for (int i = 0; i < 3; ++i) {
+      const P2& e0 = e.p[static_cast<size_t>(i)];
+      const P2& e1 = e.p[static_cast<size_t>((i + 1) % 3)];
+      const double dx = e1.x - e0.x, dy = e1.y - e0.y;
+      if (dx * dx + dy * dy <= min_edge_m * min_edge_m) continue;
+      if (cross(e0, e1, q.p[0]) <= 0 && cross(e0, e1, q.p[1]) <= 0 && cross(e0, e1, q.p[2]) <= 0) return true;
+    }
+    return false;
+  };
+  return apart(a, b) || apart(b, a);
+}
+
 // Appends p unless it repeats the last corner (a corner on the line comes once).
 void add(Polygon& poly, const P2& p) {
   if (poly.empty() || poly.back().x != p.x || poly.back().y != p.y) poly.push_back(p);
@@ -267,6 +284,7 @@ double litProjection(const Scene& scene, const std::vector<Flat>& flats, const B
         s.stamp[static_cast<size_t>(j)] = k;
         const Flat& o = flats[static_cast<size_t>(j)];
         if (o.umax <= r.umin || o.umin >= r.umax || o.vmax <= r.vmin || o.vmin >= r.vmax) continue;
+        if (trianglesApart(r, o, tol)) continue;
         if (!inFront(rf, r, scene.faces()[static_cast<size_t>(o.face)], o, tol, s.occluder)) continue;
         ++pairs;
         subtract(s, sliver, tol, dropped);
