@@ -12,6 +12,7 @@
 #include "cases/config/yaml_document.hpp"
 #include "geometry/irradiance/sun_clip.hpp"
 #include "geometry/irradiance/sun_grid.hpp"
+#include "bench/bench_scenes.hpp"
 #include "geometry/scene/primitives.hpp"
 #include "orbits/loads.hpp"
 
@@ -37,23 +38,6 @@ std::vector<Vec3> directions(int count) {
     d.emplace_back(r * std::cos(golden * k + 0.1), r * std::sin(golden * k + 0.1), z);
   }
   return d;
-}
-
-// Bus with two-sided wings, a mast and a dish (as bench_loads), cells m × m per bus face.
-geometry::Scene satellite(int m) {
-  geometry::Scene s;
-  const auto bus = geometry::boxFaces(Vec3(-0.5, -0.5, -0.5), Vec3(1, 1, 1), m);
-  for (int k = 0; k < 6; ++k)
-    s.addSurface(std::string("bus") + geometry::kBoxFaceNames[static_cast<size_t>(k)], "bus",
-                   bus[static_cast<size_t>(k)], std::string("bus") + geometry::kBoxFaceNames[static_cast<size_t>(k)], "");
-  s.addSurface("wing+", "w", geometry::rectangle(Vec3(0.6, -0.5, -0.2), Vec3(3, 0, 0), Vec3(0, 1, 0), 3 * m, m), "wing+",
-               "wing+.back");
-  s.addSurface("wing-", "w", geometry::rectangle(Vec3(-0.6, -0.5, -0.2), Vec3(0, 1, 0), Vec3(-3, 0, 0), m, 3 * m),
-               "wing-", "wing-.back");
-  s.addSurface("mast", "m", geometry::cylinder(Vec3(0, 0, 0.5), Vec3(0, 0, 0.6), 0.05, {}, m, 4 * m), "mast", "");
-  s.addSurface("dish", "d", geometry::sphere(Vec3(0, 0, 1.8), 0.7, Vec3(0, 0, -1), 0, 40, {}, m, 4 * m), "dish.back",
-               "dish");
-  return s;
 }
 
 void measure(std::ostringstream& md, const std::string& name, const geometry::Scene& scene) {
@@ -105,7 +89,7 @@ int main(int argc, char** argv) {
      << "| scene | nodes | triangles | exact (ms/direction) | grid (ms/direction) | exact faster | occluding pairs / "
         "direction | exact's bound (max, rel.) | grid's error (max, rel.) | grid errors > 2σ / partly lit |\n"
      << "|---|---|---|---|---|---|---|---|---|---|\n";
-  for (int m : {4, 11, 24}) measure(md, "bus, wings, mast, dish (m = " + std::to_string(m) + ")", satellite(m));
+  for (int m : {4, 11, 24}) measure(md, "bus, wings, mast, dish (m = " + std::to_string(m) + ")", bench::busWingsMastDish(m));
   for (int k = 2; k < argc; ++k) {
     const auto c = cases::loadGeometryCase(cases::YamlDocument::load(argv[k]));
     measure(md, std::filesystem::path(argv[k]).filename().string(), c.scene);

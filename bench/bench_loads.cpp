@@ -1,6 +1,7 @@
 // Environment-load benchmark: time per orbit position for a 5k-triangle satellite over
 // 360 positions, nadir (planet rays reused) and inertial (planet rays cast per position),
 // and what the reuse and the sun-facing culling save. Writes Markdown.
+#include "bench/bench_scenes.hpp"
 #include "geometry/scene/primitives.hpp"
 #include "orbits/loads.hpp"
 
@@ -16,22 +17,6 @@ using geometry::Vec3;
 
 namespace {
 
-geometry::Scene satellite(int m) {
-  geometry::Scene s;
-  const auto bus = geometry::boxFaces(Vec3(-0.5, -0.5, -0.5), Vec3(1, 1, 1), m);
-  for (int k = 0; k < 6; ++k)
-    s.addSurface(std::string("bus") + geometry::kBoxFaceNames[k], "bus", bus[k],
-                 std::string("bus") + geometry::kBoxFaceNames[k], "");
-  s.addSurface("wing+", "w", geometry::rectangle(Vec3(0.6, -0.5, -0.2), Vec3(3, 0, 0), Vec3(0, 1, 0), 3 * m, m),
-               "wing+", "wing+.back");
-  s.addSurface("wing-", "w", geometry::rectangle(Vec3(-0.6, -0.5, -0.2), Vec3(0, 1, 0), Vec3(-3, 0, 0), m, 3 * m),
-               "wing-", "wing-.back");
-  s.addSurface("mast", "m", geometry::cylinder(Vec3(0, 0, 0.5), Vec3(0, 0, 0.6), 0.05, {}, m, 4 * m), "mast", "");
-  s.addSurface("dish", "d", geometry::sphere(Vec3(0, 0, 1.8), 0.7, Vec3(0, 0, -1), 0, 40, {}, m, 4 * m), "dish.back",
-               "dish");
-  return s;
-}
-
 double since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -40,7 +25,7 @@ double since(std::chrono::steady_clock::time_point t0) {
 
 int main(int argc, char** argv) {
   const std::string out = argc > 1 ? argv[1] : "docs/loads-benchmark.md";
-  const geometry::Scene scene = satellite(11);
+  const geometry::Scene scene = bench::busWingsMastDish(11);
   geometry::RayCaster caster(scene);
   Eigen::VectorXd area(static_cast<Eigen::Index>(scene.nodes().size()));
   for (size_t i = 0; i < scene.nodes().size(); ++i) area[static_cast<Eigen::Index>(i)] = scene.nodes()[i].area_m2;

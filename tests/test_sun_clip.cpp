@@ -5,6 +5,7 @@
 #include "geometry/irradiance/queries.hpp"
 #include "geometry/irradiance/sun_clip.hpp"
 #include "geometry/scene/primitives.hpp"
+#include "shaded_plate.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -18,35 +19,6 @@ using geometry::Vec3;
 
 namespace {
 
-double overlap(double a0, double a1, double b0, double b1) { return std::max(0.0, std::min(a1, b1) - std::max(a0, b0)); }
-
-// A 1 m plate at z = 0 facing +z in k × k nodes under a square occluder (both sides
-// inactive) of side `side` at height h, corner c: its shadow is the square translated by
-// −h (dx, dy)/dz, so node (a, b) is lit on (its square − the overlap) · cos θ.
-struct Shaded {
-  geometry::Scene scene;
-  int k;
-  double side, h;
-  Vec3 c;
-  Shaded(int k_, double side_, double h_, Vec3 c_) : k(k_), side(side_), h(h_), c(c_) {
-    for (int a = 0; a < k; ++a)
-      for (int b = 0; b < k; ++b) {
-        const std::string name = "p" + std::to_string(a) + "_" + std::to_string(b);
-        scene.addSurface(name, name,
-                         geometry::rectangle(Vec3(double(a) / k, double(b) / k, 0), Vec3(1.0 / k, 0, 0),
-                                             Vec3(0, 1.0 / k, 0), 1, 1),
-                         name, "");
-      }
-    scene.addSurface("roof", "roof", geometry::rectangle(c + Vec3(0, 0, h), Vec3(side, 0, 0), Vec3(0, side, 0), 3, 2),
-                     "", "");
-  }
-  double exact(int a, int b, const Vec3& d) const {
-    const double sx = c.x() - h * d.x() / d.z(), sy = c.y() - h * d.y() / d.z(), s = 1.0 / k;
-    const double x0 = double(a) / k, y0 = double(b) / k;
-    return (s * s - overlap(x0, x0 + s, sx, sx + side) * overlap(y0, y0 + s, sy, sy + side)) * d.z();
-  }
-};
-
 // A soup turned by `rotation` about the origin and moved by `shift`.
 geometry::TriangleSoup moved(geometry::TriangleSoup soup, const Eigen::Matrix3d& rotation, const Vec3& shift) {
   for (Vec3& v : soup.vertices) v = rotation * v + shift;
@@ -58,7 +30,7 @@ geometry::TriangleSoup moved(geometry::TriangleSoup soup, const Eigen::Matrix3d&
 TEST_CASE("exact sunlight: a plate under a parallel square, the Sun oblique, equals the polygon overlap") {
   // Tolerance 1e-9 relative (the issue's): the pieces are cut exactly, only round-off remains.
   for (int k : {1, 7}) {
-    const Shaded s(k, 0.37, 0.5, Vec3(0.213, 0.288, 0));
+    const testing::ShadedPlate s(k, 0.37, 0.5, Vec3(0.213, 0.288, 0), 3);
     for (const Vec3& dir : {Vec3(0.3, 0.17, 1.0), Vec3(-0.45, 0.3, 0.8), Vec3(0, 0, 1), Vec3(0.6, -0.5, 0.4)}) {
       const Vec3 d = dir.normalized();
       const geometry::SunlitArea lit = geometry::exactSunlitArea(s.scene, d);

@@ -4,6 +4,7 @@
 #include "geometry/scene/primitives.hpp"
 #include "geometry/irradiance/queries.hpp"
 #include "geometry/irradiance/sun_grid.hpp"
+#include "shaded_plate.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -12,40 +13,7 @@
 using namespace radnet;
 using geometry::Vec3;
 
-namespace {
-
-// A 1 m plate at z = 0 facing +z, meshed into k × k nodes, and a square occluder of side
-// `side` at height `height` (both sides inactive: it shadows, belongs to no node).
-struct Shaded {
-  geometry::Scene scene;
-  int k;
-  double side, height;
-  Vec3 corner;
-  Shaded(int k_, double side_, double height_, Vec3 corner_) : k(k_), side(side_), height(height_), corner(corner_) {
-    for (int a = 0; a < k; ++a)
-      for (int b = 0; b < k; ++b) {
-        const std::string name = "p" + std::to_string(a) + "_" + std::to_string(b);
-        scene.addSurface(name, name,
-                         geometry::rectangle(Vec3(double(a) / k, double(b) / k, 0), Vec3(1.0 / k, 0, 0),
-                                             Vec3(0, 1.0 / k, 0), 1, 1),
-                         name, "");
-      }
-    scene.addSurface("roof", "roof", geometry::rectangle(corner + Vec3(0, 0, height), Vec3(side, 0, 0),
-                                                        Vec3(0, side, 0), 1, 1),
-                     "", "");
-  }
-  // Lit projected area of node (a, b): its area minus its overlap with the shadow (the
-  // roof translated by −height·(dx, dy)/dz), times cos θ.
-  double exact(int a, int b, const Vec3& d) const {
-    const double sx = corner.x() - height * d.x() / d.z(), sy = corner.y() - height * d.y() / d.z();
-    auto overlap = [](double a0, double a1, double b0, double b1) { return std::max(0.0, std::min(a1, b1) - std::max(a0, b0)); };
-    const double x0 = double(a) / k, y0 = double(b) / k, s = 1.0 / k;
-    const double shadow = overlap(x0, x0 + s, sx, sx + side) * overlap(y0, y0 + s, sy, sy + side);
-    return (s * s - shadow) * d.z();
-  }
-};
-
-}  // namespace
+using Shaded = testing::ShadedPlate;
 
 TEST_CASE("shadow grid: unshadowed nodes are exact, shadowed ones within their standard error") {
   const Shaded s(10, 0.37, 0.5, Vec3(0.213, 0.288, 0));
