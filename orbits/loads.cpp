@@ -50,35 +50,40 @@ void redirectedSunlight(const geometry::RayCaster& caster, const Eigen::VectorXd
   out.shadow_rays += light.rays;
 }
 
+// The lit projection (m²) and its σ of every node at one position, by the case's method:
+// exact clipping (the default), the shadow grid (shadow_cell_m) or per-node rays.
+void litProjection(const geometry::RayCaster& caster, const SweepPosition& pos, const EnvironmentOptions& opt,
+                   Eigen::VectorXd& projected_m2, Eigen::VectorXd& stderr_m2, EnvironmentLoads& out) {
+  if (opt.shadow_samples > 0) {
+    geometry::LitArea lit = geometry::litArea(caster, pos.sun_body, opt.shadow_samples, opt.seed);
+    out.shadow_rays += lit.rays_cast;
+    projected_m2 = std::move(lit.projected_m2), stderr_m2 = std::move(lit.stderr_m2);
+    return;
+  }
+  geometry::SunlitArea lit;
+  if (opt.shadow_cell_m > 0) {
+    geometry::SunGridOptions grid;
+    grid.cell_m = opt.shadow_cell_m;
+    grid.seed = opt.seed;
+    grid.negligible_fraction = opt.relative_error;
+    grid.max_relative_stderr = opt.relative_error;
+    lit = geometry::sunlitArea(caster, pos.sun_body, grid);
+    out.shadow_rays += lit.cells + lit.node_rays;
+    out.shadow_cell_m = lit.cell_m;
+  } else {
+    lit = geometry::exactSunlitArea(caster.scene(), pos.sun_body);
+  }
+  projected_m2 = std::move(lit.projected_m2), stderr_m2 = std::move(lit.stderr_m2);
+}
+
 // Direct irradiance and its σ at one lit position, W/m².
 void directLoads(const geometry::RayCaster& caster, const Eigen::VectorXd& area, const SweepPosition& pos,
-                 const EnvironmentOptions& opt, double cell_m, EnvironmentLoads& out, int p) {
+                 const EnvironmentOptions& opt, EnvironmentLoads& out, int p) {
   const double flux = pos.solar_flux_w_m2 * pos.sunlit_fraction;
-  if (opt.shadow_samples > 0) {
-    const geometry::LitArea lit = geometry::litArea(caster, pos.sun_body, opt.shadow_samples, opt.seed);
-    out.direct.col(p) = flux * lit.projected_m2.cwiseQuotient(area);
-    out.direct_stderr.col(p) = flux * lit.stderr_m2.cwiseQuotient(area);
-    out.shadow_rays += lit.rays_cast;
-    redirectedSunlight(caster, area, pos, opt, flux, out, p);
-    return;
-  }
-  if (!(cell_m > 0)) {  // the default: exact polygon clipping, no sampling error
-    const geometry::SunlitArea lit = geometry::exactSunlitArea(caster.scene(), pos.sun_body);
-    out.direct.col(p) = flux * lit.projected_m2.cwiseQuotient(area);
-    out.direct_stderr.col(p) = flux * lit.stderr_m2.cwiseQuotient(area);
-    redirectedSunlight(caster, area, pos, opt, flux, out, p);
-    return;
-  }
-  geometry::SunGridOptions grid;
-  grid.cell_m = cell_m;
-  grid.seed = opt.seed;
-  grid.negligible_fraction = opt.relative_error;
-  grid.max_relative_stderr = opt.relative_error;
-  const geometry::SunlitArea lit = geometry::sunlitArea(caster, pos.sun_body, grid);
-  out.direct.col(p) = flux * lit.projected_m2.cwiseQuotient(area);
-  out.direct_stderr.col(p) = flux * lit.stderr_m2.cwiseQuotient(area);
-  out.shadow_rays += lit.cells + lit.node_rays;
-  out.shadow_cell_m = lit.cell_m;
+  Eigen::VectorXd projected_m2, stderr_m2;
+  litProjection(caster, pos, opt, projected_m2, stderr_m2, out);
+  out.direct.col(p) = flux * projected_m2.cwiseQuotient(area);
+  out.direct_stderr.col(p) = flux * stderr_m2.cwiseQuotient(area);
   redirectedSunlight(caster, area, pos, opt, flux, out, p);
 }
 
@@ -178,7 +183,6 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
   EnvironmentLoads out;
   out.direct = out.albedo = out.earth_ir = out.earth_view_factor = Eigen::MatrixXd::Zero(n, P);
   out.direct_stderr = out.albedo_stderr = out.earth_ir_stderr = Eigen::MatrixXd::Zero(n, P);
-  const double cell_m = opt.shadow_cell_m;  // 0: exact clipping
   geometry::PlanetRayOptions planet;
   planet.rays_per_node = opt.planet_rays > 0 ? opt.planet_rays : kMaxPlanetRays;
   planet.relative_error = opt.planet_rays > 0 ? 0.0 : opt.relative_error;
@@ -192,7 +196,7 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
   Eigen::Vector3d cached_center(0, 0, 0);
   for (int p = 0; p < P; ++p) {
     const SweepPosition& pos = positions[static_cast<size_t>(p)];
-    if (pos.sunlit_fraction > 0 && mine(opt.sun_positions, p)) directLoads(caster, area, pos, opt, cell_m, out, p);  // no rays in the umbra
+    if (pos.sunlit_fraction > 0 && mine(opt.sun_positions, p)) directLoads(caster, area, pos, opt, out, p);  // no rays in the umbra
     // Planet rays: cast again unless the Earth sits where it did (reuse).
     const Eigen::Vector3d center = pos.planet_body * pos.planet_distance_m;
     const bool reuse = earth_fixed && !rays.empty() && (center - cached_center).norm() <= 1e-9 * center.norm();
