@@ -2,6 +2,7 @@
 
 #include "geometry/irradiance/sun_clip.hpp"
 #include "geometry/irradiance/sun_grid.hpp"
+#include "orbits/sky_loads.hpp"
 #include "solver/units.hpp"
 
 #include <algorithm>
@@ -172,6 +173,135 @@ void redirectedPlanetLoads(const geometry::RedirectedPlanetPaths& albedo_paths,
   add(ir_paths, false);
 }
 
+// The cone rays and the specular paths of one planet position (body frame centre).
+struct PlanetCast {
+  std::vector<geometry::PlanetRays> rays;                  // per node (empty: not cast)
+  geometry::RedirectedPlanetPaths albedo_paths, ir_paths;  // planet light that mirrors and windows pass on
+  bool same_paths = false;                                 // the bands' ρs, τ agree: albedo_paths serve the IR too
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  int casts = 0;
+};
+
+// Whether the Earth sits where it did at the last cast (nadir pointing: reuse).
+bool samePlace(const PlanetCast& cast, const Eigen::Vector3d& center) {
+  return cast.casts > 0 && (center - cast.center).norm() <= 1e-9 * center.norm();
+}
+
+// Casts cone rays from the nodes `nodes` leaves in (into cast.rays, others kept).
+void castConeRays(const geometry::RayCaster& caster, const Eigen::Vector3d& center, double re,
+                  const EnvironmentOptions& opt, const std::vector<char>& nodes, PlanetCast& cast,
+                  EnvironmentLoads& out) {
+  geometry::PlanetRayOptions planet;
+  planet.rays_per_node = opt.planet_rays > 0 ? opt.planet_rays : kMaxPlanetRays;
+  planet.relative_error = opt.planet_rays > 0 ? 0.0 : opt.relative_error;
+  planet.seed = opt.seed;
+  planet.nodes = nodes;
+  std::vector<geometry::PlanetRays> rays = geometry::planetRays(caster, center, re, planet);
+  cast.rays.resize(rays.size());
+  for (size_t i = 0; i < rays.size(); ++i)
+    if (mine(nodes, static_cast<int>(i))) {
+      out.planet_rays += rays[i].rays;
+      cast.rays[i] = std::move(rays[i]);
+    }
+}
+
+// The specular paths of the planet's light (nothing without mirrors or windows).
+void castPlanetPaths(const geometry::RayCaster& caster, const Eigen::Vector3d& center, double re,
+                     const EnvironmentOptions& opt, PlanetCast& cast, EnvironmentLoads& out) {
+  cast.albedo_paths =
+      geometry::redirectedPlanetPaths(caster, opt.solar_specular, center, re, opt.specular_samples, opt.seed);
+  cast.same_paths = opt.ir_specular.sameAs(opt.solar_specular);
+  cast.ir_paths = cast.same_paths ? geometry::RedirectedPlanetPaths{}
+                                  : geometry::redirectedPlanetPaths(caster, opt.ir_specular, center, re,
+                                                                    opt.specular_samples, opt.seed);
+  out.planet_rays += cast.albedo_paths.rays + cast.ir_paths.rays;
+}
+
+// Position p's planet loads of the nodes `nodes` leaves in from their cone rays.
+void coneLoads(const PlanetCast& cast, double re, const SweepPosition& pos, const EnvironmentOptions& opt,
+               const std::vector<char>& nodes, int p, EnvironmentLoads& out) {
+  for (int i = 0; i < static_cast<int>(cast.rays.size()); ++i) {
+    if (!mine(nodes, i)) continue;
+    const geometry::PlanetRays& r = cast.rays[static_cast<size_t>(i)];
+    out.earth_view_factor(i, p) = r.view_factor;
+    if (opt.planet_ir.uniform()) {
+      out.earth_ir(i, p) = opt.planet_ir.uniform_w_m2 * r.view_factor;
+      out.earth_ir_stderr(i, p) = opt.planet_ir.uniform_w_m2 * r.standard_error;
+    }
+    planetRadianceLoads(r, cast.center, re, pos, opt, i, p, out);
+  }
+}
+
+// The planet as the sky kernel sees it at one position.
+PlanetView planetView(const SweepPosition& pos, double re, const EnvironmentOptions& opt) {
+  PlanetView view;
+  view.toward_center = pos.planet_body.normalized();
+  view.distance_m = pos.planet_distance_m;
+  view.radius_m = re;
+  view.toward_sun = pos.sun_body.normalized();
+  view.solar_flux_w_m2 = pos.solar_flux_w_m2;
+  view.albedo = opt.albedo;
+  view.ir = opt.planet_ir;
+  return view;
+}
+
+// Whether the sky kernel serves this sweep: as the case's method asks, and not when the case pins planet rays, gives an
+// albedo by latitude (the kernel's radiance is per direction, not per place), or the
+// planet is so far that it covers little of a node's sky (rays into its cone do better).
+bool kernelServes(const std::vector<SweepPosition>& positions, bool earth_fixed, double re,
+                  const EnvironmentOptions& opt, double& smallest_cap_sin2) {
+  smallest_cap_sin2 = 1.0;
+  for (const SweepPosition& pos : positions)
+    smallest_cap_sin2 = std::min(smallest_cap_sin2, (re / pos.planet_distance_m) * (re / pos.planet_distance_m));
+  using Method = EnvironmentOptions::PlanetMethod;
+  const bool wanted = opt.planet_method == Method::SkyKernel || (opt.planet_method == Method::Auto && !earth_fixed);
+  return wanted && opt.planet_rays == 0 && opt.albedo_by_latitude.empty() && !positions.empty() &&
+         smallest_cap_sin2 >= kSkyKernelMinCapSin2;
+}
+
+// The sweep's planet loads from the sky kernel, cone rays only for the node-positions
+// whose kernel error exceeds the target (cast once per node when the Earth is fixed).
+void kernelPlanetLoads(const geometry::RayCaster& caster, const std::vector<SweepPosition>& positions, bool earth_fixed,
+                       double re, double smallest_cap_sin2, const EnvironmentOptions& opt, EnvironmentLoads& out) {
+  geometry::SkyKernel local;
+  geometry::SkyKernel& kernel = opt.sky_kernel_cache ? *opt.sky_kernel_cache : local;
+  if (kernel.nodes.empty()) {
+    geometry::SkyKernelOptions k;
+    k.max_rays_per_node = kMaxPlanetRays;
+    k.target_stderr = opt.relative_error * 0.1 * smallest_cap_sin2;
+    k.seed = opt.seed;
+    k.nodes = opt.planet_nodes;
+    const auto t0 = std::chrono::steady_clock::now();
+    kernel = geometry::skyKernel(caster, k);
+    out.kernel_rays += kernel.rays;
+    out.kernel_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  const std::vector<int> used = usedSkyBins(kernel);
+  PlanetCast fallback;
+  std::vector<char> have(kernel.nodes.size(), 0);
+  for (int p = 0; p < static_cast<int>(positions.size()); ++p) {
+    const SweepPosition& pos = positions[static_cast<size_t>(p)];
+    const std::vector<char> over =
+        skyKernelLoads(kernel, used, planetView(pos, re, opt), opt.planet_nodes, opt.relative_error, p, out);
+    const Eigen::Vector3d center = pos.planet_body * pos.planet_distance_m;
+    if (!(earth_fixed && samePlace(fallback, center))) std::fill(have.begin(), have.end(), 0);
+    std::vector<char> need(over.size(), 0);
+    bool any = false;
+    for (size_t i = 0; i < over.size(); ++i) {
+      out.kernel_fallbacks += over[i];
+      need[i] = over[i] && !have[i];
+      any = any || need[i];
+    }
+    if (any) {
+      castConeRays(caster, center, re, opt, need, fallback, out);
+      fallback.center = center;
+      ++fallback.casts;
+      for (size_t i = 0; i < need.size(); ++i) have[i] = have[i] || need[i];
+    }
+    coneLoads(fallback, re, pos, opt, over, p, out);
+  }
+}
+
 }  // namespace
 
 EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen::VectorXd& area,
@@ -183,50 +313,29 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
   EnvironmentLoads out;
   out.direct = out.albedo = out.earth_ir = out.earth_view_factor = Eigen::MatrixXd::Zero(n, P);
   out.direct_stderr = out.albedo_stderr = out.earth_ir_stderr = Eigen::MatrixXd::Zero(n, P);
-  geometry::PlanetRayOptions planet;
-  planet.rays_per_node = opt.planet_rays > 0 ? opt.planet_rays : kMaxPlanetRays;
-  planet.relative_error = opt.planet_rays > 0 ? 0.0 : opt.relative_error;
-  planet.seed = opt.seed;
-  planet.nodes = opt.planet_nodes;
   if (!opt.sun_positions.empty() && opt.sun_positions.size() != static_cast<size_t>(P))
     throw std::invalid_argument("environment loads: the position mask must have one entry per position");
-  std::vector<geometry::PlanetRays> rays;
-  geometry::RedirectedPlanetPaths albedo_paths, ir_paths;  // planet light that mirrors and windows pass on
-  bool same_paths = false;  // the bands' ρs, τ agree: albedo_paths serve the IR too
-  Eigen::Vector3d cached_center(0, 0, 0);
+  double smallest_cap_sin2 = 1.0;
+  out.planet_kernel = kernelServes(positions, earth_fixed, re, opt, smallest_cap_sin2);
+  if (out.planet_kernel) kernelPlanetLoads(caster, positions, earth_fixed, re, smallest_cap_sin2, opt, out);
+  PlanetCast cast;
   for (int p = 0; p < P; ++p) {
     const SweepPosition& pos = positions[static_cast<size_t>(p)];
     if (pos.sunlit_fraction > 0 && mine(opt.sun_positions, p)) directLoads(caster, area, pos, opt, out, p);  // no rays in the umbra
-    // Planet rays: cast again unless the Earth sits where it did (reuse).
+    // Planet rays and paths: cast again unless the Earth sits where it did (reuse).
     const Eigen::Vector3d center = pos.planet_body * pos.planet_distance_m;
-    const bool reuse = earth_fixed && !rays.empty() && (center - cached_center).norm() <= 1e-9 * center.norm();
-    if (!reuse) {
-      rays = geometry::planetRays(caster, center, re, planet);
-      albedo_paths = geometry::redirectedPlanetPaths(caster, opt.solar_specular, center, re, opt.specular_samples,
-                                                     opt.seed);
-      // Bands with the same ρs and τ pass the planet's light the same way: one trace serves both.
-      same_paths = opt.ir_specular.sameAs(opt.solar_specular);
-      ir_paths = same_paths ? geometry::RedirectedPlanetPaths{}
-                            : geometry::redirectedPlanetPaths(caster, opt.ir_specular, center, re,
-                                                              opt.specular_samples, opt.seed);
-      out.planet_rays += albedo_paths.rays + ir_paths.rays;
-      cached_center = center;
-      ++out.planet_casts;
-      for (const auto& r : rays) out.planet_rays += r.rays;
+    if (!(earth_fixed && samePlace(cast, center))) {
+      if (!out.planet_kernel) castConeRays(caster, center, re, opt, opt.planet_nodes, cast, out);
+      castPlanetPaths(caster, center, re, opt, cast, out);
+      cast.center = center;
+      ++cast.casts;
     }
-    for (int i = 0; i < n; ++i) {
-      if (!mine(opt.planet_nodes, i)) continue;
-      const geometry::PlanetRays& r = rays[static_cast<size_t>(i)];
-      out.earth_view_factor(i, p) = r.view_factor;
-      if (opt.planet_ir.uniform()) {
-        out.earth_ir(i, p) = opt.planet_ir.uniform_w_m2 * r.view_factor;
-        out.earth_ir_stderr(i, p) = opt.planet_ir.uniform_w_m2 * r.standard_error;
-      }
-      planetRadianceLoads(r, center, re, pos, opt, i, p, out);
-    }
-    redirectedPlanetLoads(albedo_paths, same_paths ? albedo_paths : ir_paths, center, re, area, pos, opt, out, p);
+    if (!out.planet_kernel) coneLoads(cast, re, pos, opt, opt.planet_nodes, p, out);
+    redirectedPlanetLoads(cast.albedo_paths, cast.same_paths ? cast.albedo_paths : cast.ir_paths, center, re, area,
+                          pos, opt, out, p);
     if (opt.progress) opt.progress(p + 1, P);
   }
+  out.planet_casts = out.planet_kernel ? 0 : cast.casts;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }

@@ -4,16 +4,20 @@
 //    exact by polygon clipping (geometry/irradiance/sun_clip); with shadow_cell_m set, from
 //    one grid of rays along the Sun's direction (sun_grid), with shadow_samples from each
 //    node's own shadow rays (litArea);
-//  * albedo: planet rays of each node (self-shadowed) into the cone the Earth subtends,
-//    each ray hitting the Earth at x carries a · S · max(0, ŝ·n(x)) (a Lambertian planet of
-//    radiance a S cos θ_s / π);
-//  * planet IR: a uniform emitter's flux × view factor to the planet (the Earth's OLR), or,
-//    for a planet whose emission follows the Sun (the Moon's day side, PlanetIr::DayNight),
-//    the same planet rays each carrying the emission where they hit, like the albedo.
+//  * albedo and planet IR (a Lambertian planet of radiance a S cos θ_s / π, and the
+//    emission's exitance / π): by default from the sky kernel (geometry/irradiance/
+//    sky_kernel, orbits/sky_loads): each node's blocked (or open) sky is cast once per
+//    geometry, and each position's load is the unobstructed plate's exact ring integral
+//    (orbits/planet_sky) less the planet's radiance over the blocked bins, whatever the
+//    attitude; node-positions whose kernel error exceeds the target, and cases the kernel
+//    does not serve (pinned planet_rays, an albedo by latitude, a planet covering less than
+//    kSkyKernelMinCapSin2), use planet rays: each node's rays (self-shadowed) into the cone
+//    the planet subtends, each hit at x carrying the radiance there.
 // Every load comes with its standard error (n×P, W/m²), and the ray counts follow
 // relative_error (the loads' share of the case's error budget) unless pinned.
 // Reuse: when the Earth is fixed in the body frame (nadir pointing on a circular orbit)
 // the planet rays are cast once and their hit points reused; only the Sun's part changes.
+// The sky kernel needs no reuse: it is cast once for every attitude.
 #include "geometry/irradiance/queries.hpp"
 #include "geometry/rays/specular.hpp"
 #include "orbits/body.hpp"
@@ -21,8 +25,14 @@
 
 #include <Eigen/Dense>
 
+#include <cstdint>
+
 #include <functional>
 #include <vector>
+
+namespace radnet::geometry {
+struct SkyKernel;
+}
 
 namespace radnet::orbits {
 
@@ -38,6 +48,14 @@ struct EnvironmentOptions {
   int shadow_samples = 0;      ///< > 0: this many shadow rays per node instead of the grid
   double shadow_cell_m = 0.0;  ///< > 0: shadow by a grid of rays of this spacing, m; 0: exact clipping
   std::int64_t planet_rays = 0;  ///< > 0: this many rays per node; 0: by relative_error up to kMaxPlanetRays
+  /// How the planet loads are computed: Auto: the sky kernel when the planet moves in the
+  /// body frame (it is cast once for every attitude), planet rays cast once when it does
+  /// not (nadir: fewer rays than the kernel's whole sky); SkyKernel, Rays: always that one
+  /// (where the kernel serves).
+  enum class PlanetMethod { Auto, SkyKernel, Rays } planet_method = PlanetMethod::Auto;
+  /// Where to keep the sky kernel between calls (several orbit cases of one geometry):
+  /// built when empty, reused otherwise. nullptr: built for this call only.
+  geometry::SkyKernel* sky_kernel_cache = nullptr;
   std::uint64_t seed = 1;
   /// Positions whose direct load, and nodes whose planet loads (albedo, Earth IR, Earth view
   /// factor), this process computes (empty: all). The rest stay 0 for other processes to
@@ -58,6 +76,10 @@ struct EnvironmentOptions {
 
 /// The cap on planet rays per node when they follow the error target.
 inline constexpr std::int64_t kMaxPlanetRays = 65536;
+/// The sky kernel serves planets whose angular radius θ_max has sin² θ_max at least this
+/// (the Earth below 7,900 km altitude); a farther planet fills too little of a node's sky
+/// for cosine-weighted rays, and rays into its cone do better.
+inline constexpr double kSkyKernelMinCapSin2 = 0.2;
 
 /// The shadow grid spacing (m) for nodes of these areas that the runs used before exact
 /// clipping (bench/bench_direct_sun compares the two): the 10th-percentile node gets the
@@ -70,7 +92,11 @@ struct EnvironmentLoads {
   Eigen::MatrixXd earth_ir;           ///< (n×P) planet IR irradiance (the central body's; named for the Earth), W/m²
   Eigen::MatrixXd earth_view_factor;  ///< (n×P) to the central body, with self-shadowing, –
   Eigen::MatrixXd direct_stderr, albedo_stderr, earth_ir_stderr;  ///< standard errors of the three, W/m² (n×P)
-  int planet_casts = 0;               ///< how many times the planet rays were cast (1 with reuse)
+  bool planet_kernel = false;         ///< the planet loads came from the sky kernel
+  std::int64_t kernel_rays = 0;       ///< rays the sky kernel cast (once per geometry)
+  double kernel_seconds = 0.0;        ///< time casting the sky kernel, s
+  std::int64_t kernel_fallbacks = 0;  ///< node-positions whose kernel error needed planet rays
+  int planet_casts = 0;               ///< how many times the planet rays were cast for all nodes (1 with reuse)
   std::int64_t planet_rays = 0;       ///< rays cast towards the planet, all casts
   std::int64_t shadow_rays = 0;       ///< shadow grid cells plus per-node shadow rays, all positions
   double shadow_cell_m = 0.0;         ///< the grid spacing of the last lit position (0: per-node rays), m

@@ -2,6 +2,7 @@
 // Earth IR and albedo of a nadir plate.
 #include "cap_quadrature.hpp"
 #include "geometry/scene/primitives.hpp"
+#include "loads_support.hpp"
 #include "orbits/loads.hpp"
 
 #include <catch2/catch.hpp>
@@ -15,23 +16,11 @@ namespace {
 
 const double kR = orbits::CentralBody::earth().equatorial_radius_m;
 
-// One position: the Earth along +z body at distance r, the Sun along `sun_body`.
 orbits::SweepPosition position(const Vec3& sun_body, double r, double sunlit = 1.0, double flux = 1361.0) {
-  orbits::SweepPosition p;
-  p.sun_body = sun_body.normalized();
-  p.planet_body = Vec3::UnitZ();
-  p.planet_distance_m = r;
-  p.sunlit_fraction = sunlit;
-  p.solar_flux_w_m2 = flux;
-  p.body_from_eci = Eigen::Matrix3d::Identity();
-  return p;
+  return testing::sweepPosition(sun_body, r, sunlit, flux);
 }
 
-Eigen::VectorXd areas(const geometry::Scene& s) {
-  Eigen::VectorXd a(static_cast<Eigen::Index>(s.nodes().size()));
-  for (size_t i = 0; i < s.nodes().size(); ++i) a[static_cast<Eigen::Index>(i)] = s.nodes()[i].area_m2;
-  return a;
-}
+Eigen::VectorXd areas(const geometry::Scene& s) { return testing::nodeAreas(s); }
 
 // Albedo irradiance on a nadir-facing plate above the subsolar point, by quadrature over
 // the visible cap (ψ: angle at the Earth's centre from the sub-satellite point):

@@ -76,7 +76,7 @@ void parseEnvironment(const YamlDocument& doc, const YAML::Node& e, const orbits
   env.planet_ir = body.ir;
   if (!e) return;
   doc.expectMap(e, "environment", {"solar_constant", "albedo", "earth_ir", "planet_ir", "shadow_samples", "shadow_cell",
-                                   "planet_rays"});
+                                   "planet_rays", "planet_method"});
   if (e["solar_constant"])
     sweep.solar_constant_w_m2 = doc.number(e["solar_constant"], "environment.solar_constant (W/m²)", 0, 1e5);
   if (const YAML::Node a = e["albedo"]) {
@@ -104,6 +104,18 @@ void parseEnvironment(const YamlDocument& doc, const YAML::Node& e, const orbits
     env.shadow_cell_m = doc.number(e["shadow_cell"], "environment.shadow_cell (m)", 1e-6, 10.0);
   }
   if (e["planet_rays"]) env.planet_rays = doc.integer(e["planet_rays"], "environment.planet_rays", 32, 1LL << 30);
+  if (const YAML::Node m = e["planet_method"]) {
+    const std::string word = m.IsScalar() ? m.Scalar() : std::string();
+    using Method = orbits::EnvironmentOptions::PlanetMethod;
+    if (word != "auto" && word != "sky_kernel" && word != "rays")
+      throw doc.error(m, "environment.planet_method: expected auto (the default: the sky kernel unless the planet is "
+                         "fixed in the body frame), sky_kernel (each node's sky cast once) or rays (planet rays at "
+                         "every position the planet moves in the body frame)");
+    env.planet_method = word == "auto" ? Method::Auto : word == "rays" ? Method::Rays : Method::SkyKernel;
+    if (env.planet_method == Method::SkyKernel && e["planet_rays"])
+      throw doc.error(m, "environment: planet_rays pins the planet rays per node, which the sky kernel does not cast; "
+                         "give planet_method: rays with it, or leave planet_rays out");
+  }
 }
 
 }  // namespace radnet::cases

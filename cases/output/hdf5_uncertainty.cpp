@@ -31,6 +31,10 @@ void writeUncertainty(Hdf5Writer& h5, const GeometryCase& c, const GeometryRunRe
   h5.attribute("/report", "shadow_grid_spacing_m", sw.irradiance.shadow_cell_m);
   h5.attribute("/report", "shadow_rays", static_cast<long long>(sw.irradiance.shadow_rays));
   h5.attribute("/report", "planet_rays", static_cast<long long>(sw.irradiance.planet_rays));
+  h5.attribute("/report", "planet_load_method",
+               std::string(sw.irradiance.planet_kernel ? "sky kernel" : "planet rays"));
+  h5.attribute("/report", "sky_kernel_rays", static_cast<long long>(sw.irradiance.kernel_rays));
+  h5.attribute("/report", "sky_kernel_fallback_node_positions", static_cast<long long>(sw.irradiance.kernel_fallbacks));
   const UncertaintySummary& u = sw.uncertainty;
   h5.attribute("/report", "absorbed_uncertainty_max_relative", u.total);
   h5.attribute("/report", "absorbed_uncertainty_view_factors_max_relative", u.view_factors);

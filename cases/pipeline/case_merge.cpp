@@ -28,6 +28,9 @@ void appendLoads(orbits::EnvironmentLoads& all, const orbits::EnvironmentLoads& 
     appendCols(all.*member, part.*member);
   all.planet_casts += part.planet_casts;
   all.planet_rays += part.planet_rays;
+  all.planet_kernel = all.planet_kernel || part.planet_kernel;
+  all.kernel_rays += part.kernel_rays;
+  all.kernel_fallbacks += part.kernel_fallbacks;
   all.shadow_rays += part.shadow_rays;
   all.shadow_cell_m = std::max(all.shadow_cell_m, part.shadow_cell_m);
   all.seconds += part.seconds;

@@ -92,10 +92,12 @@ void joinLoads(orbits::EnvironmentLoads& e) {
   if (!cluster::distributed()) return;
   joinOverRanks({&e.direct, &e.albedo, &e.earth_ir, &e.earth_view_factor, &e.direct_stderr, &e.albedo_stderr,
                 &e.earth_ir_stderr});
-  std::int64_t counts[2] = {e.planet_rays, e.shadow_rays};
-  cluster::sum(counts, 2);
+  std::int64_t counts[4] = {e.planet_rays, e.shadow_rays, e.kernel_rays, e.kernel_fallbacks};
+  cluster::sum(counts, 4);
   e.planet_rays = counts[0];
   e.shadow_rays = counts[1];
+  e.kernel_rays = counts[2];
+  e.kernel_fallbacks = counts[3];
   // Every rank casts its planet nodes as often as one process would cast them all.
   double largest[3] = {static_cast<double>(e.planet_casts), e.shadow_cell_m, e.seconds};
   cluster::max(largest, 3);

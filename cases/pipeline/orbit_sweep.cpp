@@ -5,6 +5,7 @@
 #include "cases/pipeline/case_merge.hpp"
 #include "cases/pipeline/distributed.hpp"
 #include "cases/pipeline/progress.hpp"
+#include "geometry/irradiance/sky_kernel.hpp"
 #include "solver/radiative/uncertainty.hpp"
 
 #include <ostream>
@@ -68,6 +69,7 @@ void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings,
   const OrbitSettings& o = in.orbit;
   const Eigen::VectorXd& area = in.radiative.surfaceArea();  // irradiance per m² of the surfaces themselves
   std::vector<orbits::EnvironmentLoads> parts;
+  geometry::SkyKernel sky_kernel;  // one per geometry: every orbit case's planet loads
   for (size_t k = 0; k < o.cases.size(); ++k) {
     const orbits::Orbit& orbit = *o.cases[k].orbit;
     StageTimer t_orbit(timings, Stage::Orbit);
@@ -85,6 +87,7 @@ void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings,
       orbits::EnvironmentOptions env = o.environment;
       env.solar_specular = in.radiative.solar_specular;
       env.ir_specular = in.radiative.ir_specular;
+      env.sky_kernel_cache = &sky_kernel;
       if (show_progress) env.progress = progressBar(progress, "orbit loads", "positions");
       if (cluster::distributed()) {  // each rank its sun positions and planet nodes, then joined
         env.sun_positions = cluster::ownedMask(static_cast<long long>(positions.size()));
@@ -111,8 +114,15 @@ void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings,
              << " (planet IR): no rays cast\n";
     return;
   }
-  progress << "radnet: loads: " << sw.irradiance.planet_rays << " planet rays (cast " << sw.irradiance.planet_casts
-           << " time(s) for " << P << " positions), " << sw.irradiance.shadow_rays << " shadow rays";
+  progress << "radnet: loads: ";
+  if (sw.irradiance.planet_kernel)
+    progress << "sky kernel of " << sw.irradiance.kernel_rays << " rays (cast once for " << P << " positions), "
+             << sw.irradiance.planet_rays << " planet rays for " << sw.irradiance.kernel_fallbacks
+             << " node-positions over the error target, ";
+  else
+    progress << sw.irradiance.planet_rays << " planet rays (cast " << sw.irradiance.planet_casts << " time(s) for " << P
+             << " positions), ";
+  progress << sw.irradiance.shadow_rays << " shadow rays";
   if (sw.irradiance.shadow_cell_m > 0) progress << " (grid spacing " << sw.irradiance.shadow_cell_m * 1e3 << " mm)";
   progress << "\n";
 }

@@ -1,0 +1,75 @@
+#pragma once
+// Each node's view of the sky, once per geometry, for loads from a far source of any
+// direction (a planet in any attitude): which directions of the node's hemisphere the
+// spacecraft blocks. A far radiance field L(ω) (body frame) then gives the node's mean
+// irradiance
+//     E = (1/A) ∫_A ∫ L(ω) V(x, ω) max(0, n·ω) dω dA
+//       = E_free − (1/A) ∫_A ∫ L(ω) (1 − V) max(0, n·ω) dω dA,
+// E_free the unobstructed part (per facet normal, from the source's own closed form or
+// quadrature), the second term from the kernel. The kernel casts cosine-weighted rays from
+// area-uniform points (Sobol, 32 replicas) and keeps the minority: the blocked rays of a
+// node that sees mostly sky, the open rays of one that sees mostly spacecraft, so a node
+// nothing blocks costs nothing per position and a node shut in a box is exactly zero.
+// Rays are binned on a cube map of directions (kBinsPerEdge² per face): a position's cost
+// is one radiance per bin it uses, not one per ray.
+#include "geometry/rays/ray_caster.hpp"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace radnet::geometry {
+
+/// The cube map of directions the kernel bins rays on.
+struct SkyBins {
+  static constexpr int kBinsPerEdge = 64;  ///< 1.4° bins: a far planet's radiance varies little across one
+  static constexpr int kBins = 6 * kBinsPerEdge * kBinsPerEdge;
+  /// 96 coarse cells (each cube face split 4×4, 22.5° across) for the kernel's sampling
+  /// error by region: a position counts the error of the cells its planet covers.
+  static constexpr int kCoarseSplit = 4;
+  static constexpr int kCoarse = 6 * kCoarseSplit * kCoarseSplit;
+  static int bin(const Vec3& direction);
+  static int coarse(int bin);
+  /// The direction at fractional position (s, t) ∈ [0, 1]² inside a bin (unit).
+  static Vec3 direction(int bin, double s, double t);
+};
+
+/// Independently shifted Sobol sequences per node: their spread is the kernel's σ.
+inline constexpr int kSkyReplicas = 32;
+
+/// One node's kernel.
+struct NodeSky {
+  /// true: the bins count the rays that reach the sky (the node sees mostly spacecraft);
+  /// false: the rays the spacecraft blocks.
+  bool counts_open = false;
+  std::vector<std::int32_t> bins;   ///< bins holding counted rays, ascending
+  std::vector<float> weights;       ///< their share of all the node's rays, –
+  /// The coarse cells holding counted rays and, per cell, each of the 32 replicas' counted
+  /// share there: a position's load per replica, hence its σ, with the cells' correlations.
+  std::vector<std::int16_t> cells;
+  std::vector<std::array<float, kSkyReplicas>> cell_shares;
+  /// The node's facet normals (indices into SkyKernel::normals) and their area shares.
+  std::vector<std::pair<std::int32_t, double>> normals;
+  std::int64_t rays = 0;
+  double blocked_fraction = 0.0;    ///< cos-weighted share of the hemisphere the spacecraft covers, –
+};
+
+struct SkyKernel {
+  std::vector<Vec3> normals;   ///< the distinct facet normals (node side), unit
+  std::vector<NodeSky> nodes;  ///< scene order; empty entries for nodes left out
+  std::int64_t rays = 0;
+  std::size_t bytes() const;
+};
+
+struct SkyKernelOptions {
+  std::int64_t max_rays_per_node = 65536;
+  /// Rays double from 1,024 until the σ of the counted share is at most this (0: cast
+  /// max_rays_per_node), –
+  double target_stderr = 0.0;
+  std::uint64_t seed = 1;
+  std::vector<char> nodes;  ///< nodes to build (empty: all)
+};
+
+SkyKernel skyKernel(const RayCaster& caster, const SkyKernelOptions& options);
+
+}  // namespace radnet::geometry

@@ -1,0 +1,50 @@
+#pragma once
+// The central body as a far radiance field in the body frame at one position: a sphere of
+// radius R whose centre lies at distance d along a unit direction, Lambertian albedo
+// (radiance a S max(0, cos z) / π) and IR emission (PlanetIr's exitance / π), z the solar
+// zenith angle where the line of sight meets the surface. Far field: every point of the
+// spacecraft sees the planet as its reference point does (the parallax of a 10 m
+// spacecraft at 400 km is 2.5e-5 rad).
+//
+// unobstructed(n) integrates a plane's irradiance over the visible cap in closed form
+// along each ring of constant angle from the planet's centre: along a ring both the
+// plane's cosine and the cosine of the solar zenith angle are a + b cos(φ − φ0), so each
+// ring's integral of their positive parts' product is an elementary function; the rings
+// are summed by Gauss–Legendre in the angle γ at the planet's centre (smooth up to the
+// limb, where dθ/dγ = 0), split where the plane's horizon or the terminator starts to
+// cut the rings.
+#include "orbits/body.hpp"
+
+#include <Eigen/Dense>
+
+namespace radnet::orbits {
+
+struct PlanetView {
+  Eigen::Vector3d toward_center = Eigen::Vector3d::UnitZ();  ///< unit, body frame
+  double distance_m = 0.0;                                   ///< to the planet's centre
+  double radius_m = 0.0;
+  Eigen::Vector3d toward_sun = Eigen::Vector3d::UnitX();     ///< unit, body frame
+  double solar_flux_w_m2 = 0.0;
+  double albedo = 0.0;  ///< Bond albedo (one value: a latitude table needs the planet rays)
+  PlanetIr ir;
+
+  /// sin² of the planet's angular radius (the largest view factor any plate can have), –
+  double capSin2() const { return std::min(1.0, (radius_m / distance_m) * (radius_m / distance_m)); }
+};
+
+/// Three quantities carried together: the view factor's (radiance 1/π on the disc), the
+/// albedo's and the planet IR's.
+struct PlanetChannels {
+  double view = 0.0, albedo = 0.0, ir = 0.0;
+  PlanetChannels& operator+=(const PlanetChannels& o) { return view += o.view, albedo += o.albedo, ir += o.ir, *this; }
+  PlanetChannels operator*(double s) const { return {view * s, albedo * s, ir * s}; }
+};
+
+/// Radiance (per sr: 1/π, W/m²/sr, W/m²/sr) arriving from unit direction `dir`.
+PlanetChannels planetRadiance(const PlanetView& view, const Eigen::Vector3d& dir);
+
+/// What an unobstructed plane of unit normal `normal` receives: its view factor to the
+/// planet (–), albedo and IR irradiance (W/m²).
+PlanetChannels unobstructedPlanetLoads(const PlanetView& view, const Eigen::Vector3d& normal);
+
+}  // namespace radnet::orbits

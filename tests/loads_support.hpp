@@ -1,0 +1,32 @@
+#pragma once
+// Sweep positions made by hand and node areas for the environment-load tests.
+#include "geometry/scene/scene.hpp"
+#include "orbits/sweep.hpp"
+
+#include <Eigen/Dense>
+
+namespace radnet::testing {
+
+/// One position: the planet's centre at distance r along `planet_body` (default +z), the
+/// Sun along `sun_body` (both body frame, normalised here).
+inline orbits::SweepPosition sweepPosition(const geometry::Vec3& sun_body, double r, double sunlit = 1.0,
+                                           double flux = 1361.0,
+                                           const geometry::Vec3& planet_body = geometry::Vec3::UnitZ()) {
+  orbits::SweepPosition p;
+  p.sun_body = sun_body.normalized();
+  p.planet_body = planet_body.normalized();
+  p.planet_distance_m = r;
+  p.sunlit_fraction = sunlit;
+  p.solar_flux_w_m2 = flux;
+  p.body_from_eci = Eigen::Matrix3d::Identity();
+  return p;
+}
+
+/// A per node, scene order, m².
+inline Eigen::VectorXd nodeAreas(const geometry::Scene& s) {
+  Eigen::VectorXd a(static_cast<Eigen::Index>(s.nodes().size()));
+  for (size_t i = 0; i < s.nodes().size(); ++i) a[static_cast<Eigen::Index>(i)] = s.nodes()[i].area_m2;
+  return a;
+}
+
+}  // namespace radnet::testing

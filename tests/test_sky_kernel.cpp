@@ -1,0 +1,183 @@
+// Planet loads from the sky kernel (each node's blocked sky cast once, any attitude):
+// exact where nothing blocks, exactly zero shut in a box, and where something blocks the
+// same as the planet rays (a second method: rays into the planet's cone, cast at each
+// position) within their error bars.
+#include "geometry/irradiance/sky_kernel.hpp"
+#include "geometry/scene/primitives.hpp"
+#include "loads_support.hpp"
+#include "orbits/loads.hpp"
+#include "orbits/planet_sky.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+using namespace radnet;
+using geometry::Vec3;
+
+namespace {
+
+const double kR = orbits::CentralBody::earth().equatorial_radius_m;
+
+// Positions round the sky: planet and Sun directions from a fixed seed (an attitude
+// that is neither nadir nor fixed), 600 km up.
+std::vector<orbits::SweepPosition> tumblingPositions(int count, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g;
+  std::vector<orbits::SweepPosition> ps;
+  for (int k = 0; k < count; ++k) {
+    const Vec3 planet(g(rng), g(rng), g(rng)), sun(g(rng), g(rng), g(rng));
+    ps.push_back(testing::sweepPosition(sun, kR + 600e3, 1.0, 1361.0, planet));
+  }
+  return ps;
+}
+
+orbits::PlanetView viewAt(const orbits::SweepPosition& pos, const orbits::EnvironmentOptions& opt) {
+  orbits::PlanetView v;
+  v.toward_center = pos.planet_body;
+  v.distance_m = pos.planet_distance_m;
+  v.radius_m = kR;
+  v.toward_sun = pos.sun_body;
+  v.solar_flux_w_m2 = pos.solar_flux_w_m2;
+  v.albedo = opt.albedo;
+  v.ir = opt.planet_ir;
+  return v;
+}
+
+}  // namespace
+
+TEST_CASE("sky bins: every direction falls in the bin whose corners enclose it") {
+  std::mt19937_64 rng(7);
+  std::uniform_int_distribution<int> bin(0, geometry::SkyBins::kBins - 1);
+  std::uniform_real_distribution<double> u(0.01, 0.99);
+  for (int k = 0; k < 20000; ++k) {
+    const int b = bin(rng);
+    const Vec3 d = geometry::SkyBins::direction(b, u(rng), u(rng));
+    CHECK(std::abs(d.norm() - 1.0) < 1e-14);
+    REQUIRE(geometry::SkyBins::bin(d) == b);
+  }
+}
+
+TEST_CASE("sky kernel: an unobstructed plate gets the closed-form rings, σ 0, at every attitude") {
+  geometry::Scene s;
+  s.addSurface("plate", "plate", geometry::rectangle(Vec3(0, 0, 0), Vec3(0.3, 0, 0), Vec3(0, 0.2, 0), 2, 3), "top",
+               "bottom");
+  geometry::RayCaster caster(s);
+  orbits::EnvironmentOptions opt;
+  const auto ps = tumblingPositions(24, 11);
+  const orbits::EnvironmentLoads l = orbits::environmentLoads(caster, testing::nodeAreas(s), ps, false, kR, opt);
+  REQUIRE(l.planet_kernel);
+  CHECK(l.planet_rays == 0);  // nothing cast per position
+  CHECK(l.kernel_rays == 2 * 1024);  // nothing blocked: the first 1,024 rays settle it
+  for (size_t p = 0; p < ps.size(); ++p) {
+    const orbits::PlanetView v = viewAt(ps[p], opt);
+    for (int side = 0; side < 2; ++side) {
+      const orbits::PlanetChannels exact = orbits::unobstructedPlanetLoads(v, Vec3(0, 0, side == 0 ? 1 : -1));
+      const Eigen::Index i = side, c = static_cast<Eigen::Index>(p);
+      CHECK(l.earth_view_factor(i, c) == Approx(exact.view).epsilon(1e-12).margin(1e-15));
+      CHECK(l.albedo(i, c) == Approx(exact.albedo).epsilon(1e-12).margin(1e-12));
+      CHECK(l.earth_ir(i, c) == Approx(exact.ir).epsilon(1e-12).margin(1e-12));
+      CHECK(l.albedo_stderr(i, c) == 0.0);
+      CHECK(l.earth_ir_stderr(i, c) == 0.0);
+    }
+  }
+}
+
+TEST_CASE("sky kernel: inside a closed box the planet loads are exactly zero, outside the unobstructed face's") {
+  geometry::Scene s;
+  const auto faces = geometry::boxFaces(Vec3(-0.1, -0.1, -0.15), Vec3(0.2, 0.2, 0.3), 3);
+  for (int f = 0; f < 6; ++f) {
+    const std::string name = geometry::kBoxFaceNames[static_cast<size_t>(f)];
+    s.addSurface(name, name, faces[static_cast<size_t>(f)], "out" + name, "in" + name);
+  }
+  geometry::RayCaster caster(s);
+  orbits::EnvironmentOptions opt;
+  const auto ps = tumblingPositions(30, 5);
+  const orbits::EnvironmentLoads l = orbits::environmentLoads(caster, testing::nodeAreas(s), ps, false, kR, opt);
+  REQUIRE(l.planet_kernel);
+  CHECK(l.kernel_fallbacks == 0);
+  for (int i = 0; i < static_cast<int>(s.nodes().size()); ++i) {
+    const geometry::Node& node = s.nodes()[static_cast<size_t>(i)];
+    const Vec3 normal = node.side * s.faces()[static_cast<size_t>(node.faces.front())].normal;
+    for (size_t p = 0; p < ps.size(); ++p) {
+      INFO(node.name << " position " << p);
+      const Eigen::Index c = static_cast<Eigen::Index>(p);
+      if (node.name.rfind("in", 0) == 0) {
+        CHECK(l.earth_view_factor(i, c) == 0.0);
+        CHECK(l.albedo(i, c) == 0.0);
+        CHECK(l.earth_ir(i, c) == 0.0);
+        CHECK(l.albedo_stderr(i, c) == 0.0);
+      } else {
+        const orbits::PlanetChannels exact = orbits::unobstructedPlanetLoads(viewAt(ps[p], opt), normal);
+        CHECK(l.albedo(i, c) == Approx(exact.albedo).epsilon(1e-12).margin(1e-12));
+        CHECK(l.earth_ir(i, c) == Approx(exact.ir).epsilon(1e-12).margin(1e-12));
+      }
+    }
+  }
+}
+
+TEST_CASE("sky kernel: a plate beside a wall and under an awning agrees with planet rays within the error bars") {
+  // Partly blocked nodes at 16 tumbling attitudes; the planet rays (65,536 per node,
+  // cast at each position) are the second method. |kernel − rays| ≤ 4 × the combined σ
+  // (plus 1e-3 of the scale for the rays' own correlated error of the limb's round-off).
+  geometry::Scene s;
+  s.addSurface("floor", "floor", geometry::rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 2, 2), "floor", "");
+  s.addSurface("wall", "wall", geometry::rectangle(Vec3(0, 0, 0), Vec3(0, 0, 0.6), Vec3(0, 1, 0), 1, 1), "wall.back",
+               "wall");
+  s.addSurface("awning", "awning", geometry::rectangle(Vec3(0, 0, 0.6), Vec3(0, 1, 0), Vec3(0.5, 0, 0), 1, 1),
+               "awning.top", "awning.bottom");
+  geometry::RayCaster caster(s);
+  const auto ps = tumblingPositions(16, 3);
+  orbits::EnvironmentOptions kernel_opt, ray_opt;
+  ray_opt.planet_method = orbits::EnvironmentOptions::PlanetMethod::Rays;
+  ray_opt.planet_rays = 65536;
+  const Eigen::VectorXd area = testing::nodeAreas(s);
+  const orbits::EnvironmentLoads k = orbits::environmentLoads(caster, area, ps, false, kR, kernel_opt);
+  const orbits::EnvironmentLoads r = orbits::environmentLoads(caster, area, ps, false, kR, ray_opt);
+  REQUIRE(k.planet_kernel);
+  REQUIRE_FALSE(r.planet_kernel);
+  const double scale_albedo = 0.3 * 1361.0, scale_ir = 237.0;  // × a view factor ≤ 1
+  double worst = 0.0;
+  for (Eigen::Index i = 0; i < k.albedo.rows(); ++i)
+    for (Eigen::Index p = 0; p < k.albedo.cols(); ++p) {
+      INFO(s.nodes()[static_cast<size_t>(i)].name << " position " << p << ": albedo " << k.albedo(i, p) << " ± "
+                                                   << k.albedo_stderr(i, p) << " vs " << r.albedo(i, p) << " ± "
+                                                   << r.albedo_stderr(i, p));
+      const double sa = std::hypot(k.albedo_stderr(i, p), r.albedo_stderr(i, p));
+      const double si = std::hypot(k.earth_ir_stderr(i, p), r.earth_ir_stderr(i, p));
+      CHECK(std::abs(k.albedo(i, p) - r.albedo(i, p)) <= 4 * sa + 1e-3 * scale_albedo);
+      CHECK(std::abs(k.earth_ir(i, p) - r.earth_ir(i, p)) <= 4 * si + 1e-3 * scale_ir);
+      // The kernel's error bar is a useful one: within 1 % of the scale.
+      CHECK(k.earth_ir_stderr(i, p) <= 0.01 * scale_ir);
+      worst = std::max(worst, std::abs(k.earth_ir(i, p) - r.earth_ir(i, p)) / scale_ir);
+    }
+  INFO("largest IR difference " << worst << " of 237 W/m²");
+  CHECK(worst < 5e-3);
+  CHECK(k.earth_ir.cwiseAbs().sum() > 0);
+}
+
+TEST_CASE("sky kernel loads shared out by node (as over MPI ranks) add up to the whole, bit for bit") {
+  geometry::Scene s;
+  s.addSurface("plate", "plate", geometry::rectangle(Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(1, 0, 0), 2, 2), "plate",
+               "plate.back");
+  s.addSurface("roof", "roof", geometry::rectangle(Vec3(0.5, -0.5, -1), Vec3(0, 2, 0), Vec3(2, 0, 0), 1, 1), "roof",
+               "roof.back");
+  geometry::RayCaster caster(s);
+  const auto ps = tumblingPositions(6, 9);
+  const orbits::EnvironmentOptions opt;
+  const Eigen::VectorXd area = testing::nodeAreas(s);
+  const orbits::EnvironmentLoads whole = orbits::environmentLoads(caster, area, ps, false, kR, opt);
+  orbits::EnvironmentLoads parts[2];
+  for (int part = 0; part < 2; ++part) {
+    orbits::EnvironmentOptions o = opt;
+    for (size_t i = 0; i < s.nodes().size(); ++i) o.planet_nodes.push_back(static_cast<char>(i % 2 == size_t(part)));
+    parts[part] = orbits::environmentLoads(caster, area, ps, false, kR, o);
+  }
+  CHECK(Eigen::MatrixXd(parts[0].albedo + parts[1].albedo) == whole.albedo);
+  CHECK(Eigen::MatrixXd(parts[0].albedo_stderr + parts[1].albedo_stderr) == whole.albedo_stderr);
+  CHECK(Eigen::MatrixXd(parts[0].earth_ir + parts[1].earth_ir) == whole.earth_ir);
+  CHECK(Eigen::MatrixXd(parts[0].earth_view_factor + parts[1].earth_view_factor) == whole.earth_view_factor);
+  CHECK(parts[0].kernel_rays + parts[1].kernel_rays == whole.kernel_rays);
+  CHECK(whole.albedo.cwiseAbs().sum() > 0);
+}
