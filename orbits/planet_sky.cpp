@@ -11,7 +11,7 @@ namespace radnet::orbits {
 
 namespace {
 
-constexpr int kGaussOrder = 20;
+constexpr int kGaussOrder = 12;
 
 // Gauss–Legendre nodes and weights on [−1, 1] (Newton's iteration on P_N from the
 // Chebyshev guesses; Golub & Welsch give the same to round-off).
@@ -115,23 +115,41 @@ PlanetChannels planetRadiance(const PlanetView& v, const Eigen::Vector3d& dir) {
           v.ir.exitance(cos_z, v.solar_flux_w_m2) / M_PI};
 }
 
+double planeToSphereViewFactor(double distance_over_radius, double beta) {
+  const double h = std::max(distance_over_radius, 1.0 + 1e-12);  // an orbit lies above its planet
+  const double edge = std::acos(1.0 / h);  // beyond this tilt the plane cuts the sphere
+  if (beta <= edge) return std::cos(beta) / (h * h);
+  if (beta >= M_PI - edge) return 0.0;
+  const double x = std::sqrt(h * h - 1.0), y = -x / std::tan(beta);
+  return 0.5 - std::asin(std::min(1.0, x / (h * std::sin(beta)))) / M_PI +
+         (std::cos(beta) * std::acos(std::clamp(y, -1.0, 1.0)) -
+          x * std::sqrt(std::max(0.0, 1.0 - h * h * std::cos(beta) * std::cos(beta)))) /
+             (M_PI * h * h);
+}
+
 PlanetChannels unobstructedPlanetLoads(const PlanetView& v, const Eigen::Vector3d& normal) {
   const Eigen::Vector3d& c = v.toward_center;
-  const Eigen::Vector3d e1 = c.unitOrthogonal(), e2 = c.cross(e1);
   const double d = v.distance_m, r = v.radius_m, gamma_max = std::acos(std::min(1.0, r / d));
   const Emission em = emissionParts(v.ir, v.solar_flux_w_m2);
+  PlanetChannels sum;
+  sum.view = planeToSphereViewFactor(d / r, std::acos(std::clamp(normal.dot(c), -1.0, 1.0)));
+  sum.ir = em.floor * sum.view;
+  // The rest lives where the Sun is up (albedo) or warms the ground past the floor: rings.
+  const double psi = std::acos(std::clamp(-v.toward_sun.dot(c), -1.0, 1.0));
+  const bool lit = v.albedo > 0 && v.solar_flux_w_m2 > 0 && psi - gamma_max < M_PI / 2;
+  const bool warm = em.k > 0 && psi - gamma_max < std::acos(em.c0);
+  if (sum.view <= 0 || (!lit && !warm)) return sum;
+  const Eigen::Vector3d e1 = c.unitOrthogonal(), e2 = c.cross(e1);
   // Where the rings' arcs change: the plane's horizon, the terminator (and the night floor).
   std::vector<double> cuts{0.0, gamma_max};
   const Wave n_full = ringWave(normal, c, e1, e2, 1.0, 1.0);
   const double theta_max = std::asin(std::sqrt(v.capSin2())), theta_horizon = std::atan2(std::abs(n_full.a), n_full.b);
   if (theta_horizon < theta_max) cuts.push_back(gammaOfTheta(theta_horizon, d, r));
-  const double psi = std::acos(std::clamp(-v.toward_sun.dot(c), -1.0, 1.0));
   for (const double c0 : {0.0, em.c0})
     for (const double g : {std::acos(c0) - psi, psi - std::acos(c0), psi + std::acos(c0)})
       if (g > 0 && g < gamma_max) cuts.push_back(g);
   std::sort(cuts.begin(), cuts.end());
   const GaussRule& rule = gaussRule();
-  PlanetChannels sum;
   for (size_t k = 0; k + 1 < cuts.size(); ++k) {
     const double g0 = cuts[k], g1 = cuts[k + 1];
     if (!(g1 > g0)) continue;
@@ -144,11 +162,8 @@ PlanetChannels unobstructedPlanetLoads(const PlanetView& v, const Eigen::Vector3
       const double jacobian = weight * std::sin(theta) * dtheta / M_PI;
       const Wave plane = ringWave(normal, c, e1, e2, std::cos(theta), std::sin(theta));
       const Wave sun = ringWave(v.toward_sun, c, e1, e2, -std::cos(gamma), std::sin(gamma));
-      const double seen = ringIntegral(plane, Wave{});
-      sum.view += jacobian * seen;
-      sum.albedo += jacobian * v.albedo * v.solar_flux_w_m2 * ringIntegral(plane, sun);
-      sum.ir += jacobian * em.floor * seen;
-      if (em.k > 0) sum.ir += jacobian * em.k * ringIntegral(plane, Wave{sun.a - em.c0, sun.b, sun.phase});
+      if (lit) sum.albedo += jacobian * v.albedo * v.solar_flux_w_m2 * ringIntegral(plane, sun);
+      if (warm) sum.ir += jacobian * em.k * ringIntegral(plane, Wave{sun.a - em.c0, sun.b, sun.phase});
     }
   }
   return sum;

@@ -6,8 +6,8 @@
 // spacecraft sees the planet as its reference point does (the parallax of a 10 m
 // spacecraft at 400 km is 2.5e-5 rad).
 //
-// unobstructed(n) integrates a plane's irradiance over the visible cap in closed form
-// along each ring of constant angle from the planet's centre: along a ring both the
+// unobstructedPlanetLoads(n) integrates a plane's albedo and day-night emission over the
+// visible cap in closed form along each ring of constant angle from the planet's centre: along a ring both the
 // plane's cosine and the cosine of the solar zenith angle are a + b cos(φ − φ0), so each
 // ring's integral of their positive parts' product is an elementary function; the rings
 // are summed by Gauss–Legendre in the angle γ at the planet's centre (smooth up to the
@@ -43,8 +43,15 @@ struct PlanetChannels {
 /// Radiance (per sr: 1/π, W/m²/sr, W/m²/sr) arriving from unit direction `dir`.
 PlanetChannels planetRadiance(const PlanetView& view, const Eigen::Vector3d& dir);
 
+/// The view factor from a plane element to a sphere at distance_over_radius = d/R, the
+/// normal at `beta` (rad) from the line to the centre, whether the plane cuts the sphere
+/// or not (Howell, A Catalog of Radiation Heat Transfer Configuration Factors, "plane
+/// element to sphere").
+double planeToSphereViewFactor(double distance_over_radius, double beta);
+
 /// What an unobstructed plane of unit normal `normal` receives: its view factor to the
-/// planet (–), albedo and IR irradiance (W/m²).
+/// planet (–, the closed form), albedo and IR irradiance (W/m²; a uniform emitter's
+/// flux times the view factor, the Sun-dependent parts by the rings).
 PlanetChannels unobstructedPlanetLoads(const PlanetView& view, const Eigen::Vector3d& normal);
 
 }  // namespace radnet::orbits

@@ -25,30 +25,37 @@ PlanetChannels maxOf(const PlanetChannels& a, const PlanetChannels& b) {
   return {std::max(a.view, b.view), std::max(a.albedo, b.albedo), std::max(a.ir, b.ir)};
 }
 
-// The planet's radiance over each used bin at one position: the mean of 2×2 points in the
-// bin and half its range (the binning error's scale).
+// The planet's radiance over each used bin at one position: the mean over its four
+// corners (the trapezoid rule) and half their range (the binning error's scale).
 struct BinRadiance {
   std::vector<PlanetChannels> mean, half;
 };
 
 BinRadiance binRadiance(const std::vector<int>& used, const PlanetView& view) {
+  constexpr int edge = SkyBins::kBinsPerEdge, corners = edge + 1;
   BinRadiance r;
   r.mean.assign(SkyBins::kBins, PlanetChannels{});
   r.half.assign(SkyBins::kBins, PlanetChannels{});
-  // A bin spans under 2° (90°/64 along each side of a cube face): one whose centre lies 3°
-  // beyond the limb cannot touch the disc.
-  const double reach = std::asin(std::sqrt(view.capSin2())) + 3.0 * M_PI / 180.0;
-  const double cos_reach = reach >= M_PI ? -1.0 : std::cos(reach);
+  // The radiance at every bin corner (a corner serves four bins); those beyond the limb
+  // return at once.
+  std::vector<PlanetChannels> at(6 * corners * corners);
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static)
+#endif
+  for (int k = 0; k < 6 * corners; ++k)
+    for (int j = 0; j < corners; ++j)
+      at[static_cast<size_t>(k * corners + j)] =
+          planetRadiance(view, SkyBins::corner(k / corners, k % corners, j));
   for (const int b : used) {
-    if (SkyBins::direction(b, 0.5, 0.5).dot(view.toward_center) < cos_reach) continue;
+    const int face = b / (edge * edge), i = (b / edge) % edge, j = b % edge;
+    const size_t c00 = static_cast<size_t>((face * corners + i) * corners + j);
     PlanetChannels sum, lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-    for (const double s : {0.25, 0.75})
-      for (const double t : {0.25, 0.75}) {
-        const PlanetChannels l = planetRadiance(view, SkyBins::direction(b, s, t));
-        sum += l;
-        lo = {std::min(lo.view, l.view), std::min(lo.albedo, l.albedo), std::min(lo.ir, l.ir)};
-        hi = maxOf(hi, l);
-      }
+    for (const size_t c : {c00, c00 + 1, c00 + corners, c00 + corners + 1}) {
+      const PlanetChannels& l = at[c];
+      sum += l;
+      lo = {std::min(lo.view, l.view), std::min(lo.albedo, l.albedo), std::min(lo.ir, l.ir)};
+      hi = maxOf(hi, l);
+    }
     r.mean[static_cast<size_t>(b)] = sum * 0.25;
     r.half[static_cast<size_t>(b)] = {0.5 * (hi.view - lo.view), 0.5 * (hi.albedo - lo.albedo), 0.5 * (hi.ir - lo.ir)};
   }

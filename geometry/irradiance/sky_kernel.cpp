@@ -30,17 +30,28 @@ int SkyBins::coarse(int bin) {
   return (face * kCoarseSplit + kCoarseSplit * i / kBinsPerEdge) * kCoarseSplit + kCoarseSplit * j / kBinsPerEdge;
 }
 
+namespace {
+
+// The direction at cube-map coordinates (i, j) (in bins, fractional) of a face.
+Vec3 faceDirection(int face, double i, double j) {
+  const int k = face / 2;
+  const auto along = [](double c) { return std::tan((-1.0 + 2.0 * c / SkyBins::kBinsPerEdge) * M_PI / 4.0); };
+  Vec3 d = Vec3::Zero();
+  d[k] = face % 2 ? -1.0 : 1.0;
+  d[(k + 1) % 3] = along(i);
+  d[(k + 2) % 3] = along(j);
+  return d.normalized();
+}
+
+}  // namespace
+
 Vec3 SkyBins::direction(int bin, double s, double t) {
   const int face = bin / (kBinsPerEdge * kBinsPerEdge), i = (bin / kBinsPerEdge) % kBinsPerEdge,
             j = bin % kBinsPerEdge;
-  const int k = face / 2;
-  const auto along = [](int c, double f) { return std::tan((-1.0 + 2.0 * (c + f) / kBinsPerEdge) * M_PI / 4.0); };
-  Vec3 d = Vec3::Zero();
-  d[k] = face % 2 ? -1.0 : 1.0;
-  d[(k + 1) % 3] = along(i, s);
-  d[(k + 2) % 3] = along(j, t);
-  return d.normalized();
+  return faceDirection(face, i + s, j + t);
 }
+
+Vec3 SkyBins::corner(int face, int i, int j) { return faceDirection(face, i, j); }
 
 std::size_t SkyKernel::bytes() const {
   std::size_t b = normals.size() * sizeof(Vec3) + nodes.size() * sizeof(NodeSky);

@@ -32,6 +32,9 @@ struct SkyBins {
   static int coarse(int bin);
   /// The direction at fractional position (s, t) ∈ [0, 1]² inside a bin (unit).
   static Vec3 direction(int bin, double s, double t);
+  /// The bins' corner (i, j) ∈ [0, kBinsPerEdge]² of a cube face (unit): bin (face, i, j)
+  /// has corners (i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1).
+  static Vec3 corner(int face, int i, int j);
 };
 
 /// Independently shifted Sobol sequences per node: their spread is the kernel's σ.
