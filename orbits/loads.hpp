@@ -49,9 +49,9 @@ struct EnvironmentOptions {
   double shadow_cell_m = 0.0;  ///< > 0: shadow by a grid of rays of this spacing, m; 0: exact clipping
   std::int64_t planet_rays = 0;  ///< > 0: this many rays per node; 0: by relative_error up to kMaxPlanetRays
   /// How the planet loads are computed: Auto: the sky kernel when the planet moves in the
-  /// body frame (it is cast once for every attitude), planet rays cast once when it does
-  /// not (nadir: fewer rays than the kernel's whole sky); SkyKernel, Rays: always that one
-  /// (where the kernel serves).
+  /// body frame (it is cast once for every attitude), planet rays cast once when it stays
+  /// put (nadir on a circular orbit: fewer rays than the kernel's whole sky); SkyKernel,
+  /// Rays: always that one (where the kernel serves).
   enum class PlanetMethod { Auto, SkyKernel, Rays } planet_method = PlanetMethod::Auto;
   /// Where to keep the sky kernel between calls (several orbit cases of one geometry):
   /// built when empty, reused otherwise. nullptr: built for this call only.

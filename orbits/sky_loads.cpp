@@ -21,12 +21,9 @@ std::vector<int> usedSkyBins(const geometry::SkyKernel& kernel) {
 namespace {
 
 PlanetChannels square(const PlanetChannels& c) { return {c.view * c.view, c.albedo * c.albedo, c.ir * c.ir}; }
-PlanetChannels maxOf(const PlanetChannels& a, const PlanetChannels& b) {
-  return {std::max(a.view, b.view), std::max(a.albedo, b.albedo), std::max(a.ir, b.ir)};
-}
 
-// The planet's radiance over each used bin at one position: the mean over its four
-// corners (the trapezoid rule) and half their range (the binning error's scale).
+// The planet's radiance over each used bin at one position: its mean by Simpson's rule
+// (the centre and the four corners) and the error scale of that mean.
 struct BinRadiance {
   std::vector<PlanetChannels> mean, half;
 };
@@ -46,18 +43,23 @@ BinRadiance binRadiance(const std::vector<int>& used, const PlanetView& view) {
     for (int j = 0; j < corners; ++j)
       at[static_cast<size_t>(k * corners + j)] =
           planetRadiance(view, SkyBins::corner(k / corners, k % corners, j));
-  for (const int b : used) {
+  const int count = static_cast<int>(used.size());
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static)
+#endif
+  for (int k = 0; k < count; ++k) {
+    const int b = used[static_cast<size_t>(k)];
     const int face = b / (edge * edge), i = (b / edge) % edge, j = b % edge;
     const size_t c00 = static_cast<size_t>((face * corners + i) * corners + j);
-    PlanetChannels sum, lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-    for (const size_t c : {c00, c00 + 1, c00 + corners, c00 + corners + 1}) {
-      const PlanetChannels& l = at[c];
-      sum += l;
-      lo = {std::min(lo.view, l.view), std::min(lo.albedo, l.albedo), std::min(lo.ir, l.ir)};
-      hi = maxOf(hi, l);
-    }
-    r.mean[static_cast<size_t>(b)] = sum * 0.25;
-    r.half[static_cast<size_t>(b)] = {0.5 * (hi.view - lo.view), 0.5 * (hi.albedo - lo.albedo), 0.5 * (hi.ir - lo.ir)};
+    PlanetChannels trapezoid;
+    for (const size_t c : {c00, c00 + 1, c00 + corners, c00 + corners + 1}) trapezoid += at[c] * 0.25;
+    const PlanetChannels midpoint = planetRadiance(view, SkyBins::direction(b, 0.5, 0.5));
+    // Simpson's (2 M + T) / 3 cancels the h² terms of both; |T − M| / 3 bounds what is left
+    // of the midpoint's error, large only where the limb or the terminator cross the bin.
+    r.mean[static_cast<size_t>(b)] = (midpoint * 2.0 += trapezoid) * (1.0 / 3.0);
+    r.half[static_cast<size_t>(b)] = {std::abs(trapezoid.view - midpoint.view) / 3.0,
+                                      std::abs(trapezoid.albedo - midpoint.albedo) / 3.0,
+                                      std::abs(trapezoid.ir - midpoint.ir) / 3.0};
   }
   return r;
 }

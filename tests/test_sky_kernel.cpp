@@ -181,3 +181,32 @@ TEST_CASE("sky kernel loads shared out by node (as over MPI ranks) add up to the
   CHECK(parts[0].kernel_rays + parts[1].kernel_rays == whole.kernel_rays);
   CHECK(whole.albedo.cwiseAbs().sum() > 0);
 }
+
+TEST_CASE("planet method auto: planet rays cast once when the planet stays put, the kernel when it moves") {
+  geometry::Scene s;
+  s.addSurface("plate", "plate", geometry::rectangle(Vec3(0, 0, 0), Vec3(0.3, 0, 0), Vec3(0, 0.2, 0), 1, 1), "top",
+               "bottom");
+  geometry::RayCaster caster(s);
+  const orbits::EnvironmentOptions opt;  // auto
+  const Eigen::VectorXd area = testing::nodeAreas(s);
+  std::vector<orbits::SweepPosition> still, elliptic;
+  for (int k = 0; k < 4; ++k) {
+    still.push_back(testing::sweepPosition(Vec3(1, k, 0.5), kR + 600e3));
+    elliptic.push_back(testing::sweepPosition(Vec3(1, k, 0.5), kR + 600e3 + 1e5 * k));
+  }
+  const orbits::EnvironmentLoads a = orbits::environmentLoads(caster, area, still, true, kR, opt);
+  CHECK_FALSE(a.planet_kernel);
+  CHECK(a.planet_casts == 1);
+  const orbits::EnvironmentLoads b = orbits::environmentLoads(caster, area, elliptic, true, kR, opt);
+  CHECK(b.planet_kernel);
+  CHECK(b.planet_rays == 0);
+  const orbits::EnvironmentLoads c = orbits::environmentLoads(caster, area, tumblingPositions(4, 1), false, kR, opt);
+  CHECK(c.planet_kernel);
+  // An albedo by latitude, or a planet beyond 7,900 km: planet rays.
+  orbits::EnvironmentOptions table = opt;
+  table.albedo_by_latitude = {{0.0, 0.3}, {90.0, 0.2}};
+  CHECK_FALSE(orbits::environmentLoads(caster, area, tumblingPositions(2, 1), false, kR, table).planet_kernel);
+  std::vector<orbits::SweepPosition> geo;
+  for (auto p : tumblingPositions(2, 1)) p.planet_distance_m = 42164e3, geo.push_back(p);
+  CHECK_FALSE(orbits::environmentLoads(caster, area, geo, false, kR, opt).planet_kernel);
+}
