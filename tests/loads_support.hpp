@@ -1,5 +1,6 @@
 #pragma once
 // Sweep positions made by hand and node areas for the environment-load tests.
+#include "geometry/scene/primitives.hpp"
 #include "geometry/scene/scene.hpp"
 #include "orbits/sweep.hpp"
 
@@ -27,6 +28,18 @@ inline Eigen::VectorXd nodeAreas(const geometry::Scene& s) {
   Eigen::VectorXd a(static_cast<Eigen::Index>(s.nodes().size()));
   for (size_t i = 0; i < s.nodes().size(); ++i) a[static_cast<Eigen::Index>(i)] = s.nodes()[i].area_m2;
   return a;
+}
+
+/// A two-sided 1 m plate (2 × 2 nodes) and a two-sided roof 1 m above it, offset: the
+/// shared scene of the tests that split loads as MPI ranks do.
+inline geometry::Scene plateUnderRoof() {
+  using geometry::Vec3;
+  geometry::Scene s;
+  s.addSurface("plate", "plate", geometry::rectangle(Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(1, 0, 0), 2, 2), "plate",
+               "plate.back");
+  s.addSurface("roof", "roof", geometry::rectangle(Vec3(0.5, -0.5, -1), Vec3(0, 2, 0), Vec3(2, 0, 0), 1, 1), "roof",
+               "roof.back");
+  return s;
 }
 
 }  // namespace radnet::testing

@@ -118,11 +118,7 @@ TEST_CASE("Earth IR and albedo of a nadir plate against closed forms") {
 }
 
 TEST_CASE("loads shared out by sun position and planet node (as over MPI ranks) add up to the whole, bit for bit") {
-  geometry::Scene s;
-  s.addSurface("plate", "plate", geometry::rectangle(Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(1, 0, 0), 2, 2), "plate",
-               "plate.back");
-  s.addSurface("roof", "roof", geometry::rectangle(Vec3(0.5, -0.5, -1), Vec3(0, 2, 0), Vec3(2, 0, 0), 1, 1), "roof",
-               "roof.back");
+  const geometry::Scene s = testing::plateUnderRoof();
   geometry::RayCaster caster(s);
   const double r = kR + 500e3;
   const std::vector<orbits::SweepPosition> ps = {position(Vec3(0.3, 0, -1), r), position(Vec3(1, 0.2, -1), r, 0.5),

@@ -158,11 +158,7 @@ TEST_CASE("sky kernel: a plate beside a wall and under an awning agrees with pla
 }
 
 TEST_CASE("sky kernel loads shared out by node (as over MPI ranks) add up to the whole, bit for bit") {
-  geometry::Scene s;
-  s.addSurface("plate", "plate", geometry::rectangle(Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(1, 0, 0), 2, 2), "plate",
-               "plate.back");
-  s.addSurface("roof", "roof", geometry::rectangle(Vec3(0.5, -0.5, -1), Vec3(0, 2, 0), Vec3(2, 0, 0), 1, 1), "roof",
-               "roof.back");
+  const geometry::Scene s = testing::plateUnderRoof();
   geometry::RayCaster caster(s);
   const auto ps = tumblingPositions(6, 9);
   const orbits::EnvironmentOptions opt;

@@ -64,6 +64,21 @@ orbits::EnvironmentLoads scaledLoads(const SweepInputs& in, int k) {
 
 // Sweeps and loads each orbit case (an epoch × beta combination) on its own, then joins
 // the positions of all cases into one (n × P) set of irradiances.
+// What the loads stage cast, for the progress log.
+void describeLoads(const orbits::EnvironmentLoads& loads, int positions, std::ostream& progress) {
+  progress << "radnet: loads: ";
+  if (loads.planet_kernel)
+    progress << "sky kernel of " << loads.kernel_rays << " rays (cast once for " << positions << " positions), "
+             << loads.planet_rays << " planet rays for " << loads.kernel_fallbacks
+             << " node-positions over the error target, ";
+  else
+    progress << loads.planet_rays << " planet rays (cast " << loads.planet_casts << " time(s) for " << positions
+             << " positions), ";
+  progress << loads.shadow_rays << " shadow rays";
+  if (loads.shadow_cell_m > 0) progress << " (grid spacing " << loads.shadow_cell_m * 1e3 << " mm)";
+  progress << "\n";
+}
+
 void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings, bool show_progress,
                   std::ostream& progress) {
   const OrbitSettings& o = in.orbit;
@@ -114,17 +129,7 @@ void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings,
              << " (planet IR): no rays cast\n";
     return;
   }
-  progress << "radnet: loads: ";
-  if (sw.irradiance.planet_kernel)
-    progress << "sky kernel of " << sw.irradiance.kernel_rays << " rays (cast once for " << P << " positions), "
-             << sw.irradiance.planet_rays << " planet rays for " << sw.irradiance.kernel_fallbacks
-             << " node-positions over the error target, ";
-  else
-    progress << sw.irradiance.planet_rays << " planet rays (cast " << sw.irradiance.planet_casts << " time(s) for " << P
-             << " positions), ";
-  progress << sw.irradiance.shadow_rays << " shadow rays";
-  if (sw.irradiance.shadow_cell_m > 0) progress << " (grid spacing " << sw.irradiance.shadow_cell_m * 1e3 << " mm)";
-  progress << "\n";
+  describeLoads(sw.irradiance, P, progress);
 }
 
 // Energy balance of the solar band: what arrives = what is absorbed + what leaves to
