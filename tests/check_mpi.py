@@ -152,6 +152,11 @@ def main():
     same_result(SOURCE / "cases/examples/cubesat-3u.yaml")
     same_result(SOURCE / "cases/examples/cubesat-hot-cold.yaml")
     same_result(SOURCE / "cases/analytic/perpendicular-squares.yaml")
+    # Sun-pointing: the planet loads from the sky kernel, its nodes shared out over 3 ranks.
+    sun = WORK / "cubesat-sun-pointing.yaml"
+    sun.write_text((SOURCE / "cases/examples/cubesat-3u.yaml").read_text().replace(
+        "attitude: {mode: nadir}", "attitude: {mode: sun}"))
+    same_result(sun, ranks=3)
     # Three ranks for two design cases: one rank solves none; 64 samples split unevenly.
     same_result(SOURCE / "cases/examples/cubesat-hot-cold.yaml", ranks=3)
     check_command()
