@@ -245,23 +245,24 @@ PlanetView planetView(const SweepPosition& pos, double re, const EnvironmentOpti
   return view;
 }
 
-// Whether the sky kernel serves this sweep: as the case's method asks, and not when the case pins planet rays, gives an
-// albedo by latitude (the kernel's radiance is per direction, not per place), or the
-// planet is so far that it covers little of a node's sky (rays into its cone do better).
+// Whether the sky kernel serves this sweep: as the case's method asks, and not when the
+// case pins planet rays, gives an albedo by latitude (the kernel's radiance is per
+// direction, not per place), or the planet is so far that it covers little of a node's
+// sky (rays into its cone do better; /report planet_load_method says which ran).
 bool kernelServes(const std::vector<SweepPosition>& positions, bool earth_fixed, double re,
                   const EnvironmentOptions& opt, double& smallest_cap_sin2) {
   smallest_cap_sin2 = 1.0;
+  if (positions.empty()) return false;
   bool planet_still = earth_fixed;  // and where it sits stays put (not on an elliptic orbit)
+  const Eigen::Vector3d first = positions.front().planet_body * positions.front().planet_distance_m;
   for (const SweepPosition& pos : positions) {
     smallest_cap_sin2 = std::min(smallest_cap_sin2, (re / pos.planet_distance_m) * (re / pos.planet_distance_m));
     const Eigen::Vector3d center = pos.planet_body * pos.planet_distance_m;
-    const Eigen::Vector3d first = positions.front().planet_body * positions.front().planet_distance_m;
     planet_still = planet_still && (center - first).norm() <= 1e-9 * center.norm();
   }
   using Method = EnvironmentOptions::PlanetMethod;
   const bool wanted = opt.planet_method == Method::SkyKernel || (opt.planet_method == Method::Auto && !planet_still);
-  return wanted && opt.planet_rays == 0 && opt.albedo_by_latitude.empty() && !positions.empty() &&
-         smallest_cap_sin2 >= kSkyKernelMinCapSin2;
+  return wanted && opt.planet_rays == 0 && opt.albedo_by_latitude.empty() && smallest_cap_sin2 >= kSkyKernelMinCapSin2;
 }
 
 // The sweep's planet loads from the sky kernel, cone rays only for the node-positions

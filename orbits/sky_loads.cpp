@@ -54,9 +54,12 @@ BinRadiance binRadiance(const std::vector<int>& used, const PlanetView& view) {
     PlanetChannels trapezoid;
     for (const size_t c : {c00, c00 + 1, c00 + corners, c00 + corners + 1}) trapezoid += at[c] * 0.25;
     const PlanetChannels midpoint = planetRadiance(view, SkyBins::direction(b, 0.5, 0.5));
-    // Simpson's (2 M + T) / 3 cancels the h² terms of both; |T − M| / 3 bounds what is left
-    // of the midpoint's error, large only where the limb or the terminator cross the bin.
-    r.mean[static_cast<size_t>(b)] = (midpoint * 2.0 += trapezoid) * (1.0 / 3.0);
+    // Simpson's (2 M + T) / 3 cancels the h² terms of both; |T − M| / 3 estimates the
+    // midpoint's error (more than Simpson's), large only where the limb or the terminator
+    // cross the bin.
+    PlanetChannels simpson = midpoint * 2.0;
+    simpson += trapezoid;
+    r.mean[static_cast<size_t>(b)] = simpson * (1.0 / 3.0);
     r.half[static_cast<size_t>(b)] = {std::abs(trapezoid.view - midpoint.view) / 3.0,
                                       std::abs(trapezoid.albedo - midpoint.albedo) / 3.0,
                                       std::abs(trapezoid.ir - midpoint.ir) / 3.0};

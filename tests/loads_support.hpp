@@ -6,6 +6,8 @@
 
 #include <Eigen/Dense>
 
+#include <string>
+
 namespace radnet::testing {
 
 /// One position: the planet's centre at distance r along `planet_body` (default +z), the
@@ -39,6 +41,19 @@ inline geometry::Scene plateUnderRoof() {
                "plate.back");
   s.addSurface("roof", "roof", geometry::rectangle(Vec3(0.5, -0.5, -1), Vec3(0, 2, 0), Vec3(2, 0, 0), 1, 1), "roof",
                "roof.back");
+  return s;
+}
+
+/// A closed box about the origin (0.2 × 0.2 × 0.3 m, each face split n × n), its six faces
+/// two-sided: outside nodes "out+x" …, inside nodes "in+x" ….
+inline geometry::Scene closedBox(int n) {
+  using geometry::Vec3;
+  geometry::Scene s;
+  const auto faces = geometry::boxFaces(Vec3(-0.1, -0.1, -0.15), Vec3(0.2, 0.2, 0.3), n);
+  for (int f = 0; f < 6; ++f) {
+    const std::string name = geometry::kBoxFaceNames[static_cast<size_t>(f)];
+    s.addSurface(name, name, faces[static_cast<size_t>(f)], "out" + name, "in" + name);
+  }
   return s;
 }
 

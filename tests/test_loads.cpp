@@ -57,12 +57,7 @@ TEST_CASE("direct solar: a closed box's inside gets exactly nothing at any Sun d
   // The loads' default method (exact clipping): a box with inside nodes, Sun directions
   // swept round two great circles, one 0.12° off a face axis (where grid rays slipped
   // through seams before).
-  geometry::Scene s;
-  const auto faces = geometry::boxFaces(Vec3(-0.1, -0.1, -0.15), Vec3(0.2, 0.2, 0.3), 4);
-  for (int f = 0; f < 6; ++f) {
-    const std::string name = geometry::kBoxFaceNames[static_cast<size_t>(f)];
-    s.addSurface(name, name, faces[static_cast<size_t>(f)], "out" + name, "in" + name);
-  }
+  const geometry::Scene s = testing::closedBox(4);
   geometry::RayCaster caster(s);
   orbits::EnvironmentOptions opt;
   opt.planet_rays = 1024;

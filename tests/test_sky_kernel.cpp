@@ -85,12 +85,7 @@ TEST_CASE("sky kernel: an unobstructed plate gets the closed-form rings, σ 0, a
 }
 
 TEST_CASE("sky kernel: inside a closed box the planet loads are exactly zero, outside the unobstructed face's") {
-  geometry::Scene s;
-  const auto faces = geometry::boxFaces(Vec3(-0.1, -0.1, -0.15), Vec3(0.2, 0.2, 0.3), 3);
-  for (int f = 0; f < 6; ++f) {
-    const std::string name = geometry::kBoxFaceNames[static_cast<size_t>(f)];
-    s.addSurface(name, name, faces[static_cast<size_t>(f)], "out" + name, "in" + name);
-  }
+  const geometry::Scene s = testing::closedBox(3);
   geometry::RayCaster caster(s);
   orbits::EnvironmentOptions opt;
   const auto ps = tumblingPositions(30, 5);

@@ -112,6 +112,9 @@ void parseEnvironment(const YamlDocument& doc, const YAML::Node& e, const orbits
                          "fixed in the body frame), sky_kernel (each node's sky cast once) or rays (planet rays at "
                          "every position the planet moves in the body frame)");
     env.planet_method = word == "auto" ? Method::Auto : word == "rays" ? Method::Rays : Method::SkyKernel;
+    if (env.planet_method == Method::SkyKernel && !env.albedo_by_latitude.empty())
+      throw doc.error(m, "environment: the sky kernel carries one albedo (its radiance is per direction, a latitude "
+                         "table per place); give planet_method: rays or auto with the albedo table, or one albedo");
     if (env.planet_method == Method::SkyKernel && e["planet_rays"])
       throw doc.error(m, "environment: planet_rays pins the planet rays per node, which the sky kernel does not cast; "
                          "give planet_method: rays with it, or leave planet_rays out");
