@@ -328,7 +328,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
   const YAML::Node& root = doc.root();
   doc.expectMap(root, "case",
                 {"name", "description", "materials", "geometry", "solver", "expect", "orbit", "attitude", "environment",
-                 "thermal", "optics", "cases", "uncertainty", "limits"});
+                 "thermal", "optics", "cases", "uncertainty", "limits", "articulation"});
   GeometryCase c;
   c.file = doc.file();
   c.yaml_text = doc.text();
@@ -361,6 +361,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
   parseSolverBlock(doc, c);
   warnSpecularSurfaces(c);  // against solver.accuracy
   parseDesignCases(doc, c);
+  parseArticulation(doc, c);  // turns fixed-angle parts before the nodes' areas are read
   Eigen::VectorXd area(c.scene.nodes().size());
   for (size_t i = 0; i < c.scene.nodes().size(); ++i) area[static_cast<Eigen::Index>(i)] = c.scene.nodes()[i].area_m2;
   std::optional<double> orbit_period_s;

@@ -2,6 +2,7 @@
 // The geometry form of a case (docs/case-files.md): materials, surfaces (primitives and
 // mesh files, each side naming a material), how to compute view factors, and optionally
 // an orbit and a thermal model.
+#include "cases/config/articulation.hpp"
 #include "cases/config/design_cases.hpp"
 #include "cases/config/expectation.hpp"
 #include "cases/config/orbit_settings.hpp"
@@ -110,6 +111,7 @@ struct GeometryCase {
   std::vector<TemperatureLimit> limits;
   std::optional<ThermalSettings> thermal;  ///< absent: no temperatures
   std::vector<ShellSpec> shells;
+  Articulation articulation;  ///< `articulation:` parts that turn (docs/case-files.md, "Moving parts")
   std::vector<Expectation> expectations;
   std::vector<std::string> warnings;  ///< accepted but suspicious input, printed when the run starts
   /// True when the cases have orbits (all of them or none): network and exchange factors only without.

@@ -1,5 +1,8 @@
 #include "cases/output/hdf5_layout.hpp"
+
 #include "cases/pipeline/optical_uncertainty.hpp"
+
+#include <algorithm>
 
 namespace radnet::cases {
 namespace {
@@ -126,6 +129,52 @@ void writeOpticalUncertainty(Hdf5Writer& h5, const GeometryCase& c, const Optica
   h5.writeStack("/uncertainty/case_sensitivity_absorptivity", u.case_sensitivity_absorptivity, "K");
   h5.writeStack("/uncertainty/case_sensitivity_emissivity", u.case_sensitivity_emissivity, "K");
   h5.attribute("/report", "optical_uncertainty_seconds", u.seconds);
+}
+
+void writeArticulation(Hdf5Writer& h5, const GeometryCase& c, const GeometryRunResult& r) {
+  if (!r.articulation) return;
+  const ArticulationResult& a = *r.articulation;
+  h5.writeStrings("/articulation/name", a.names);
+  const Eigen::Index m = static_cast<Eigen::Index>(a.names.size());
+  Eigen::MatrixXd angle;
+  if (r.sweep && r.sweep->articulation_angle.size()) {
+    angle = r.sweep->articulation_angle;
+  } else {  // fixed angles only: the same at every position
+    const Eigen::Index P = r.sweep ? static_cast<Eigen::Index>(r.sweep->positions.size()) : 1;
+    angle.resize(P, m);
+    for (Eigen::Index d = 0; d < m; ++d) angle.col(d).setConstant(c.articulation.fixed_drives[static_cast<size_t>(d)].second);
+  }
+  h5.writeMatrix("/articulation/angle", angle, "deg");
+  h5.attribute("/articulation", "meaning",
+               std::string("angle (P, drives): each drive's angle at each position, right-handed about its axis, "
+                           "0 the geometry as written; the configurations the positions were solved in (the "
+                           "turning drives' angles binned to their step) with their GR and vertices; /network/* is "
+                           "configuration 0, the geometry with the turning parts as written"));
+  if (a.vertices.empty()) return;
+  h5.writeIntegers("/articulation/configuration", integers(r.sweep->configuration), "1");
+  h5.writeMatrix("/articulation/configuration_angle", a.configuration_angle, "deg");
+  h5.writeIntegers("/articulation/update_rank", integers(a.update_rank), "1");
+  std::vector<Eigen::MatrixXd> gr, gr_space, vertices;
+  for (size_t k = 0; k < a.exchange.size(); ++k) {
+    gr.push_back(a.exchange[k].gr);
+    gr_space.push_back(a.exchange[k].gr_space.transpose());
+  }
+  const double entries = double(gr.size()) * double(gr.front().size());
+  constexpr double kMaxStackEntries = 2e7;  // 160 MB of GR stacks: beyond, rows are rebuilt from a run per angle
+  if (entries <= kMaxStackEntries) {
+    h5.writeStack("/articulation/radiative_exchange", gr, "m2");
+    h5.writeStack("/articulation/gr_space", gr_space, "m2");
+  } else {
+    h5.attribute("/articulation", "radiative_exchange",
+                 std::string("not written: ") + std::to_string(a.exchange.size()) + " configurations × n² is above " +
+                     std::to_string(static_cast<long long>(kMaxStackEntries)) + " entries");
+  }
+  h5.writeStack("/articulation/vertices", a.vertices, "m");
+  h5.attribute("/report", "articulation_configurations", static_cast<long long>(a.vertices.size()));
+  h5.attribute("/report", "articulation_recast_rows", static_cast<long long>(a.recast_rows));
+  h5.attribute("/report", "articulation_rays", static_cast<long long>(a.rays));
+  h5.attribute("/report", "articulation_largest_update_rank",
+               static_cast<long long>(*std::max_element(a.update_rank.begin(), a.update_rank.end())));
 }
 
 }  // namespace radnet::cases

@@ -44,6 +44,9 @@ void writeUncertainty(Hdf5Writer& h5, const GeometryCase& c, const GeometryRunRe
 void writeDesignCases(Hdf5Writer& h5, const GeometryCase& c, const GeometryRunResult& r);
 /// /uncertainty/temperature_percentiles, the samples and the sensitivities of `uncertainty:`.
 void writeOpticalUncertainty(Hdf5Writer& h5, const GeometryCase& c, const OpticalUncertaintyResult& u);
+/// /articulation: the drives' names and angles per position, the configurations' angles, GR
+/// and vertices, and their /report attributes (docs/hdf5-layout.md).
+void writeArticulation(Hdf5Writer& h5, const GeometryCase& c, const GeometryRunResult& r);
 /// /report time_<stage>_s attributes.
 void writeTimings(Hdf5Writer& h5, const StageTimings& timings);
 

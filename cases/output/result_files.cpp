@@ -67,6 +67,7 @@ void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, cons
   if (r.thermal) writeTemperatures(h5, *r.thermal, *c.thermal, r.sweep ? &*r.sweep : nullptr);
   writeUncertainty(h5, c, r, n);
   writeDesignCases(h5, c, r);
+  writeArticulation(h5, c, r);
   if (r.optical_uncertainty) writeOpticalUncertainty(h5, c, *r.optical_uncertainty);
   if (!c.limits.empty()) {
     std::vector<std::string> node;

@@ -122,7 +122,10 @@ void blockGrid(std::ostringstream& x, const XdmfPlan& plan, const XdmfBlock& b, 
   x << "      <Topology TopologyType=\"Triangle\" NumberOfElements=\"" << m << "\">\n";
   dataItem(x, h5, dir + "triangles", m, 3, true);
   x << "      </Topology>\n      <Geometry GeometryType=\"XYZ\">\n";
-  dataItem(x, h5, "/geometry/vertices", plan.vertices, 3, false);
+  const int turned = p >= 0 && static_cast<size_t>(p) < plan.position_configuration.size()
+                         ? plan.position_configuration[static_cast<size_t>(p)] : 0;
+  dataItem(x, h5, turned > 0 ? "/xdmf/vertices/configuration_" + std::to_string(turned) : "/geometry/vertices",
+           plan.vertices, 3, false);
   x << "      </Geometry>\n";
   auto attribute = [&](const std::string& name, const std::string& path, bool integer) {
     x << "      <Attribute Name=\"" << xml(name) << "\" AttributeType=\"Scalar\" Center=\"Cell\">\n";
@@ -192,6 +195,11 @@ XdmfPlan writeXdmfData(Hdf5Writer& h5, const geometry::Scene& scene, const Geome
       for (const XdmfSeries& s : plan.series)
         for (int p : s.positions) h5.writeVector(dir + f.key + "/" + positionName(p), spread(b, f.by_node, p), units);
     }
+  }
+  if (r.articulation && r.sweep && r.articulation->vertices.size() > 1) {  // the parts at each step's angle
+    plan.position_configuration = r.sweep->configuration;
+    for (size_t k = 1; k < r.articulation->vertices.size(); ++k)
+      h5.writeMatrix("/xdmf/vertices/configuration_" + std::to_string(k), r.articulation->vertices[k], "m");
   }
   for (XdmfField& f : plan.fields) f.by_node.resize(0, 0);  // the text needs names only
   std::vector<std::string> labels, files;

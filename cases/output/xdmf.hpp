@@ -50,6 +50,9 @@ struct XdmfPlan {
   std::vector<XdmfField> fields;  ///< values dropped (only names and kinds are kept)
   std::vector<XdmfSeries> series;
   std::string overview_file;      ///< <stem>.xmf when there are several series, else ""
+  /// Parts that turn: each position's configuration (its vertices /xdmf/vertices/configuration_<k>,
+  /// configuration 0 /geometry/vertices); empty: the one geometry throughout.
+  std::vector<int> position_configuration;
 };
 
 /// The blocks of a scene: front sides, back sides (reversed), inactive triangles; empty ones

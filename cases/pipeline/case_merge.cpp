@@ -1,5 +1,7 @@
 #include "cases/pipeline/case_merge.hpp"
 
+#include <array>
+
 #include <algorithm>
 #include <cmath>
 
@@ -36,6 +38,70 @@ void appendLoads(orbits::EnvironmentLoads& all, const orbits::EnvironmentLoads& 
   all.seconds += part.seconds;
 }
 
+namespace {
+
+constexpr std::array<Eigen::MatrixXd orbits::EnvironmentLoads::*, 7> kLoadMatrices = {
+    &orbits::EnvironmentLoads::direct,        &orbits::EnvironmentLoads::albedo,
+    &orbits::EnvironmentLoads::earth_ir,      &orbits::EnvironmentLoads::earth_view_factor,
+    &orbits::EnvironmentLoads::direct_stderr, &orbits::EnvironmentLoads::albedo_stderr,
+    &orbits::EnvironmentLoads::earth_ir_stderr};
+constexpr std::array<Eigen::MatrixXd SweepResult::*, 9> kBandMatrices = {
+    &SweepResult::absorbed_solar,  &SweepResult::absorbed_albedo,
+    &SweepResult::absorbed_earth_ir, &SweepResult::absorbed_total,
+    &SweepResult::exitance_solar,  &SweepResult::absorbed_stderr,
+    &SweepResult::absorbed_stderr_view_factors, &SweepResult::absorbed_stderr_loads,
+    &SweepResult::absorbed_stderr_truncation};
+
+void placeColumns(Eigen::MatrixXd& all, const Eigen::MatrixXd& part, const std::vector<int>& columns, Eigen::Index P) {
+  if (part.size() == 0) return;
+  if (all.cols() != P || all.rows() != part.rows()) all = Eigen::MatrixXd::Zero(part.rows(), P);
+  for (size_t j = 0; j < columns.size(); ++j) all.col(columns[j]) = part.col(static_cast<Eigen::Index>(j));
+}
+
+void joinMethod(std::string& joined, const std::string& method) {
+  if (joined.empty()) joined = method;
+  else if (!method.empty() && joined.find(method) == std::string::npos) joined += ", " + method;
+}
+
+}  // namespace
+
+void placeLoads(orbits::EnvironmentLoads& all, const orbits::EnvironmentLoads& part, const std::vector<int>& columns,
+                Eigen::Index positions) {
+  for (auto member : kLoadMatrices) placeColumns(all.*member, part.*member, columns, positions);
+  all.planet_casts += part.planet_casts;
+  all.planet_rays += part.planet_rays;
+  all.planet_kernel = all.planet_kernel || part.planet_kernel;
+  all.kernel_rays += part.kernel_rays;
+  all.kernel_fallbacks += part.kernel_fallbacks;
+  all.shadow_rays += part.shadow_rays;
+  all.shadow_cell_m = std::max(all.shadow_cell_m, part.shadow_cell_m);
+  all.seconds += part.seconds;
+}
+
+orbits::EnvironmentLoads loadColumns(const orbits::EnvironmentLoads& all, const std::vector<int>& columns) {
+  orbits::EnvironmentLoads out;
+  for (auto member : kLoadMatrices) {
+    const Eigen::MatrixXd& m = all.*member;
+    if (m.size() == 0) continue;
+    Eigen::MatrixXd& o = out.*member;
+    o.resize(m.rows(), static_cast<Eigen::Index>(columns.size()));
+    for (size_t j = 0; j < columns.size(); ++j) o.col(static_cast<Eigen::Index>(j)) = m.col(columns[j]);
+  }
+  return out;
+}
+
+void placeBands(SweepResult& all, const SweepResult& part, const std::vector<int>& columns) {
+  const Eigen::Index P = static_cast<Eigen::Index>(all.positions.size());
+  for (auto member : kBandMatrices) placeColumns(all.*member, part.*member, columns, P);
+  all.solar_residual = std::max(all.solar_residual, part.solar_residual);
+  all.ir_residual = std::max(all.ir_residual, part.ir_residual);
+  all.solar_refine_iterations = std::max(all.solar_refine_iterations, part.solar_refine_iterations);
+  all.ir_refine_iterations = std::max(all.ir_refine_iterations, part.ir_refine_iterations);
+  all.energy_balance_error = std::max(all.energy_balance_error, part.energy_balance_error);
+  joinMethod(all.solar_band_method, part.solar_band_method);
+  joinMethod(all.ir_band_method, part.ir_band_method);
+}
+
 void appendSweep(SweepResult& all, const SweepResult& part) {
   const int offset = static_cast<int>(all.positions.size());
   if (!all.case_start.empty()) all.case_start.pop_back();
@@ -50,6 +116,15 @@ void appendSweep(SweepResult& all, const SweepResult& part) {
                       &SweepResult::absorbed_stderr_view_factors, &SweepResult::absorbed_stderr_loads,
                       &SweepResult::absorbed_stderr_truncation})
     appendCols(all.*member, part.*member);
+  if (part.articulation_angle.size() && all.articulation_angle.size() == 0) {
+    all.articulation_angle = part.articulation_angle;
+    all.configuration = part.configuration;
+  } else if (part.articulation_angle.size()) {
+    Eigen::MatrixXd angles(all.articulation_angle.rows() + part.articulation_angle.rows(), part.articulation_angle.cols());
+    angles << all.articulation_angle, part.articulation_angle;
+    all.articulation_angle = std::move(angles);
+    all.configuration.insert(all.configuration.end(), part.configuration.begin(), part.configuration.end());
+  }
   all.solar_residual = std::max(all.solar_residual, part.solar_residual);
   all.ir_residual = std::max(all.ir_residual, part.ir_residual);
   all.solar_refine_iterations = std::max(all.solar_refine_iterations, part.solar_refine_iterations);

@@ -13,6 +13,17 @@ namespace radnet::cases {
 /// Appends the irradiances of `part` (later positions) to `all`, adding its ray counts.
 void appendLoads(orbits::EnvironmentLoads& all, const orbits::EnvironmentLoads& part);
 
+/// Columns of the irradiances: `part`'s column j becomes `all`'s column columns[j] (`all`
+/// sized n × P on first use), ray counts added. The positions of one configuration of
+/// turning parts placed among the others.
+void placeLoads(orbits::EnvironmentLoads& all, const orbits::EnvironmentLoads& part, const std::vector<int>& columns,
+                Eigen::Index positions);
+/// `all`'s irradiance columns `columns`, for a configuration's band solves.
+orbits::EnvironmentLoads loadColumns(const orbits::EnvironmentLoads& all, const std::vector<int>& columns);
+/// The band solves' results of `part` placed at `columns` of `all` (sized on first use);
+/// residuals and iterations the largest, methods joined.
+void placeBands(SweepResult& all, const SweepResult& part, const std::vector<int>& columns);
+
 /// Appends `part` (a later design case's sweep) to `all`.
 void appendSweep(SweepResult& all, const SweepResult& part);
 

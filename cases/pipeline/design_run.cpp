@@ -1,6 +1,7 @@
 #include "cases/pipeline/design_run.hpp"
 
 #include "cases/cluster/cluster.hpp"
+#include "cases/pipeline/articulated.hpp"
 #include "cases/pipeline/distributed.hpp"
 #include "cases/pipeline/orbit_sweep.hpp"
 #include "cases/pipeline/packing.hpp"
@@ -71,10 +72,12 @@ void sweepCase(const DesignContext& ctx, int k, GeometryRunResult& r, std::vecto
     bc = bandCores(networksOf(ctx, d.optics).radiative, set);
     r.cases.band_cores += 2;
   }
-  const LoadReuse reuse = findReuse(c, k, runs);
+  // Turning parts: the loads are each configuration's own (a case could reuse them only at
+  // the same angles); each position is solved in its configuration.
+  const LoadReuse reuse = ctx.articulated ? LoadReuse{} : findReuse(c, k, runs);
   const SetNetworks nets = networksOf(ctx, d.optics);
   run.sweep = runSweep({*d.orbit, ctx.caster, nets.radiative, *bc.solar, *bc.ir, ctx.solver, nets.view_factor_stderr,
-                        reuse.from, reuse.direct, reuse.albedo, reuse.earth_ir},
+                        reuse.from, reuse.direct, reuse.albedo, reuse.earth_ir, ctx.articulated, d.optics},
                        t, show_progress, progress);
 }
 
@@ -128,9 +131,12 @@ ThermalOutcome solveCase(const DesignContext& ctx, int k, const GeometryRunResul
                                   gr_truncation};
   ThermalOutcome out;
   std::ostringstream log;
+  std::vector<const solver::ExchangeFactors*> turned;  // parts that turn: each configuration's GR
+  if (ctx.articulated && run.sweep)
+    for (int j = 0; j < ctx.articulated->size(); ++j) turned.push_back(&ctx.articulated->exchange(j, d.optics, out.timings));
   try {
     out.thermal = runThermal(*run.settings, exchange, run.sweep ? &*run.sweep : nullptr, out.timings, log, &errors,
-                             temperatureOptics(ctx, set, nets.area, exchange, *run.settings));
+                             temperatureOptics(ctx, set, nets.area, exchange, *run.settings), turned);
   } catch (const NumericalError& e) {  // which design case failed, by name
     if (ctx.c.design_cases.size() < 2) throw;
     throw NumericalError("design case '" + d.name + "': " + e.what());

@@ -25,6 +25,8 @@ struct DesignContext {
   const Eigen::VectorXd& area;                     ///< of the radiative nodes, m²
   /// Per optical set, the networks of a set that changes ρs or τ (null: the case's).
   std::vector<std::shared_ptr<const struct OwnOpticsNetwork>> own_networks = {};
+  /// Parts that turn during the orbit: their configurations (null: a fixed geometry).
+  class Articulated* articulated = nullptr;
 };
 
 /// An optical set that changes specular reflectance or transmittance: its F̃ traced with its

@@ -2,11 +2,13 @@
 
 #include "cases/cluster/cluster.hpp"
 #include "cases/config/error_budget.hpp"
+#include "cases/pipeline/articulated.hpp"
 #include "cases/pipeline/design_run.hpp"
 #include "cases/pipeline/distributed.hpp"
 #include "cases/pipeline/optical_uncertainty.hpp"
 #include "cases/pipeline/progress.hpp"
 #include "cases/pipeline/radiative_network.hpp"
+#include "cases/pipeline/view_factor_rows.hpp"
 #include "geometry/exact/view_factors.hpp"
 #include "geometry/rays/specular.hpp"
 #include "geometry/rays/view_factors.hpp"
@@ -19,29 +21,6 @@
 
 namespace radnet::cases {
 namespace {
-
-// The rows to cast (empty: all) dealt round robin over the MPI ranks: this rank's share.
-std::vector<char> myRows(std::vector<char> rows, std::size_t n) {
-  if (!cluster::distributed()) return rows;
-  if (rows.empty()) rows.assign(n, 1);
-  long long dealt = 0;
-  for (char& row : rows)
-    if (row) row = cluster::owns(dealt++);
-  return rows;
-}
-
-// Casts the rows (empty: all); under MPI each rank its share, joined on every rank (a
-// row's rays depend only on the seed and the node: the same F as one process).
-geometry::ViewFactorResult castRays(const GeometryCase& c, const geometry::RayCaster& caster,
-                                   std::vector<char> rows, bool show_progress, std::ostream& progress) {
-  geometry::ViewFactorOptions opt = c.view_factors.monte_carlo;
-  const bool some = !rows.empty();
-  opt.cast_rows = myRows(std::move(rows), caster.scene().nodes().size());
-  if (show_progress) opt.progress = progressBar(progress, some ? "view factors (rays)" : "view factors", "nodes");
-  geometry::ViewFactorResult vf = geometry::computeViewFactors(caster, opt);
-  joinViewFactorRows(vf);
-  return vf;
-}
 
 // Per node, the largest reflectance of either band under any optical set, and under the
 // samples of `uncertainty:` to 4σ.
@@ -229,17 +208,6 @@ void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, c
              << (r.solar_correction ? "IR and solar bands apart" : "one traced network for both bands") << ")\n";
 }
 
-// The network from the corrected F, stored sparse or dense by the solver policy.
-std::unique_ptr<solver::Network> buildNetwork(const GeometryCase& c, const Eigen::VectorXd& area,
-                                              const geometry::ReciprocityCorrection& correction) {
-  const int n = static_cast<int>(area.size());
-  const auto tol = solver::policy::kCorrectedNetworkTolerances;
-  const Eigen::SparseMatrix<double> f = correction.view_factors;
-  if (solver::policy::storeSparse(correction.view_factors.nonZeros(), n))
-    return std::make_unique<solver::Network>(c.node_names, area, f, correction.blocked, tol);
-  return std::make_unique<solver::Network>(c.node_names, area, Eigen::MatrixXd(f), correction.blocked, tol);
-}
-
 // An optical set that changes ρs or τ: its own F̃ per band, traced from the diffuse F with
 // its optics (a set that redirects nothing keeps the diffuse F), on its own Ã = A κ
 // (docs/solver.md, "Optical sets that change ρs or τ").
@@ -348,8 +316,11 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
   for (int i = 0; i < n; ++i) area[i] = scene.nodes()[static_cast<size_t>(i)].area_m2;
   const bool own_optics = std::any_of(c.optical_sets.begin(), c.optical_sets.end(),
                                       [](const OpticalSet& set) { return set.own_specular; });
+  const bool turning = !c.articulation.drives.empty();
   DiffuseStage diffuse;
-  viewFactorStage(c, caster, area, r, show_progress, progress, own_optics ? &diffuse : nullptr);
+  viewFactorStage(c, caster, area, r, show_progress, progress, own_optics || turning ? &diffuse : nullptr);
+  std::optional<ArticulatedBase> turning_base;
+  if (turning) turning_base = turningBase(c, caster, area, diffuse.estimate, diffuse.rays, r, progress);
   StageTimer t_net(r.timings, Stage::Network);
   Eigen::VectorXd network_area = area;
   if (c.hasSpecular()) {  // the network's areas are A κ of the band (docs/solver.md)
@@ -374,8 +345,15 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
   r.radiative.exchange = exchangeFactors(r.radiative, c.emissivity, r.solver, r.timings);
   DesignContext ctx{c, caster, r.radiative, r.solver, r.view_factor_stderr, r.lost_view_factor_stderr, network_area};
   if (own_optics) ctx.own_networks = ownOpticsNetworks(c, caster, area, diffuse, r, progress);
+  std::unique_ptr<Articulated> articulated;
+  if (turning) {
+    articulated = std::make_unique<Articulated>(c, std::move(*turning_base), caster, r.radiative, r.view_factor_stderr,
+                                                r.lost_view_factor_stderr, r.solver);
+    ctx.articulated = articulated.get();
+  }
   std::vector<CaseRun> runs;
   runDesignCases(ctx, r, runs, show_progress, progress);
+  if (!c.articulation.empty()) r.articulation = articulationResult(c, articulated.get(), r.timings);
   suspiciousNodeWarnings(c, r, progress);
   if (c.optical_uncertainty) {
     StageTimer t_opt(r.timings, Stage::OpticalUncertainty);

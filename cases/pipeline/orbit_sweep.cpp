@@ -5,9 +5,11 @@
 #include "cases/pipeline/case_merge.hpp"
 #include "cases/pipeline/distributed.hpp"
 #include "cases/pipeline/progress.hpp"
+#include "cases/pipeline/articulated.hpp"
 #include "geometry/irradiance/sky_kernel.hpp"
 #include "solver/radiative/uncertainty.hpp"
 
+#include <map>
 #include <ostream>
 
 namespace radnet::cases {
@@ -79,12 +81,59 @@ void describeLoads(const orbits::EnvironmentLoads& loads, int positions, std::os
   progress << "\n";
 }
 
+// Orbit case `orbit`'s loads at `positions` on one caster (under MPI each rank its sun
+// positions and planet nodes, then joined).
+orbits::EnvironmentLoads loadPositions(const SweepInputs& in, const geometry::RayCaster& caster,
+                                       const orbits::Orbit& orbit, const std::vector<orbits::SweepPosition>& positions,
+                                       geometry::SkyKernel& sky_kernel, bool show_progress, std::ostream& progress) {
+  const OrbitSettings& o = in.orbit;
+  const Eigen::VectorXd& area = in.radiative.surfaceArea();  // irradiance per m² of the surfaces themselves
+  orbits::EnvironmentOptions env = o.environment;
+  env.solar_specular = in.radiative.solar_specular;
+  env.ir_specular = in.radiative.ir_specular;
+  env.sky_kernel_cache = &sky_kernel;
+  // Turning parts: a configuration holds a few positions, whose planet rays cost less than
+  // a whole sky kernel of its own.
+  if (in.articulated && env.planet_method == orbits::EnvironmentOptions::PlanetMethod::Auto)
+    env.planet_method = orbits::EnvironmentOptions::PlanetMethod::Rays;
+  if (show_progress) env.progress = progressBar(progress, "orbit loads", "positions");
+  if (cluster::distributed()) {
+    env.sun_positions = cluster::ownedMask(static_cast<long long>(positions.size()));
+    env.planet_nodes = cluster::ownedMask(area.size());
+  }
+  orbits::EnvironmentLoads loads = orbits::environmentLoads(caster, area, positions, orbits::earthFixedInBody(o.attitude),
+                                                            orbit.body().equatorial_radius_m, env);
+  joinLoads(loads);
+  return loads;
+}
+
+// The positions of one orbit case with turning parts: each configuration's positions loaded
+// on its own caster, placed back in order.
+orbits::EnvironmentLoads articulatedLoads(const SweepInputs& in, const orbits::Orbit& orbit,
+                                          const std::vector<orbits::SweepPosition>& positions,
+                                          const std::vector<int>& config, std::map<int, geometry::SkyKernel>& kernels,
+                                          std::ostream& progress) {
+  std::map<int, std::vector<int>> columns;
+  for (size_t p = 0; p < config.size(); ++p) columns[config[p]].push_back(static_cast<int>(p));
+  orbits::EnvironmentLoads loads;
+  for (const auto& [k, cols] : columns) {
+    std::vector<orbits::SweepPosition> some;
+    for (int p : cols) some.push_back(positions[static_cast<size_t>(p)]);
+    const orbits::EnvironmentLoads part =
+        loadPositions(in, *in.articulated->at(k).caster, orbit, some, kernels[k], false, progress);
+    placeLoads(loads, part, cols, static_cast<Eigen::Index>(positions.size()));
+  }
+  return loads;
+}
+
+// Sweeps and loads each orbit case (an epoch × beta combination) on its own, then joins
+// the positions of all cases into one (n × P) set of irradiances.
 void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings, bool show_progress,
                   std::ostream& progress) {
   const OrbitSettings& o = in.orbit;
-  const Eigen::VectorXd& area = in.radiative.surfaceArea();  // irradiance per m² of the surfaces themselves
   std::vector<orbits::EnvironmentLoads> parts;
   geometry::SkyKernel sky_kernel;  // one per geometry: every orbit case's planet loads
+  std::map<int, geometry::SkyKernel> configuration_kernels;  // turning parts: one per configuration
   for (size_t k = 0; k < o.cases.size(); ++k) {
     const orbits::Orbit& orbit = *o.cases[k].orbit;
     StageTimer t_orbit(timings, Stage::Orbit);
@@ -95,23 +144,23 @@ void sweepAndLoad(const SweepInputs& in, SweepResult& sw, StageTimings& timings,
     progress << "radnet: orbit " << k + 1 << "/" << o.cases.size() << " (" << o.description << ", " << o.cases[k].label
              << "), nodal period " << orbit.nodalPeriod() << " s, " << positions.size() << " positions (" << events
              << " eclipse entries/exits inserted)\n";
-    StageTimer t_loads(timings, Stage::EnvironmentLoads);
-    if (in.reuse) {
-      parts.push_back(scaledLoads(in, static_cast<int>(k)));
-    } else {
-      orbits::EnvironmentOptions env = o.environment;
-      env.solar_specular = in.radiative.solar_specular;
-      env.ir_specular = in.radiative.ir_specular;
-      env.sky_kernel_cache = &sky_kernel;
-      if (show_progress) env.progress = progressBar(progress, "orbit loads", "positions");
-      if (cluster::distributed()) {  // each rank its sun positions and planet nodes, then joined
-        env.sun_positions = cluster::ownedMask(static_cast<long long>(positions.size()));
-        env.planet_nodes = cluster::ownedMask(area.size());
-      }
-      parts.push_back(orbits::environmentLoads(in.caster, area, positions, orbits::earthFixedInBody(o.attitude),
-                                               orbit.body().equatorial_radius_m, env));
-      joinLoads(parts.back());
+    std::vector<int> config;
+    if (in.articulated) {
+      Eigen::MatrixXd angles;
+      config = in.articulated->configure(positions, angles, timings, progress);
+      Eigen::MatrixXd joined(sw.articulation_angle.rows() + angles.rows(), angles.cols());
+      if (sw.articulation_angle.rows()) joined.topRows(sw.articulation_angle.rows()) = sw.articulation_angle;
+      joined.bottomRows(angles.rows()) = angles;
+      sw.articulation_angle = std::move(joined);
+      sw.configuration.insert(sw.configuration.end(), config.begin(), config.end());
     }
+    StageTimer t_loads(timings, Stage::EnvironmentLoads);
+    if (in.reuse)
+      parts.push_back(scaledLoads(in, static_cast<int>(k)));
+    else if (in.articulated)
+      parts.push_back(articulatedLoads(in, orbit, positions, config, configuration_kernels, progress));
+    else
+      parts.push_back(loadPositions(in, in.caster, orbit, positions, sky_kernel, show_progress, progress));
     sw.case_start.push_back(static_cast<int>(sw.positions.size()));
     sw.case_labels.push_back(o.cases[k].label);
     sw.central_body = orbit.body().name;
@@ -178,11 +227,9 @@ void absorbedUncertainty(const SweepInputs& in, const solver::LowRankBandSolver&
                            .matrix();
 }
 
-}  // namespace
-
-SweepResult runSweep(const SweepInputs& in, StageTimings& timings, bool show_progress, std::ostream& progress) {
-  SweepResult sw;
-  sweepAndLoad(in, sw, timings, show_progress, progress);
+// Both bands' solves of the sweep's irradiances on the inputs' network and cores, and the
+// absorbed power's uncertainty.
+void solveBands(const SweepInputs& in, SweepResult& sw, StageTimings& timings) {
   const int P = static_cast<int>(sw.positions.size());
   const solver::Network& net = *in.radiative.network;
   const int n = net.size();
@@ -217,6 +264,32 @@ SweepResult runSweep(const SweepInputs& in, StageTimings& timings, bool show_pro
   absorbedUncertainty(in, solar, ir, solar_band, ir_band, sw);
   // The network's solar radiosity is M̃ = J / κ: report the surfaces' own diffuse exitance J.
   if (in.radiative.kappa_solar.size()) sw.exitance_solar = in.radiative.kappa_solar.asDiagonal() * sw.exitance_solar;
+}
+
+// Turning parts: each configuration's positions solved on its own network and cores.
+void solveArticulatedBands(const SweepInputs& in, SweepResult& sw, StageTimings& timings) {
+  std::map<int, std::vector<int>> columns;
+  for (size_t p = 0; p < sw.configuration.size(); ++p) columns[sw.configuration[p]].push_back(static_cast<int>(p));
+  for (const auto& [k, cols] : columns) {
+    const Configuration& conf = in.articulated->at(k);
+    const BandCores& cores = in.articulated->cores(k, in.optics, timings);
+    const SweepInputs at{in.orbit, *conf.caster, *conf.radiative, *cores.solar, *cores.ir, in.solver,
+                         conf.view_factor_stderr};
+    SweepResult part;
+    for (int p : cols) part.positions.push_back(sw.positions[static_cast<size_t>(p)]);
+    part.irradiance = loadColumns(sw.irradiance, cols);
+    solveBands(at, part, timings);
+    placeBands(sw, part, cols);
+  }
+}
+
+}  // namespace
+
+SweepResult runSweep(const SweepInputs& in, StageTimings& timings, bool show_progress, std::ostream& progress) {
+  SweepResult sw;
+  sweepAndLoad(in, sw, timings, show_progress, progress);
+  if (in.articulated) solveArticulatedBands(in, sw, timings);
+  else solveBands(in, sw, timings);
   return sw;
 }
 

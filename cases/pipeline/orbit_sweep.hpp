@@ -24,6 +24,10 @@ struct SweepInputs {
   /// multiplied by these ratios, instead of casting the rays again.
   const SweepResult* reuse = nullptr;
   double direct_ratio = 1.0, albedo_ratio = 1.0, earth_ir_ratio = 1.0;
+  /// Parts that turn during the orbit: each position is loaded and solved in its own
+  /// configuration (caster, network, cores of optical set `optics`); null: a fixed geometry.
+  class Articulated* articulated = nullptr;
+  int optics = 0;
 };
 
 /// @throws NumericalError when a band solve fails

@@ -82,6 +82,10 @@ struct SweepResult {
   /// errors (both bands, taken as fully correlated), the loads' sampling, the truncation.
   Eigen::MatrixXd absorbed_stderr, absorbed_stderr_view_factors, absorbed_stderr_loads, absorbed_stderr_truncation;
   UncertaintySummary uncertainty;
+  /// With turning parts: every drive's angle at each position (P × drives), deg, and the
+  /// configuration each position was solved in (P); empty otherwise.
+  Eigen::MatrixXd articulation_angle;
+  std::vector<int> configuration;
   int caseCount() const { return static_cast<int>(case_start.size()) - 1; }
 };
 
@@ -174,6 +178,17 @@ struct OpticalUncertaintyResult {
   double seconds = 0.0;         ///< sampling and sensitivities, s
 };
 
+/// Parts that turn during the orbit: what the configurations were.
+struct ArticulationResult {
+  std::vector<std::string> names;     ///< every drive: the moving ones, then the fixed ones
+  Eigen::MatrixXd configuration_angle;  ///< (C × moving drives), deg: each configuration's angles
+  std::vector<Eigen::MatrixXd> vertices;  ///< per configuration, the scene's vertices (nv×3), m
+  std::vector<solver::ExchangeFactors> exchange;  ///< per configuration, GR of the base optics
+  std::vector<int> update_rank;       ///< per configuration, the rank of its update of the pairs
+  std::int64_t rays = 0;              ///< rays recast over all configurations
+  int recast_rows = 0;                ///< rows recast in each configuration
+};
+
 /// A geometry-form run.
 struct GeometryRunResult {
   Eigen::SparseMatrix<double, Eigen::RowMajor> raw_view_factors;  ///< before the correction, –
@@ -195,6 +210,7 @@ struct GeometryRunResult {
   std::optional<ThermalSolution> thermal;  ///< P positions (1 without an orbit), with `thermal:`
   DesignCasesResult cases;
   std::optional<OpticalUncertaintyResult> optical_uncertainty;
+  std::optional<ArticulationResult> articulation;  ///< with parts that turn during the orbit
   StageTimings timings;
 };
 

@@ -17,6 +17,7 @@ std::string_view stageName(Stage stage) {
     case Stage::ViewFactors: return "view_factors";
     case Stage::Network: return "network";
     case Stage::Eigendecomposition: return "eigendecomposition";
+    case Stage::Articulation: return "articulation";
     case Stage::BandSolves: return "band_solves";
     case Stage::ExchangeFactors: return "exchange_factors";
     case Stage::Orbit: return "orbit";

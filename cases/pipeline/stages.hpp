@@ -13,6 +13,7 @@ enum class Stage {
   ViewFactors,         ///< ray casting or contour integration, and the reciprocity correction
   Network,             ///< validating the network and forming G
   Eigendecomposition,  ///< the one decomposition of G
+  Articulation,        ///< turning parts: each configuration's rows of F, its network and its update of the pairs
   BandSolves,          ///< every band solve of the run (all positions at once)
   ExchangeFactors,     ///< GR and GR to space
   Orbit,               ///< propagating the orbit(s) and finding eclipse events

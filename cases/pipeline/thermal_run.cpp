@@ -16,9 +16,14 @@ namespace {
 
 // The forcing of orbit case k: its positions' loads and sunlit fractions, repeating over the
 // case's sweep, dissipation tables over its orbit period.
-solver::ThermalForcing caseForcing(const SweepResult& sw, const Eigen::MatrixXd& q_env, int k, bool optics) {
+solver::ThermalForcing caseForcing(const SweepResult& sw, const Eigen::MatrixXd& q_env, int k, bool optics,
+                                   const std::shared_ptr<const std::vector<solver::ExchangeUpdate>>& turned) {
   const int begin = sw.case_start[static_cast<size_t>(k)], end = sw.case_start[static_cast<size_t>(k) + 1];
   solver::ThermalForcing f;
+  if (turned) {  // parts that turn: each position's arrangement
+    f.exchange_states = turned;
+    f.exchange_state.assign(sw.configuration.begin() + begin, sw.configuration.begin() + end);
+  }
   for (int p = begin; p < end; ++p) {
     f.times_s.push_back(sw.positions[static_cast<size_t>(p)].t_s);
     f.sunlit_fraction.push_back(sw.positions[static_cast<size_t>(p)].sunlit_fraction);
@@ -53,7 +58,8 @@ std::string failureWhere(const ThermalSettings& ts, const SweepResult& sw, int k
 // One transient per orbit case, each periodic over its own swept orbit(s); or one steady
 // state per position. Each case's heater duty is kept.
 solver::ThermalResult solvePerCase(const ThermalSettings& ts, const solver::ThermalNetwork& net, const SweepResult& sw,
-                                   const Eigen::MatrixXd& q_env, Eigen::MatrixXd& case_duty) {
+                                   const Eigen::MatrixXd& q_env, Eigen::MatrixXd& case_duty,
+                                   const std::shared_ptr<const std::vector<solver::ExchangeUpdate>>& turned) {
   const Eigen::Index n = net.size(), P = q_env.cols(), H = static_cast<Eigen::Index>(net.heaters.size());
   solver::ThermalResult result;
   result.temperature.resize(n, P);
@@ -63,7 +69,7 @@ solver::ThermalResult solvePerCase(const ThermalSettings& ts, const solver::Ther
   result.heater_power.resize(H, P);
   case_duty.resize(sw.caseCount(), H);
   for (int k = 0; k < sw.caseCount(); ++k) {
-    const solver::ThermalForcing f = caseForcing(sw, q_env, k, net.optics != nullptr);
+    const solver::ThermalForcing f = caseForcing(sw, q_env, k, net.optics != nullptr, turned);
     const solver::ThermalResult part =
         ts.periodic ? solver::periodicTransient(net, f, ts.initial_temperature, *ts.periodic, ts.options)
         : ts.transient_orbits ? solver::transient(net, f, *ts.transient_orbits, ts.initial_temperature, ts.options)
@@ -224,9 +230,9 @@ solver::ThermalNetwork thermalNetwork(const ThermalSettings& ts, const solver::E
 }
 
 HeatBalance heatBalance(const solver::ThermalNetwork& net, const solver::ThermalResult& solution,
-                        const Eigen::MatrixXd& q_env) {
+                        const Eigen::MatrixXd& q_env, const std::vector<const solver::ExchangeUpdate*>& exchange_per_position) {
   HeatBalance b;
-  b.flows = solver::heatFlows(net, solution, q_env);
+  b.flows = solver::heatFlows(net, solution, q_env, exchange_per_position);
   const solver::HeatFlows& f = b.flows;
   const std::array<const Eigen::MatrixXd*, 8> terms = {&q_env,         &f.emitted, &f.radiative, &f.conducted,
                                                        &f.dissipation, &f.heater,  &f.stored,    &f.boundary};
@@ -286,8 +292,16 @@ void useOwnOptics(const solver::TemperatureOptics& optics, ThermalSolution& out,
 
 ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFactors& exchange, const SweepResult* sweep,
                            StageTimings& timings, std::ostream& progress, const ThermalErrorInputs* errors,
-                           std::shared_ptr<const solver::TemperatureOptics> optics) {
+                           std::shared_ptr<const solver::TemperatureOptics> optics,
+                           const std::vector<const solver::ExchangeFactors*>& turned) {
   for (const std::string& w : ts.warnings) progress << "radnet: warning: " << w << "\n";
+  std::shared_ptr<std::vector<solver::ExchangeUpdate>> states;
+  std::vector<const solver::ExchangeUpdate*> per_position;
+  if (!turned.empty() && sweep) {
+    states = std::make_shared<std::vector<solver::ExchangeUpdate>>();
+    for (const solver::ExchangeFactors* ex : turned) states->push_back(thermalExchange(ts, *ex));
+    for (int k : sweep->configuration) per_position.push_back(&(*states)[static_cast<size_t>(k)]);
+  }
   solver::ThermalNetwork net = thermalNetwork(ts, exchange);
   net.optics = std::move(optics);
   checkDetermined(ts, net);
@@ -303,7 +317,7 @@ ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFact
     q_env = Eigen::MatrixXd::Zero(ts.nodeCount(), sweep->absorbed_total.cols());
     q_env.topRows(ts.radiative_nodes) = sweep->absorbed_total;
     for (const auto& p : sweep->positions) out.times_s.push_back(p.t_s);
-    out.solve = solvePerCase(ts, net, *sweep, q_env, out.case_heater_duty);
+    out.solve = solvePerCase(ts, net, *sweep, q_env, out.case_heater_duty, states);
   } else {
     out.solve = solveWithoutOrbit(ts, net, out.times_s);
     q_env = Eigen::MatrixXd::Zero(ts.nodeCount(), static_cast<Eigen::Index>(out.times_s.size()));
@@ -319,7 +333,7 @@ ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFact
   }
   if (result.notOneOrbitPeriodic()) progress << "radnet: warning: temperatures: " << result.message << "\n";
   if (net.optics) useOwnOptics(*net.optics, out, q_env);
-  out.heat = heatBalance(net, result, q_env);
+  out.heat = heatBalance(net, result, q_env, per_position);
   warnImplausibleTemperatures(out, progress);
   if (sweep && errors) {
     StageTimer t_unc(timings, Stage::Uncertainty);

@@ -33,14 +33,17 @@ struct ThermalErrorInputs {
 /// Temperatures (n×P; P = 1 without a sweep), K, with the sweep's absorbed loads, and the
 /// heat flows of every node; with a sweep and `errors`, their standard uncertainty too. With
 /// `optics`, the nodes' ε(T) and α(T) are followed (GR re-formed on the one eigendecomposition).
+/// With `turned` (parts that turn), position p is solved with GR turned[sweep->configuration[p]].
 /// @throws NumericalError when the heat balance does not converge
 ThermalSolution runThermal(const ThermalSettings& settings, const solver::ExchangeFactors& exchange,
                            const SweepResult* sweep, StageTimings& timings, std::ostream& progress,
                            const ThermalErrorInputs* errors = nullptr,
-                           std::shared_ptr<const solver::TemperatureOptics> optics = nullptr);
+                           std::shared_ptr<const solver::TemperatureOptics> optics = nullptr,
+                           const std::vector<const solver::ExchangeFactors*>& turned = {});
 
 /// The heat flows of a solution and their imbalance; q_env (n×P, W) the absorbed loads.
 HeatBalance heatBalance(const solver::ThermalNetwork& net, const solver::ThermalResult& solution,
-                        const Eigen::MatrixXd& q_env);
+                        const Eigen::MatrixXd& q_env,
+                        const std::vector<const solver::ExchangeUpdate*>& exchange_per_position = {});
 
 }  // namespace radnet::cases

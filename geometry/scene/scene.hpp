@@ -133,6 +133,12 @@ class Scene {
   /// @throws GeometryError when a moved triangle degenerates or flips
   void moveVertices(const std::vector<std::pair<int, Vec3>>& moves);
 
+  /// Turns surfaces rigidly (an articulated part: docs/geometry.md, "Moving parts"): their
+  /// vertices, facet normals, file normals and exact shapes rotate by `angle_rad`,
+  /// right-handed about the line through `point` (m) along the unit `axis`. Areas keep.
+  /// @param surfaces  indices into surfaceNames()
+  void rotateSurfaces(const std::vector<int>& surfaces, const Vec3& point, const Vec3& axis, double angle_rad);
+
  private:
   int nodeFor(const std::string& name, int side, const std::string& label);
   /// Adds face f (its surface set) with vertices of its own: one CGAL refused to join.

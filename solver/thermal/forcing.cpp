@@ -41,6 +41,12 @@ Eigen::VectorXd ThermalForcing::sampleAt(const Eigen::MatrixXd& samples, double 
   return (1 - b.w) * samples.col(b.lo) + b.w * samples.col(b.hi);
 }
 
+int ThermalForcing::exchangeStateAt(double t) const {
+  if (!exchange_states || exchange_state.empty()) return -1;
+  const Bracket b = bracket(times_s, load_period_s, t);
+  return exchange_state[static_cast<size_t>(b.w < 0.5 ? b.lo : b.hi)];
+}
+
 double ThermalForcing::sunlitAt(double t) const {
   if (sunlit_fraction.empty()) return 1.0;
   const Bracket b = bracket(times_s, load_period_s, t);
@@ -49,6 +55,20 @@ double ThermalForcing::sunlitAt(double t) const {
 
 namespace detail {
 
+void checkExchangeStates(const ThermalNetwork& net, const ThermalForcing& f) {
+  if (!f.exchange_states) return;
+  const auto& states = *f.exchange_states;
+  if (f.exchange_state.size() != f.times_s.size())
+    throw std::invalid_argument("thermal forcing: one exchange state per sample");
+  for (int k : f.exchange_state)
+    if (k < 0 || static_cast<size_t>(k) >= states.size())
+      throw std::invalid_argument("thermal forcing: an exchange state index out of range");
+  for (const ExchangeUpdate& u : states)
+    if (u.gr.rows() != net.size() || u.gr.cols() != net.size() || u.gr_space.size() != net.size() ||
+        !u.gr.allFinite() || !u.gr_space.allFinite())
+      throw std::invalid_argument("thermal forcing: an exchange state's GR does not fit the network");
+}
+
 void checkTransientInputs(const ThermalNetwork& net, const ThermalForcing& f, const Eigen::VectorXd& initial,
                  const ThermalOptions& opt) {
   net.validate();
@@ -56,6 +76,7 @@ void checkTransientInputs(const ThermalNetwork& net, const ThermalForcing& f, co
   if (P == 0 || static_cast<Eigen::Index>(P) != f.q_env.cols() || f.q_env.rows() != net.size() ||
       !(f.sunlit_fraction.empty() || f.sunlit_fraction.size() == P))
     throw std::invalid_argument("transient: one load column and sunlit fraction per time");
+  checkExchangeStates(net, f);
   if (!(f.load_period_s >= 0 && opt.max_step_s > 0)) throw std::invalid_argument("transient: step must be > 0");
   if (f.load_period_s > 0 && !(f.times_s.back() <= f.load_period_s))
     throw std::invalid_argument("transient: sample times must lie within one load period");

@@ -13,7 +13,8 @@ Eigen::VectorXd heatBalance(const ThermalNetwork& net, const Eigen::VectorXd& t,
   return netHeat(net, t, q_env + net.dissipation);
 }
 
-HeatFlows heatFlows(const ThermalNetwork& net, const ThermalResult& solution, const Eigen::MatrixXd& q_env) {
+HeatFlows heatFlows(const ThermalNetwork& net, const ThermalResult& solution, const Eigen::MatrixXd& q_env,
+                    const std::vector<const ExchangeUpdate*>& exchange_per_position) {
   using units::kStefanBoltzmann;
   const Eigen::MatrixXd& t = solution.temperature;
   const Eigen::Index n = t.rows(), P = t.cols(), H = static_cast<Eigen::Index>(net.heaters.size());
@@ -30,7 +31,15 @@ HeatFlows heatFlows(const ThermalNetwork& net, const ThermalResult& solution, co
   const bool per_position = net.optics && solution.emissivity.cols() == P;
   ExchangeUpdate gr{net.gr, net.gr_space};
   Eigen::VectorXd gr_emissivity, gr_row = net.gr.rowwise().sum();
+  const ExchangeUpdate* turned = nullptr;
   for (Eigen::Index p = 0; p < P; ++p) {
+    const ExchangeUpdate* at = static_cast<Eigen::Index>(exchange_per_position.size()) == P
+                                   ? exchange_per_position[static_cast<size_t>(p)] : nullptr;
+    if (at && at != turned) {  // this position's arrangement of turning parts
+      turned = at;
+      gr = *at;
+      gr_row = gr.gr.rowwise().sum();
+    }
     if (per_position && (gr_emissivity.size() == 0 || gr_emissivity != solution.emissivity.col(p))) {
       gr_emissivity = solution.emissivity.col(p);
       gr = net.optics->exchange(gr_emissivity);

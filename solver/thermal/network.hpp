@@ -76,6 +76,13 @@ struct TabledConductor {
 
 struct TemperatureOptics;  // solver/thermal/optics.hpp
 
+/// GR (n×n) and GR to space (n), m², of the whole thermal network: for an emissivity vector
+/// (optics that follow temperature) or for one arrangement of turning parts.
+struct ExchangeUpdate {
+  Eigen::MatrixXd gr;
+  Eigen::VectorXd gr_space;
+};
+
 struct ThermalNetwork {
   Eigen::MatrixXd gr;                      ///< radiative exchange factors GR (n×n), m²
   Eigen::VectorXd gr_space;                ///< GR to space, m²

@@ -50,6 +50,8 @@ NewtonOutcome solveImplicit(const ImplicitSystem& system, Eigen::VectorXd& t, Ei
 
 /// A transient's inputs: sizes, periods, steps, initial temperatures.
 /// @throws std::invalid_argument saying which is wrong
+/// @throws std::invalid_argument when the forcing's exchange states do not fit the network
+void checkExchangeStates(const ThermalNetwork& net, const ThermalForcing& f);
 void checkTransientInputs(const ThermalNetwork& net, const ThermalForcing& forcing, const Eigen::VectorXd& initial,
                           const ThermalOptions& opt);
 /// A converged result with a non-finite temperature becomes Status::NonFinite.

@@ -30,11 +30,6 @@ struct OpticalCurve {
   double start(double t_k) const { return warming.at(t_k); }
 };
 
-/// GR (n×n) and GR to space (n), m², of the whole thermal network for an emissivity vector.
-struct ExchangeUpdate {
-  Eigen::MatrixXd gr;
-  Eigen::VectorXd gr_space;
-};
 
 struct TemperatureOptics {
   std::vector<int> nodes;                 ///< the nodes with a curve (each once)

@@ -169,15 +169,18 @@ void recordOptics(const OpticsState& state, const Eigen::VectorXd& loads,
 }  // namespace
 
 ThermalResult steadyStates(const ThermalNetwork& net_in, const ThermalForcing& forcing, const ThermalOptions& opt) {
-  // Optics that follow temperature change GR: a copy of the network holds the current one.
-  ThermalNetwork with_optics = net_in.optics ? net_in : ThermalNetwork{};
-  const ThermalNetwork& net = net_in.optics ? with_optics : net_in;
+  // Optics that follow temperature, or parts that turn, change GR: a copy of the network holds
+  // the current one.
+  const bool changing = net_in.optics || forcing.exchange_states;
+  ThermalNetwork with_optics = changing ? net_in : ThermalNetwork{};
+  const ThermalNetwork& net = changing ? with_optics : net_in;
   net.validate();
   const Eigen::Index n = net.size(), P = forcing.q_env.cols();
   const Eigen::Index H = static_cast<Eigen::Index>(net.heaters.size());
   if (forcing.q_env.rows() != n || P == 0 || static_cast<Eigen::Index>(forcing.times_s.size()) != P ||
       !(forcing.sunlit_fraction.empty() || static_cast<Eigen::Index>(forcing.sunlit_fraction.size()) == P))
     throw std::invalid_argument("steady states: one load column, time and sunlit fraction per position");
+  detail::checkExchangeStates(net, forcing);
   ThermalResult res;
   res.temperature.resize(n, P);
   res.temperature_rate = res.rate_roundoff = Eigen::MatrixXd::Zero(n, P);
@@ -193,6 +196,12 @@ ThermalResult steadyStates(const ThermalNetwork& net_in, const ThermalForcing& f
     const double sunlit = forcing.sunlit_fraction.empty() ? 1.0 : forcing.sunlit_fraction[ps];
     res.dissipation.col(p) = dissipationAt(net, forcing.times_s[ps], sunlit, forcing.schedule_period_s);
     const Eigen::VectorXd q = forcing.q_env.col(p) + res.dissipation.col(p);
+    if (forcing.exchange_states) {  // this position's arrangement of the turning parts
+      const ExchangeUpdate& u = (*forcing.exchange_states)[static_cast<size_t>(forcing.exchange_state[ps])];
+      with_optics.gr = u.gr;
+      with_optics.gr_space = u.gr_space;
+      cache = detail::JacobianCache{};
+    }
     if (p == 0) t = startingGuess(net, q);
     if (p == 0 && net.optics) settled.start(with_optics, t);  // the warming branch at the first guess
     state = settled;

@@ -11,6 +11,7 @@
 #include <Eigen/Dense>
 
 #include <limits>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -37,6 +38,13 @@ struct ThermalForcing {
   /// The parts of q_env absorbed in the solar band (direct + albedo) and from the planet's IR
   /// (n×P, W), at the nominal optics; needed only when the network's optics follow temperature.
   Eigen::MatrixXd q_solar, q_ir;
+  /// Parts that turn (an articulated wing): sample p is solved with GR exchange_states[exchange_state[p]],
+  /// which holds from halfway after the previous sample to halfway before the next (a drive
+  /// steps between samples); empty: the network's own GR throughout.
+  std::shared_ptr<const std::vector<ExchangeUpdate>> exchange_states;
+  std::vector<int> exchange_state;
+  /// The state index at time t (the nearest sample, wrapping at load_period_s); −1 without states.
+  int exchangeStateAt(double t_s) const;
   /// Loads at time t (s): linear between samples, wrapping at load_period_s.
   Eigen::VectorXd loadAt(double t_s) const { return sampleAt(q_env, t_s); }
   /// Any (n×P) matrix of the samples at time t the same way; empty for an empty one.
@@ -103,7 +111,9 @@ struct HeatFlows {
 
 /// The heat flows of a solution: temperatures, rates, dissipations and heater powers from
 /// steadyStates or a transient, q_env (n×P, W) the absorbed environmental loads at the same times.
-HeatFlows heatFlows(const ThermalNetwork& net, const ThermalResult& solution, const Eigen::MatrixXd& q_env);
+/// @param exchange_per_position  parts that turn: each position's GR (null entries, or empty: the network's)
+HeatFlows heatFlows(const ThermalNetwork& net, const ThermalResult& solution, const Eigen::MatrixXd& q_env,
+                    const std::vector<const ExchangeUpdate*>& exchange_per_position = {});
 
 /// Steady state at every sample of `forcing` (each solve starts from the previous answer).
 /// Heaters: each supplies what holds its sensor at on_below (0 … its power); duty is the

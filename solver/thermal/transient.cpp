@@ -51,8 +51,8 @@ double nextStep(double h_prev, double max_step, double remaining) {
 class Integrator {
  public:
   Integrator(const ThermalNetwork& net, const ThermalForcing& f, const ThermalOptions& opt, ThermalResult& res)
-      : moving_(net.boundary_schedules.empty() && !net.optics ? ThermalNetwork{} : net),
-        net_(net.boundary_schedules.empty() && !net.optics ? net : moving_), f_(f), opt_(opt), res_(res) {
+      : moving_(fixedNetwork(net, f) ? ThermalNetwork{} : net), net_(fixedNetwork(net, f) ? net : moving_), f_(f),
+        opt_(opt), res_(res) {
     holdBoundaries(0.0);
   }
 
@@ -89,6 +89,22 @@ class Integrator {
   void holdBoundaries(double t) {
     for (const BoundarySchedule& b : moving_.boundary_schedules) moving_.fixed_temperature[b.node] = b.at(t);
   }
+  // Nothing in the network changes during the run: no held histories, no optics, no turning parts.
+  static bool fixedNetwork(const ThermalNetwork& net, const ThermalForcing& f) {
+    return net.boundary_schedules.empty() && !net.optics && !f.exchange_states;
+  }
+  // Turning parts: the GR of the arrangement at time t (ThermalForcing::exchangeStateAt).
+  void turnParts(double t) {
+    const int k = f_.exchangeStateAt(t);
+    if (k < 0 || k == exchange_state_) return;
+    const ExchangeUpdate& u = (*f_.exchange_states)[static_cast<size_t>(k)];
+    moving_.gr = u.gr;
+    moving_.gr_space = u.gr_space;
+    exchange_state_ = k;
+    cache_.gr_row_sum.resize(0);
+    cache_.valid = false;  // the kept LU was another arrangement's
+  }
+  int exchange_state_ = -1;
   ThermalNetwork moving_;
   const ThermalNetwork& net_;
   const ThermalForcing& f_;
@@ -112,6 +128,7 @@ Eigen::VectorXd Integrator::applied(const TransientState& s, double h, Eigen::Ve
 
 bool Integrator::step(const TransientState& s, double h, Eigen::VectorXd& t_new, Eigen::VectorXd& dissipation) {
   holdBoundaries(s.clock + h);
+  turnParts(s.clock + h);
   t_new = s.t_now + h * s.rate;  // the explicit prediction, when it stays physical
   if (!(t_new.array() > 0).all()) t_new = s.t_now;
   // A new GR: its row sums anew; the kept LU serves on while its chord steps converge.

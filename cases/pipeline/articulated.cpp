@@ -1,0 +1,216 @@
+#include "cases/pipeline/articulated.hpp"
+
+#include "cases/config/errors.hpp"
+#include "cases/pipeline/radiative_network.hpp"
+#include "cases/pipeline/view_factor_rows.hpp"
+#include "geometry/exact/view_factors.hpp"
+#include "geometry/scene/part_clearance.hpp"
+#include "geometry/scene/swept_volume.hpp"
+
+#include <algorithm>
+#include <iterator>
+
+#include <cmath>
+#include <ostream>
+
+namespace radnet::cases {
+namespace {
+
+constexpr double kRadPerDeg = 3.14159265358979323846 / 180.0;
+
+// Components of G(θ) − G(0) below this are dropped: the base decomposition's own truncation
+// (its largest dropped |λ|), or 1e-12 of its largest |λ| when it kept every pair, m².
+double updateFloor(const solver::EigenPairs& pairs) {
+  const double largest = pairs.rank() ? std::abs(pairs.values[0]) : 0.0;
+  return std::max(pairs.dropped_bound, 1e-12 * largest);
+}
+
+}  // namespace
+
+std::vector<char> turningRows(const GeometryCase& c) {
+  std::vector<char> rows(c.scene.nodes().size(), 0);
+  for (const Drive& d : c.articulation.drives) {
+    for (int i : d.nodes) rows[static_cast<size_t>(i)] = 1;
+    const std::vector<char> facing =
+        geometry::nodesFacing(c.scene, geometry::sweptCylinder(c.scene, d.surfaces, d.point, d.direction));
+    for (size_t i = 0; i < rows.size(); ++i) rows[i] = rows[i] || facing[i];
+  }
+  return rows;
+}
+
+ArticulatedBase articulatedBase(const GeometryCase& c, const geometry::RayCaster& caster,
+                                geometry::ViewFactorEstimate estimate, Eigen::VectorXd rays, std::ostream& progress) {
+  ArticulatedBase base;
+  base.rows = turningRows(c);
+  for (size_t i = 0; i < base.rows.size(); ++i)
+    if (base.rows[i]) base.changed.push_back(static_cast<int>(i));
+  const geometry::ViewFactorResult vf = castRays(c, caster, base.rows, false, progress);
+  for (int i : base.changed) rays[i] = double(vf.rays[static_cast<size_t>(i)]);
+  base.estimate = geometry::withSampledRows(estimate, vf, base.rows);
+  base.rays = std::move(rays);
+  progress << "radnet: articulation: " << base.changed.size() << " of " << base.rows.size()
+           << " rows can change as the parts turn (their own and those facing the cylinders they sweep): cast as "
+           << vf.total_rays << " rays in every configuration, the base included\n";
+  return base;
+}
+
+Articulated::Articulated(const GeometryCase& c, ArticulatedBase base, const geometry::RayCaster& base_caster,
+                         const RadiativeNetwork& base_radiative, const solver::SparseRowMatrix& base_stderr,
+                         const Eigen::VectorXd& base_lost_stderr, const solver::SolverSettings& settings)
+    : c_(c), base_(std::move(base)), settings_(settings), area_(base_radiative.network->area()) {
+  auto zero = std::make_unique<Configuration>();
+  zero->angles_deg.assign(c.articulation.drives.size(), 0.0);
+  zero->scene = &c.scene;
+  zero->caster = &base_caster;
+  zero->radiative = &base_radiative;
+  zero->view_factor_stderr = base_stderr;
+  zero->lost_view_factor_stderr = base_lost_stderr;
+  index_[std::vector<long long>(c.articulation.drives.size(), 0)] = 0;
+  configs_.push_back(std::move(zero));
+  for (const Drive& d : c.articulation.drives)
+    moving_surfaces_.insert(moving_surfaces_.end(), d.surfaces.begin(), d.surfaces.end());
+  written_meetings_ = geometry::meetingSurfaces(c.scene, moving_surfaces_);
+}
+
+void Articulated::warnCollisions(const Configuration& k, std::ostream& progress) const {
+  const std::vector<std::pair<int, int>> meet = geometry::meetingSurfaces(*k.scene, moving_surfaces_);
+  std::vector<std::pair<int, int>> fresh;
+  std::set_difference(meet.begin(), meet.end(), written_meetings_.begin(), written_meetings_.end(),
+                      std::back_inserter(fresh));
+  if (fresh.empty()) return;
+  const std::vector<std::string>& names = k.scene->surfaceNames();
+  progress << "radnet: warning: articulation: at";
+  for (size_t d = 0; d < k.angles_deg.size(); ++d)
+    progress << (d ? ", " : " ") << c_.articulation.drives[d].name << " = " << k.angles_deg[d] << "°";
+  progress << " the turning parts run into the spacecraft: '" << names[static_cast<size_t>(fresh[0].first)]
+           << "' meets '" << names[static_cast<size_t>(fresh[0].second)] << "'";
+  if (fresh.size() > 1) progress << " (and " << fresh.size() - 1 << " other pair(s))";
+  progress << "; the results there are of interpenetrating geometry (move the axis, or limit the angles)\n";
+}
+
+std::unique_ptr<Configuration> Articulated::make(const std::vector<double>& angles, std::ostream& progress) {
+  auto k = std::make_unique<Configuration>();
+  k->angles_deg = angles;
+  k->own_scene = std::make_unique<geometry::Scene>(c_.scene);
+  for (size_t d = 0; d < angles.size(); ++d) {
+    const Drive& drive = c_.articulation.drives[d];
+    k->own_scene->rotateSurfaces(drive.surfaces, drive.point, drive.direction, angles[d] * kRadPerDeg);
+  }
+  k->own_caster = std::make_unique<geometry::RayCaster>(*k->own_scene);
+  const geometry::ViewFactorResult vf = castRays(c_, *k->own_caster, base_.rows, false, progress);
+  rays_ += vf.total_rays;
+  const geometry::ViewFactorEstimate estimate = geometry::withSampledRows(base_.estimate, vf, base_.rows);
+  Eigen::VectorXd rays = base_.rays;
+  for (int i : base_.changed) rays[i] = double(vf.rays[static_cast<size_t>(i)]);
+  const geometry::ReciprocityCorrection correction = geometry::enforceReciprocity(area_, estimate, rays);
+  RadiativeNetwork& net = k->own_radiative;
+  net.network = buildNetwork(c_, area_, correction);
+  const solver::EigenPairs& pairs0 = configs_.front()->radiative->pairs;
+  const Eigen::SparseMatrix<double> change =
+      solver::conductanceChange(*configs_.front()->radiative->network, *net.network, base_.changed);
+  net.pairs = solver::updatedPairs(pairs0, change, updateFloor(pairs0), 1, &k->update);
+  k->view_factor_stderr = estimate.standard_error;
+  k->lost_view_factor_stderr =
+      (estimate.space_error.array().square() + estimate.blocked_error.array().square()).sqrt();
+  k->scene = k->own_scene.get();
+  k->caster = k->own_caster.get();
+  k->radiative = &k->own_radiative;
+  warnCollisions(*k, progress);
+  return k;
+}
+
+int Articulated::configurationOf(const std::vector<double>& angles, StageTimings& timings, std::ostream& progress) {
+  std::vector<long long> key;
+  for (double a : angles) key.push_back(std::llround(a * 1e6));
+  if (auto it = index_.find(key); it != index_.end()) return it->second;
+  StageTimer timer(timings, Stage::Articulation);
+  configs_.push_back(make(angles, progress));
+  index_[key] = size() - 1;
+  return size() - 1;
+}
+
+std::vector<int> Articulated::configure(const std::vector<orbits::SweepPosition>& positions, Eigen::MatrixXd& angles,
+                                        StageTimings& timings, std::ostream& progress) {
+  const Articulation& a = c_.articulation;
+  const Eigen::Index P = static_cast<Eigen::Index>(positions.size());
+  const Eigen::Index moving = static_cast<Eigen::Index>(a.drives.size());
+  angles.resize(P, moving + static_cast<Eigen::Index>(a.fixed_drives.size()));
+  for (Eigen::Index d = 0; d < moving; ++d) {
+    const std::vector<double> drive = a.drives[static_cast<size_t>(d)].angles(positions);
+    for (Eigen::Index p = 0; p < P; ++p) angles(p, d) = drive[static_cast<size_t>(p)];
+  }
+  for (size_t f = 0; f < a.fixed_drives.size(); ++f) angles.col(moving + static_cast<Eigen::Index>(f)).setConstant(a.fixed_drives[f].second);
+  std::vector<int> config(static_cast<size_t>(P));
+  const int before = size();
+  for (Eigen::Index p = 0; p < P; ++p) {
+    std::vector<double> at(static_cast<size_t>(moving));
+    for (Eigen::Index d = 0; d < moving; ++d) at[static_cast<size_t>(d)] = angles(p, d);
+    config[static_cast<size_t>(p)] = configurationOf(at, timings, progress);
+  }
+  if (size() > before)
+    progress << "radnet: articulation: " << size() - before << " new configuration(s) of the turning parts ("
+             << size() << " in all), each a rank-" << largestUpdateRank() << " (at most) update of the one "
+             << "decomposition\n";
+  return config;
+}
+
+int Articulated::largestUpdateRank() const {
+  int rank = 0;
+  for (const auto& k : configs_) rank = std::max(rank, k->update.update_rank);
+  return rank;
+}
+
+const BandCores& Articulated::cores(int k, int optics, StageTimings& timings) {
+  Configuration& conf = *configs_.at(static_cast<size_t>(k));
+  if (conf.cores.size() != c_.optical_sets.size()) conf.cores.resize(c_.optical_sets.size());
+  BandCores& bc = conf.cores[static_cast<size_t>(optics)];
+  if (!bc.solar) {
+    StageTimer timer(timings, Stage::BandSolves);
+    bc = bandCores(*conf.radiative, c_.optical_sets[static_cast<size_t>(optics)]);
+  }
+  return bc;
+}
+
+const solver::ExchangeFactors& Articulated::exchange(int k, int optics, StageTimings& timings) {
+  Configuration& conf = *configs_.at(static_cast<size_t>(k));
+  if (conf.exchange.size() != c_.optical_sets.size()) conf.exchange.resize(c_.optical_sets.size());
+  std::optional<solver::ExchangeFactors>& ex = conf.exchange[static_cast<size_t>(optics)];
+  if (!ex) {
+    if (optics == 0 && conf.radiative->exchange) ex = *conf.radiative->exchange;
+    else ex = exchangeFactors(*conf.radiative, c_.optical_sets[static_cast<size_t>(optics)].emissivity, settings_, timings);
+  }
+  return *ex;
+}
+
+ArticulatedBase turningBase(const GeometryCase& c, const geometry::RayCaster& caster, const Eigen::VectorXd& area,
+                            const geometry::ViewFactorEstimate& estimate, const Eigen::VectorXd& rays,
+                            GeometryRunResult& r, std::ostream& progress) {
+  StageTimer timer(r.timings, Stage::Articulation);
+  ArticulatedBase base = articulatedBase(c, caster, estimate, rays, progress);
+  r.correction = geometry::enforceReciprocity(area, base.estimate, base.rays);
+  r.raw_view_factors = base.estimate.view_factors;
+  r.view_factor_stderr = base.estimate.standard_error;
+  r.lost_view_factor_stderr =
+      (base.estimate.space_error.array().square() + base.estimate.blocked_error.array().square()).sqrt();
+  return base;
+}
+
+ArticulationResult articulationResult(const GeometryCase& c, Articulated* a, StageTimings& timings) {
+  ArticulationResult out;
+  out.names = c.articulation.names();
+  if (!a) return out;
+  out.configuration_angle.resize(a->size(), static_cast<Eigen::Index>(c.articulation.drives.size()));
+  for (int k = 0; k < a->size(); ++k) {
+    const Configuration& conf = a->at(k);
+    for (size_t d = 0; d < conf.angles_deg.size(); ++d)
+      out.configuration_angle(k, static_cast<Eigen::Index>(d)) = conf.angles_deg[d];
+    out.vertices.push_back(conf.scene->vertexMatrix());
+    out.exchange.push_back(a->exchange(k, 0, timings));
+    out.update_rank.push_back(conf.update.update_rank);
+  }
+  out.rays = a->rays();
+  out.recast_rows = a->recastRows();
+  return out;
+}
+
+}  // namespace radnet::cases

@@ -1,0 +1,26 @@
+#pragma once
+// View-factor rows and the network built from them, shared by the geometry run and its
+// articulated configurations (which recast the rows a turning part changes).
+#include "cases/config/geometry_case.hpp"
+#include "geometry/rays/ray_caster.hpp"
+#include "geometry/rays/view_factors.hpp"
+#include "geometry/reciprocity.hpp"
+#include "solver/radiative/network.hpp"
+
+#include <iosfwd>
+#include <memory>
+#include <vector>
+
+namespace radnet::cases {
+
+/// Casts the rows marked (empty: all) with the case's Monte Carlo settings; under MPI each
+/// rank its share, joined on every rank (a row's rays depend only on the seed and the node:
+/// the same F as one process).
+geometry::ViewFactorResult castRays(const GeometryCase& c, const geometry::RayCaster& caster, std::vector<char> rows,
+                                   bool show_progress, std::ostream& progress);
+
+/// The network from the corrected F, stored sparse or dense by the solver policy.
+std::unique_ptr<solver::Network> buildNetwork(const GeometryCase& c, const Eigen::VectorXd& area,
+                                              const geometry::ReciprocityCorrection& correction);
+
+}  // namespace radnet::cases

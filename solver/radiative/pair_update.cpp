@@ -1,0 +1,148 @@
+#include "solver/radiative/pair_update.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/QR>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+namespace radnet::solver {
+namespace {
+
+// The column j entries of G's row i (symmetric: column i), (j, G_ij), as one list.
+void rowEntries(const Network& net, int i, std::vector<std::pair<int, double>>& out) {
+  out.clear();
+  if (net.isSparse()) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(net.sparseConductance(), i); it; ++it)
+      out.emplace_back(static_cast<int>(it.row()), it.value());
+    return;
+  }
+  for (int j = 0; j < net.size(); ++j)
+    if (const double g = net.conductance(i, j); g != 0.0) out.emplace_back(j, g);
+}
+
+// Orthonormal basis of the columns of y (thin Householder Q).
+Eigen::MatrixXd orthonormal(const Eigen::MatrixXd& y) {
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr(y);
+  return qr.householderQ() * Eigen::MatrixXd::Identity(y.rows(), y.cols());
+}
+
+Eigen::MatrixXd gaussian(Eigen::Index rows, Eigen::Index cols, std::mt19937_64& rng) {
+  std::normal_distribution<double> normal;
+  Eigen::MatrixXd m(rows, cols);
+  for (Eigen::Index j = 0; j < cols; ++j)
+    for (Eigen::Index i = 0; i < rows; ++i) m(i, j) = normal(rng);
+  return m;
+}
+
+// Halko et al. 2011, eq. 4.3: ‖(I − Q Qᵀ) ΔG‖₂ ≤ 10 √(2/π) max_i ‖(I − Q Qᵀ) ΔG ω_i‖ with
+// probability 1 − 10⁻⁴ over 4 Gaussian ω_i (ΔG symmetric, Q Qᵀ ΔG Q Qᵀ its compression).
+constexpr int kResidualProbes = 4;
+double residualBound(const Eigen::SparseMatrix<double>& change, const Eigen::MatrixXd& q, const Eigen::MatrixXd& b,
+                     std::mt19937_64& rng) {
+  const Eigen::MatrixXd w = gaussian(change.rows(), kResidualProbes, rng);
+  const Eigen::MatrixXd e = change * w - q * (b * (q.transpose() * w));
+  return 10.0 * std::sqrt(2.0 / 3.14159265358979323846) * e.colwise().norm().maxCoeff();
+}
+
+}  // namespace
+
+Eigen::SparseMatrix<double> conductanceChange(const Network& base, const Network& moved, const std::vector<int>& changed) {
+  const int n = base.size();
+  std::vector<char> in_changed(static_cast<size_t>(n), 0);
+  for (int i : changed) in_changed[static_cast<size_t>(i)] = 1;
+  std::vector<Eigen::Triplet<double>> entries;
+  std::vector<std::pair<int, double>> before, after;
+  std::vector<double> row(static_cast<size_t>(n), 0.0);
+  for (int i : changed) {
+    rowEntries(base, i, before);
+    rowEntries(moved, i, after);
+    for (const auto& [j, g] : after) row[static_cast<size_t>(j)] += g;
+    for (const auto& [j, g] : before) row[static_cast<size_t>(j)] -= g;
+    const auto emit = [&](int j) {
+      double& d = row[static_cast<size_t>(j)];
+      if (d != 0.0) {
+        entries.emplace_back(i, j, d);
+        if (!in_changed[static_cast<size_t>(j)]) entries.emplace_back(j, i, d);  // the column, once
+      }
+      d = 0.0;
+    };
+    for (const auto& [j, g] : after) emit(j);
+    for (const auto& [j, g] : before) emit(j);
+  }
+  Eigen::SparseMatrix<double> change(n, n);
+  change.setFromTriplets(entries.begin(), entries.end());
+  return change;
+}
+
+EigenPairs updatedPairs(const EigenPairs& base, const Eigen::SparseMatrix<double>& change, double drop_below,
+                        std::uint64_t seed, PairUpdateStats* stats) {
+  const Eigen::Index n = change.rows();
+  std::vector<char> touched(static_cast<size_t>(n), 0);
+  for (int k = 0; k < change.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(change, k); it; ++it) touched[static_cast<size_t>(it.row())] = 1;
+  const Eigen::Index changed = std::count(touched.begin(), touched.end(), char(1));
+  // ΔG's range: 2 |changed| dimensions at most (its rows plus its columns).
+  const Eigen::Index max_rank = std::min<Eigen::Index>(n, 2 * changed);
+  std::mt19937_64 rng(seed);
+  Eigen::MatrixXd q, b;
+  double residual = 0.0;
+  for (Eigen::Index block = std::min<Eigen::Index>(max_rank, 16); block > 0;
+       block = std::min<Eigen::Index>(max_rank, 2 * block)) {
+    q = orthonormal(change * gaussian(n, block, rng));
+    q = orthonormal(change * q);  // one power step: a sharper basis where ΔG's values decay slowly
+    b = q.transpose() * (change * q);
+    b = 0.5 * (b + b.transpose());
+    residual = block < max_rank ? residualBound(change, q, b, rng) : 0.0;
+    if (residual <= drop_below || block == max_rank) break;
+  }
+  // ΔG ≈ Q B Qᵀ = U M Uᵀ, the components above drop_below kept.
+  Eigen::MatrixXd u(n, 0);
+  Eigen::VectorXd mu(0);
+  if (q.cols() > 0) {
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(b);
+    std::vector<Eigen::Index> keep;
+    for (Eigen::Index j = 0; j < b.rows(); ++j)
+      if (std::abs(eig.eigenvalues()[j]) > drop_below) keep.push_back(j);
+    u.resize(n, static_cast<Eigen::Index>(keep.size()));
+    mu.resize(u.cols());
+    for (Eigen::Index c = 0; c < u.cols(); ++c) {
+      u.col(c) = q * eig.eigenvectors().col(keep[static_cast<size_t>(c)]);
+      mu[c] = eig.eigenvalues()[keep[static_cast<size_t>(c)]];
+    }
+  }
+  EigenPairs out = base;
+  if (stats) *stats = PairUpdateStats{static_cast<int>(changed), static_cast<int>(u.cols()), residual};
+  out.dropped_bound = base.dropped_bound + 2.0 * drop_below;
+  if (u.cols() == 0) return out;
+  // Rayleigh–Ritz on span[V U]: [V U] = Q₂ R₂, G'_k = Q₂ (R₂ D R₂ᵀ) Q₂ᵀ, D = diag(Λ, M).
+  const Eigen::Index k = base.rank(), m = k + u.cols();
+  Eigen::MatrixXd w(n, m);
+  w << base.vectors, u;
+  Eigen::VectorXd d(m);
+  d << base.values, mu;
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr(w);
+  const Eigen::MatrixXd q2 = qr.householderQ() * Eigen::MatrixXd::Identity(n, m);
+  const Eigen::MatrixXd r2 = qr.matrixQR().topRows(m).triangularView<Eigen::Upper>();
+  Eigen::MatrixXd core = r2 * d.asDiagonal() * r2.transpose();
+  core = 0.5 * (core + core.transpose());
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(core);
+  std::vector<Eigen::Index> order(static_cast<size_t>(m));
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](Eigen::Index x, Eigen::Index y) {
+    return std::abs(eig.eigenvalues()[x]) > std::abs(eig.eigenvalues()[y]);
+  });
+  const double largest = std::abs(eig.eigenvalues()[order.front()]);
+  while (!order.empty() && !(std::abs(eig.eigenvalues()[order.back()]) > 1e-14 * largest)) order.pop_back();
+  out.values.resize(static_cast<Eigen::Index>(order.size()));
+  out.vectors.resize(n, out.values.size());
+  for (Eigen::Index c = 0; c < out.values.size(); ++c) {
+    out.values[c] = eig.eigenvalues()[order[static_cast<size_t>(c)]];
+    out.vectors.col(c) = q2 * eig.eigenvectors().col(order[static_cast<size_t>(c)]);
+  }
+  return out;
+}
+
+}  // namespace radnet::solver
