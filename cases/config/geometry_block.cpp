@@ -319,6 +319,12 @@ void parseSolverBlock(const YamlDocument& doc, GeometryCase& c) {
   if (root["solver"]) c.view_factors = parseViewFactorSettings(doc, root["solver"]["view_factors"]);
 }
 
+Eigen::VectorXd nodeAreas(const geometry::Scene& scene) {
+  Eigen::VectorXd area(static_cast<Eigen::Index>(scene.nodes().size()));
+  for (size_t i = 0; i < scene.nodes().size(); ++i) area[static_cast<Eigen::Index>(i)] = scene.nodes()[i].area_m2;
+  return area;
+}
+
 }  // namespace
 
 bool isGeometryCase(const YamlDocument& doc) { return doc.root().IsMap() && doc.root()["geometry"].IsDefined(); }
@@ -362,8 +368,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
   warnSpecularSurfaces(c);  // against solver.accuracy
   parseDesignCases(doc, c);
   parseArticulation(doc, c);  // turns fixed-angle parts before the nodes' areas are read
-  Eigen::VectorXd area(c.scene.nodes().size());
-  for (size_t i = 0; i < c.scene.nodes().size(); ++i) area[static_cast<Eigen::Index>(i)] = c.scene.nodes()[i].area_m2;
+  Eigen::VectorXd area = nodeAreas(c.scene);
   std::optional<double> orbit_period_s;
   for (const DesignCase& d : c.design_cases)
     if (d.orbit)

@@ -20,14 +20,8 @@ void appendCols(Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   a = std::move(joined);
 }
 
-}  // namespace
-
-void appendLoads(orbits::EnvironmentLoads& all, const orbits::EnvironmentLoads& part) {
-  for (auto member : {&orbits::EnvironmentLoads::direct, &orbits::EnvironmentLoads::albedo,
-                      &orbits::EnvironmentLoads::earth_ir, &orbits::EnvironmentLoads::earth_view_factor,
-                      &orbits::EnvironmentLoads::direct_stderr, &orbits::EnvironmentLoads::albedo_stderr,
-                      &orbits::EnvironmentLoads::earth_ir_stderr})
-    appendCols(all.*member, part.*member);
+// What `part`'s loads cast, added to `all`'s.
+void addLoadCounts(orbits::EnvironmentLoads& all, const orbits::EnvironmentLoads& part) {
   all.planet_casts += part.planet_casts;
   all.planet_rays += part.planet_rays;
   all.planet_kernel = all.planet_kernel || part.planet_kernel;
@@ -36,6 +30,17 @@ void appendLoads(orbits::EnvironmentLoads& all, const orbits::EnvironmentLoads& 
   all.shadow_rays += part.shadow_rays;
   all.shadow_cell_m = std::max(all.shadow_cell_m, part.shadow_cell_m);
   all.seconds += part.seconds;
+}
+
+}  // namespace
+
+void appendLoads(orbits::EnvironmentLoads& all, const orbits::EnvironmentLoads& part) {
+  for (auto member : {&orbits::EnvironmentLoads::direct, &orbits::EnvironmentLoads::albedo,
+                      &orbits::EnvironmentLoads::earth_ir, &orbits::EnvironmentLoads::earth_view_factor,
+                      &orbits::EnvironmentLoads::direct_stderr, &orbits::EnvironmentLoads::albedo_stderr,
+                      &orbits::EnvironmentLoads::earth_ir_stderr})
+    appendCols(all.*member, part.*member);
+  addLoadCounts(all, part);
 }
 
 namespace {
@@ -68,14 +73,7 @@ void joinMethod(std::string& joined, const std::string& method) {
 void placeLoads(orbits::EnvironmentLoads& all, const orbits::EnvironmentLoads& part, const std::vector<int>& columns,
                 Eigen::Index positions) {
   for (auto member : kLoadMatrices) placeColumns(all.*member, part.*member, columns, positions);
-  all.planet_casts += part.planet_casts;
-  all.planet_rays += part.planet_rays;
-  all.planet_kernel = all.planet_kernel || part.planet_kernel;
-  all.kernel_rays += part.kernel_rays;
-  all.kernel_fallbacks += part.kernel_fallbacks;
-  all.shadow_rays += part.shadow_rays;
-  all.shadow_cell_m = std::max(all.shadow_cell_m, part.shadow_cell_m);
-  all.seconds += part.seconds;
+  addLoadCounts(all, part);
 }
 
 orbits::EnvironmentLoads loadColumns(const orbits::EnvironmentLoads& all, const std::vector<int>& columns) {

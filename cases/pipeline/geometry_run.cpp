@@ -297,6 +297,25 @@ void suspiciousNodeWarnings(const GeometryCase& c, const GeometryRunResult& r, s
   }
 }
 
+// The network from the corrected F; with specular surfaces on the band's areas A κ
+// (docs/solver.md), and the solar band's own when its optics differ. Returns the areas.
+Eigen::VectorXd networkStage(const GeometryCase& c, const Eigen::VectorXd& area, GeometryRunResult& r) {
+  StageTimer timer(r.timings, Stage::Network);
+  Eigen::VectorXd network_area = area;
+  if (c.hasSpecular()) {
+    r.radiative.surface_area = area;
+    r.radiative.kappa_ir = c.specular_ir.kappa();
+    r.radiative.kappa_solar = c.specular_solar.kappa();
+    r.radiative.solar_specular = c.specular_solar;
+    r.radiative.ir_specular = c.specular_ir;
+    network_area = bandArea(area, r.radiative.kappa_ir);
+    if (r.solar_correction)
+      r.radiative.solar_network = buildNetwork(c, bandArea(area, r.radiative.kappa_solar), *r.solar_correction);
+  }
+  r.radiative.network = buildNetwork(c, network_area, r.correction);
+  return network_area;
+}
+
 }  // namespace
 
 GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std::ostream& progress) {
@@ -321,20 +340,7 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
   viewFactorStage(c, caster, area, r, show_progress, progress, own_optics || turning ? &diffuse : nullptr);
   std::optional<ArticulatedBase> turning_base;
   if (turning) turning_base = turningBase(c, caster, area, diffuse.estimate, diffuse.rays, r, progress);
-  StageTimer t_net(r.timings, Stage::Network);
-  Eigen::VectorXd network_area = area;
-  if (c.hasSpecular()) {  // the network's areas are A κ of the band (docs/solver.md)
-    r.radiative.surface_area = area;
-    r.radiative.kappa_ir = c.specular_ir.kappa();
-    r.radiative.kappa_solar = c.specular_solar.kappa();
-    r.radiative.solar_specular = c.specular_solar;
-    r.radiative.ir_specular = c.specular_ir;
-    network_area = bandArea(area, r.radiative.kappa_ir);
-    if (r.solar_correction)
-      r.radiative.solar_network = buildNetwork(c, bandArea(area, r.radiative.kappa_solar), *r.solar_correction);
-  }
-  r.radiative.network = buildNetwork(c, network_area, r.correction);
-  t_net.stop();
+  const Eigen::VectorXd network_area = networkStage(c, area, r);
 
   // One decomposition serves every optical set and sample: its rank rule takes the largest
   // reflectance any of them may give each node.
@@ -345,12 +351,11 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
   r.radiative.exchange = exchangeFactors(r.radiative, c.emissivity, r.solver, r.timings);
   DesignContext ctx{c, caster, r.radiative, r.solver, r.view_factor_stderr, r.lost_view_factor_stderr, network_area};
   if (own_optics) ctx.own_networks = ownOpticsNetworks(c, caster, area, diffuse, r, progress);
-  std::unique_ptr<Articulated> articulated;
-  if (turning) {
-    articulated = std::make_unique<Articulated>(c, std::move(*turning_base), caster, r.radiative, r.view_factor_stderr,
-                                                r.lost_view_factor_stderr, r.solver);
-    ctx.articulated = articulated.get();
-  }
+  const std::unique_ptr<Articulated> articulated =
+      turning ? std::make_unique<Articulated>(c, std::move(*turning_base), caster, r.radiative, r.view_factor_stderr,
+                                              r.lost_view_factor_stderr, r.solver)
+              : nullptr;
+  ctx.articulated = articulated.get();
   std::vector<CaseRun> runs;
   runDesignCases(ctx, r, runs, show_progress, progress);
   if (!c.articulation.empty()) r.articulation = articulationResult(c, articulated.get(), r.timings);

@@ -288,6 +288,21 @@ void useOwnOptics(const solver::TemperatureOptics& optics, ThermalSolution& out,
   out.ir_load_scale = optics.nominal_emissivity.cwiseInverse().asDiagonal() * result.emissivity;
 }
 
+// Parts that turn: each configuration's GR of the whole thermal network, and each position's.
+struct TurnedExchange {
+  std::shared_ptr<std::vector<solver::ExchangeUpdate>> states;  ///< null: no turning parts
+  std::vector<const solver::ExchangeUpdate*> per_position;
+};
+TurnedExchange turnedExchange(const ThermalSettings& ts, const std::vector<const solver::ExchangeFactors*>& turned,
+                              const SweepResult* sweep) {
+  TurnedExchange out;
+  if (turned.empty() || !sweep) return out;
+  out.states = std::make_shared<std::vector<solver::ExchangeUpdate>>();
+  for (const solver::ExchangeFactors* ex : turned) out.states->push_back(thermalExchange(ts, *ex));
+  for (int k : sweep->configuration) out.per_position.push_back(&(*out.states)[static_cast<size_t>(k)]);
+  return out;
+}
+
 }  // namespace
 
 ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFactors& exchange, const SweepResult* sweep,
@@ -295,21 +310,12 @@ ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFact
                            std::shared_ptr<const solver::TemperatureOptics> optics,
                            const std::vector<const solver::ExchangeFactors*>& turned) {
   for (const std::string& w : ts.warnings) progress << "radnet: warning: " << w << "\n";
-  std::shared_ptr<std::vector<solver::ExchangeUpdate>> states;
-  std::vector<const solver::ExchangeUpdate*> per_position;
-  if (!turned.empty() && sweep) {
-    states = std::make_shared<std::vector<solver::ExchangeUpdate>>();
-    for (const solver::ExchangeFactors* ex : turned) states->push_back(thermalExchange(ts, *ex));
-    for (int k : sweep->configuration) per_position.push_back(&(*states)[static_cast<size_t>(k)]);
-  }
+  const TurnedExchange states = turnedExchange(ts, turned, sweep);
   solver::ThermalNetwork net = thermalNetwork(ts, exchange);
   net.optics = std::move(optics);
   checkDetermined(ts, net);
   StageTimer timer(timings, Stage::Thermal);
-  ThermalSolution out;
-  out.node_names = ts.node_names;
-  out.radiative_nodes = ts.radiative_nodes;
-  out.mode = modeName(ts);
+  ThermalSolution out{ts.node_names, ts.radiative_nodes, {}, modeName(ts)};
   for (const solver::Heater& h : ts.heaters) out.heater_names.push_back(h.name), out.heater_rated_w.push_back(h.power_w);
   // Lumped nodes absorb nothing from the environment.
   Eigen::MatrixXd q_env;
@@ -317,7 +323,7 @@ ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFact
     q_env = Eigen::MatrixXd::Zero(ts.nodeCount(), sweep->absorbed_total.cols());
     q_env.topRows(ts.radiative_nodes) = sweep->absorbed_total;
     for (const auto& p : sweep->positions) out.times_s.push_back(p.t_s);
-    out.solve = solvePerCase(ts, net, *sweep, q_env, out.case_heater_duty, states);
+    out.solve = solvePerCase(ts, net, *sweep, q_env, out.case_heater_duty, states.states);
   } else {
     out.solve = solveWithoutOrbit(ts, net, out.times_s);
     q_env = Eigen::MatrixXd::Zero(ts.nodeCount(), static_cast<Eigen::Index>(out.times_s.size()));
@@ -333,7 +339,7 @@ ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFact
   }
   if (result.notOneOrbitPeriodic()) progress << "radnet: warning: temperatures: " << result.message << "\n";
   if (net.optics) useOwnOptics(*net.optics, out, q_env);
-  out.heat = heatBalance(net, result, q_env, per_position);
+  out.heat = heatBalance(net, result, q_env, states.per_position);
   warnImplausibleTemperatures(out, progress);
   if (sweep && errors) {
     StageTimer t_unc(timings, Stage::Uncertainty);

@@ -77,15 +77,18 @@ Eigen::SparseMatrix<double> conductanceChange(const Network& base, const Network
   return change;
 }
 
-EigenPairs updatedPairs(const EigenPairs& base, const Eigen::SparseMatrix<double>& change, double drop_below,
-                        std::uint64_t seed, PairUpdateStats* stats) {
+namespace {
+
+// ΔG ≈ U M Uᵀ with the components above drop_below (a range finder grown until its residual
+// bound is below drop_below, or ΔG's whole range).
+void lowRankChange(const Eigen::SparseMatrix<double>& change, double drop_below, std::uint64_t seed,
+                   Eigen::MatrixXd& u, Eigen::VectorXd& mu, PairUpdateStats& stats) {
   const Eigen::Index n = change.rows();
   std::vector<char> touched(static_cast<size_t>(n), 0);
   for (int k = 0; k < change.outerSize(); ++k)
     for (Eigen::SparseMatrix<double>::InnerIterator it(change, k); it; ++it) touched[static_cast<size_t>(it.row())] = 1;
   const Eigen::Index changed = std::count(touched.begin(), touched.end(), char(1));
-  // ΔG's range: 2 |changed| dimensions at most (its rows plus its columns).
-  const Eigen::Index max_rank = std::min<Eigen::Index>(n, 2 * changed);
+  const Eigen::Index max_rank = std::min<Eigen::Index>(n, 2 * changed);  // its rows plus its columns
   std::mt19937_64 rng(seed);
   Eigen::MatrixXd q, b;
   double residual = 0.0;
@@ -98,23 +101,34 @@ EigenPairs updatedPairs(const EigenPairs& base, const Eigen::SparseMatrix<double
     residual = block < max_rank ? residualBound(change, q, b, rng) : 0.0;
     if (residual <= drop_below || block == max_rank) break;
   }
-  // ΔG ≈ Q B Qᵀ = U M Uᵀ, the components above drop_below kept.
-  Eigen::MatrixXd u(n, 0);
-  Eigen::VectorXd mu(0);
-  if (q.cols() > 0) {
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(b);
-    std::vector<Eigen::Index> keep;
-    for (Eigen::Index j = 0; j < b.rows(); ++j)
-      if (std::abs(eig.eigenvalues()[j]) > drop_below) keep.push_back(j);
-    u.resize(n, static_cast<Eigen::Index>(keep.size()));
-    mu.resize(u.cols());
-    for (Eigen::Index c = 0; c < u.cols(); ++c) {
-      u.col(c) = q * eig.eigenvectors().col(keep[static_cast<size_t>(c)]);
-      mu[c] = eig.eigenvalues()[keep[static_cast<size_t>(c)]];
-    }
+  u.resize(n, 0);
+  mu.resize(0);
+  stats = PairUpdateStats{static_cast<int>(changed), 0, residual};
+  if (q.cols() == 0) return;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(b);
+  std::vector<Eigen::Index> keep;
+  for (Eigen::Index j = 0; j < b.rows(); ++j)
+    if (std::abs(eig.eigenvalues()[j]) > drop_below) keep.push_back(j);
+  u.resize(n, static_cast<Eigen::Index>(keep.size()));
+  mu.resize(u.cols());
+  for (Eigen::Index c = 0; c < u.cols(); ++c) {
+    u.col(c) = q * eig.eigenvectors().col(keep[static_cast<size_t>(c)]);
+    mu[c] = eig.eigenvalues()[keep[static_cast<size_t>(c)]];
   }
+  stats.update_rank = static_cast<int>(u.cols());
+}
+
+}  // namespace
+
+EigenPairs updatedPairs(const EigenPairs& base, const Eigen::SparseMatrix<double>& change, double drop_below,
+                        std::uint64_t seed, PairUpdateStats* stats) {
+  const Eigen::Index n = change.rows();
+  Eigen::MatrixXd u;
+  Eigen::VectorXd mu;
+  PairUpdateStats own;
+  lowRankChange(change, drop_below, seed, u, mu, own);
+  if (stats) *stats = own;
   EigenPairs out = base;
-  if (stats) *stats = PairUpdateStats{static_cast<int>(changed), static_cast<int>(u.cols()), residual};
   out.dropped_bound = base.dropped_bound + 2.0 * drop_below;
   if (u.cols() == 0) return out;
   // Rayleigh–Ritz on span[V U]: [V U] = Q₂ R₂, G'_k = Q₂ (R₂ D R₂ᵀ) Q₂ᵀ, D = diag(Λ, M).

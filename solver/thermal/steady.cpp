@@ -166,14 +166,20 @@ void recordOptics(const OpticsState& state, const Eigen::VectorXd& loads,
   res.exchange_updates = state.exchange_updates;
 }
 
+// Parts that turn: position p's GR into the network, the kept factorisation dropped.
+void turnParts(const ThermalForcing& forcing, size_t p, ThermalNetwork& net, detail::JacobianCache& cache) {
+  const ExchangeUpdate& u = (*forcing.exchange_states)[static_cast<size_t>(forcing.exchange_state[p])];
+  net.gr = u.gr;
+  net.gr_space = u.gr_space;
+  cache = detail::JacobianCache{};
+}
+
 }  // namespace
 
 ThermalResult steadyStates(const ThermalNetwork& net_in, const ThermalForcing& forcing, const ThermalOptions& opt) {
-  // Optics that follow temperature, or parts that turn, change GR: a copy of the network holds
-  // the current one.
-  const bool changing = net_in.optics || forcing.exchange_states;
-  ThermalNetwork with_optics = changing ? net_in : ThermalNetwork{};
-  const ThermalNetwork& net = changing ? with_optics : net_in;
+  // Optics that follow temperature or turning parts change GR: a copy of the network holds it.
+  ThermalNetwork with_optics = net_in.optics || forcing.exchange_states ? net_in : ThermalNetwork{};
+  const ThermalNetwork& net = net_in.optics || forcing.exchange_states ? with_optics : net_in;
   net.validate();
   const Eigen::Index n = net.size(), P = forcing.q_env.cols();
   const Eigen::Index H = static_cast<Eigen::Index>(net.heaters.size());
@@ -196,12 +202,7 @@ ThermalResult steadyStates(const ThermalNetwork& net_in, const ThermalForcing& f
     const double sunlit = forcing.sunlit_fraction.empty() ? 1.0 : forcing.sunlit_fraction[ps];
     res.dissipation.col(p) = dissipationAt(net, forcing.times_s[ps], sunlit, forcing.schedule_period_s);
     const Eigen::VectorXd q = forcing.q_env.col(p) + res.dissipation.col(p);
-    if (forcing.exchange_states) {  // this position's arrangement of the turning parts
-      const ExchangeUpdate& u = (*forcing.exchange_states)[static_cast<size_t>(forcing.exchange_state[ps])];
-      with_optics.gr = u.gr;
-      with_optics.gr_space = u.gr_space;
-      cache = detail::JacobianCache{};
-    }
+    if (forcing.exchange_states) turnParts(forcing, ps, with_optics, cache);
     if (p == 0) t = startingGuess(net, q);
     if (p == 0 && net.optics) settled.start(with_optics, t);  // the warming branch at the first guess
     state = settled;
