@@ -92,6 +92,15 @@ WorkEstimate estimateWork(const GeometryCase& c) {
                                                 : std::min(budget, 24.0 * static_cast<double>(orbits::kMaxPlanetRays));
     w.planet_bytes = std::max(w.planet_bytes, per_node * n);  // cast once per case, then freed
   }
+  // Turning parts: each configuration keeps its scene, its network (G dense below the sparse
+  // threshold), its GR and, with temperatures, the thermal network's GR: at most one per
+  // position, nor more than the drives' steps allow.
+  if (!c.articulation.drives.empty()) {
+    double configurations = 1.0;
+    for (const Drive& d : c.articulation.drives) configurations *= std::floor(360.0 / d.step_deg) + 1.0;
+    configurations = std::min(configurations, static_cast<double>(w.positions));
+    w.dense_bytes += configurations * (8.0 * n * n * (c.thermal ? 3.0 : 2.0) + kSceneBytesPerTriangle * triangles);
+  }
   // About 25 per-node series (loads, irradiances, heat flows, temperature; several kept twice
   // while cases are joined) and 4 per-triangle ParaView copies on two sides.
   w.position_bytes = 8.0 * static_cast<double>(w.positions) * (25.0 * thermal_nodes + 8.0 * triangles);

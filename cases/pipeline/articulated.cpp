@@ -3,6 +3,7 @@
 #include "cases/config/errors.hpp"
 #include "cases/pipeline/radiative_network.hpp"
 #include "cases/pipeline/view_factor_rows.hpp"
+#include "solver/radiative/policy.hpp"
 #include "geometry/exact/view_factors.hpp"
 #include "geometry/scene/part_clearance.hpp"
 #include "geometry/scene/swept_volume.hpp"
@@ -38,19 +39,63 @@ std::vector<char> turningRows(const GeometryCase& c) {
   return rows;
 }
 
+geometry::RayMayChange redirectableRays(const GeometryCase& c) {
+  const geometry::Scene& scene = c.scene;
+  const std::vector<Drive>& drives = c.articulation.drives;
+  std::vector<int> drive_of(scene.nodes().size(), -1);
+  std::vector<geometry::SweptCylinder> sweeps, rest;
+  for (size_t d = 0; d < drives.size(); ++d) {
+    for (int i : drives[d].nodes) drive_of[static_cast<size_t>(i)] = static_cast<int>(d);
+    sweeps.push_back(geometry::sweptCylinder(scene, drives[d].surfaces, drives[d].point, drives[d].direction));
+  }
+  for (size_t d = 0; d < drives.size(); ++d) {
+    std::vector<char> mine(scene.surfaceNames().size(), 0);
+    for (int s : drives[d].surfaces) mine[static_cast<size_t>(s)] = 1;
+    std::vector<int> others;
+    for (size_t s = 0; s < mine.size(); ++s)
+      if (!mine[s]) others.push_back(static_cast<int>(s));
+    geometry::SweptCylinder r = geometry::sweptCylinder(scene, others, drives[d].point, drives[d].direction);
+    for (size_t e = 0; e < drives.size(); ++e) {  // another drive's parts, at any of its angles
+      if (e == d) continue;
+      const geometry::SweptCylinder& o = sweeps[e];
+      const Eigen::Vector3d mid = o.point + 0.5 * (o.axial_min + o.axial_max) * o.axis;
+      const double reach = std::hypot(o.radius, 0.5 * (o.axial_max - o.axial_min));
+      const Eigen::Vector3d to = mid - r.point;
+      const double t = to.dot(r.axis);
+      r.axial_min = std::min(r.axial_min, t - reach);
+      r.axial_max = std::max(r.axial_max, t + reach);
+      r.radius = std::max(r.radius, (to - t * r.axis).norm() + reach);
+    }
+    rest.push_back(r);
+  }
+  return [drive_of, sweeps, rest](int node, const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) {
+    const int d = drive_of[static_cast<size_t>(node)];
+    if (d >= 0) return rest[static_cast<size_t>(d)].meets(origin, direction);
+    for (const geometry::SweptCylinder& s : sweeps)
+      if (s.meets(origin, direction)) return true;
+    return false;
+  };
+}
+
 ArticulatedBase articulatedBase(const GeometryCase& c, const geometry::RayCaster& caster,
                                 geometry::ViewFactorEstimate estimate, Eigen::VectorXd rays, std::ostream& progress) {
   ArticulatedBase base;
   base.rows = turningRows(c);
   for (size_t i = 0; i < base.rows.size(); ++i)
     if (base.rows[i]) base.changed.push_back(static_cast<int>(i));
-  const geometry::ViewFactorResult vf = castRays(c, caster, base.rows, false, progress);
+  base.may_change = redirectableRays(c);
+  geometry::ViewFactorOptions opt = c.view_factors.monte_carlo;
+  opt.cast_rows = base.rows;
+  const geometry::ViewFactorResult vf = geometry::castPlannedRows(caster, opt, base.may_change, base.plan);
   for (int i : base.changed) rays[i] = double(vf.rays[static_cast<size_t>(i)]);
   base.estimate = geometry::withSampledRows(estimate, vf, base.rows);
   base.rays = std::move(rays);
+  std::int64_t traced = 0;
+  for (std::int64_t t : base.plan.traced) traced += t;
   progress << "radnet: articulation: " << base.changed.size() << " of " << base.rows.size()
-           << " rows can change as the parts turn (their own and those facing the cylinders they sweep): cast as "
-           << vf.total_rays << " rays in every configuration, the base included\n";
+           << " rows can change as the parts turn (their own and those facing the cylinders they sweep): "
+           << vf.total_rays << " rays, of which " << traced << " a turn can redirect, traced again in every "
+           << "configuration\n";
   return base;
 }
 
@@ -67,6 +112,11 @@ Articulated::Articulated(const GeometryCase& c, ArticulatedBase base, const geom
   zero->lost_view_factor_stderr = base_lost_stderr;
   index_[std::vector<long long>(c.articulation.drives.size(), 0)] = 0;
   configs_.push_back(std::move(zero));
+  reflectance_ = Eigen::VectorXd::Zero(area_.size());
+  for (const OpticalSet& set : c.optical_sets) {
+    reflectance_ = reflectance_.cwiseMax((1.0 - set.emissivity.array()).matrix()).cwiseMax((1.0 - set.absorptivity.array()).matrix());
+    emissivities_.push_back(set.emissivity);
+  }
   for (const Drive& d : c.articulation.drives)
     moving_surfaces_.insert(moving_surfaces_.end(), d.surfaces.begin(), d.surfaces.end());
   written_meetings_ = geometry::meetingSurfaces(c.scene, moving_surfaces_);
@@ -97,7 +147,7 @@ std::unique_ptr<Configuration> Articulated::make(const std::vector<double>& angl
     k->own_scene->rotateSurfaces(drive.surfaces, drive.point, drive.direction, angles[d] * kRadPerDeg);
   }
   k->own_caster = std::make_unique<geometry::RayCaster>(*k->own_scene);
-  const geometry::ViewFactorResult vf = castRays(c_, *k->own_caster, base_.rows, false, progress);
+  const geometry::ViewFactorResult vf = geometry::recastRows(*k->own_caster, base_.plan, base_.may_change);
   rays_ += vf.total_rays;
   const geometry::ViewFactorEstimate estimate = geometry::withSampledRows(base_.estimate, vf, base_.rows);
   Eigen::VectorXd rays = base_.rays;
@@ -108,7 +158,9 @@ std::unique_ptr<Configuration> Articulated::make(const std::vector<double>& angl
   const solver::EigenPairs& pairs0 = configs_.front()->radiative->pairs;
   const Eigen::SparseMatrix<double> change =
       solver::conductanceChange(*configs_.front()->radiative->network, *net.network, base_.changed);
-  net.pairs = solver::updatedPairs(pairs0, change, updateFloor(pairs0), 1, &k->update);
+  net.pairs = solver::policy::measuredPairs(*net.network,
+                                           solver::updatedPairs(pairs0, change, updateFloor(pairs0), 1, &k->update),
+                                           reflectance_, settings_, emissivities_);
   k->view_factor_stderr = estimate.standard_error;
   k->lost_view_factor_stderr =
       (estimate.space_error.array().square() + estimate.blocked_error.array().square()).sqrt();

@@ -9,6 +9,7 @@
 #include "cases/pipeline/design_run.hpp"
 #include "cases/pipeline/results.hpp"
 #include "geometry/rays/ray_caster.hpp"
+#include "geometry/rays/recast_rows.hpp"
 #include "solver/radiative/pair_update.hpp"
 
 #include <iosfwd>
@@ -41,7 +42,14 @@ struct ArticulatedBase {
   Eigen::VectorXd rays;                   ///< per row: its variance weight
   std::vector<char> rows;                 ///< per node: recast in every configuration
   std::vector<int> changed;               ///< the same, as indices
+  geometry::RecastPlan plan;              ///< the rows' rays and what no turn can redirect
+  geometry::RayMayChange may_change;      ///< which rays a turn can redirect
 };
+
+/// Which rays the case's drives can redirect: from a fixed node, a ray meeting a cylinder a
+/// moving part sweeps; from a moving node, one meeting the cylinder the rest of the scene
+/// (other drives' sweeps included) sweeps about its own drive's axis.
+geometry::RayMayChange redirectableRays(const GeometryCase& c);
 
 /// The nodes whose rows may change as the case's moving drives turn.
 std::vector<char> turningRows(const GeometryCase& c);
@@ -86,6 +94,8 @@ class Articulated {
   Eigen::VectorXd area_;
   std::vector<std::unique_ptr<Configuration>> configs_;
   std::map<std::vector<long long>, int> index_;  ///< angles in µdeg → configuration
+  Eigen::VectorXd reflectance_;               ///< per node, the largest ρ of either band and any optical set
+  std::vector<Eigen::VectorXd> emissivities_;  ///< every optical set's ε (the GR probes')
   std::vector<int> moving_surfaces_;
   std::vector<std::pair<int, int>> written_meetings_;  ///< moving/fixed surfaces that meet as written
   std::int64_t rays_ = 0;

@@ -345,6 +345,7 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
   // One decomposition serves every optical set and sample: its rank rule takes the largest
   // reflectance any of them may give each node.
   r.solver = budgetedSolverSettings(c.solver, solver::largestEntry(r.view_factor_stderr));
+  r.solver.exchange_from_pairs = turning;  // one GR per configuration: from the pairs, not O(n³) each
   r.radiative.pairs = decomposeOnce(*r.radiative.network, c, r.solver, r.timings);
   for (const std::string& w : decompositionWarnings(r.radiative.pairs, r.solver))
     progress << "radnet: warning: " << w << "\n";

@@ -122,15 +122,24 @@ NodeSampler::Ray NodeSampler::mapPoint(double u0, double u1) const {
   return ray;
 }
 
-NodeSampler::Ray NodeSampler::map(const std::array<double, 4>& u) const {
-  Ray ray = mapPoint(u[0], u[1]);
-  // Cosine-weighted hemisphere about the side normal (Malley).
-  const Vec3& n = ray.normal;
-  const Vec3 t0 = (std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
+namespace {
+
+// Cosine-weighted direction about n in the tangent frame (t0, n × t0) (Malley: uniform on the
+// disc, lifted).
+Vec3 cosineDirection(const std::array<double, 4>& u, const Vec3& n, const Vec3& t0) {
   const Vec3 t1 = n.cross(t0);
   const double r = std::sqrt(u[2]), phi = 2.0 * M_PI * u[3];
   const double z = std::sqrt(std::max(0.0, 1.0 - u[2]));
-  ray.direction = (r * std::cos(phi)) * t0 + (r * std::sin(phi)) * t1 + z * n;
+  return (r * std::cos(phi)) * t0 + (r * std::sin(phi)) * t1 + z * n;
+}
+
+}  // namespace
+
+NodeSampler::Ray NodeSampler::map(const std::array<double, 4>& u) const {
+  Ray ray = mapPoint(u[0], u[1]);
+  const Face& f = scene_.faces()[static_cast<size_t>(ray.face)];
+  const Vec3 edge = f.v[1] - f.v[0];
+  ray.direction = cosineDirection(u, ray.normal, (edge - edge.dot(ray.normal) * ray.normal).normalized());
   return ray;
 }
 

@@ -53,7 +53,9 @@ class NodeSampler {
     int face;
   };
   /// u[0] picks the triangle (area-weighted) and, rescaled, with u[1] the point;
-  /// u[2], u[3] the direction (Malley's method: uniform on the disc, lifted).
+  /// u[2], u[3] the direction (Malley's method: uniform on the disc, lifted) in a tangent
+  /// frame taken from the triangle's first edge: the rays turn with the triangle (a part turned
+  /// rigidly casts the same rays turned: geometry/rays/recast_rows.hpp).
   Ray map(const std::array<double, 4>& u) const;
   /// A point only (for shadow rays): u[0], u[1] as above.
   Ray mapPoint(double u0, double u1) const;

@@ -1,6 +1,7 @@
 #include "geometry/rays/view_factors.hpp"
 
 #include "geometry/rays/sampling.hpp"
+#include "geometry/rays/tally.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -16,40 +17,8 @@
 namespace radnet::geometry {
 namespace {
 
-constexpr int kSpace = -1;
-constexpr int kBlocked = -2;
-
-// Tallies of one replica: target (node index, kSpace or kBlocked) → rays.
-using Tally = std::map<int, std::int64_t>;
-
-int classify(const RayCaster& caster, const Hit& hit) {
-  if (hit.face < 0) return kSpace;
-  const int node = caster.nodeHit(hit);
-  return node >= 0 ? node : kBlocked;
-}
-
-// Mean and standard error of the mean over replicas of the fractions c_r / n_per_replica.
-std::pair<double, double> replicaStats(const std::vector<Tally>& tallies, int target, double per_replica) {
-  const double r = static_cast<double>(tallies.size());
-  double sum = 0.0, sum2 = 0.0;
-  for (const Tally& t : tallies) {
-    auto it = t.find(target);
-    const double p = it == t.end() ? 0.0 : double(it->second) / per_replica;
-    sum += p;
-    sum2 += p * p;
-  }
-  const double mean = sum / r;
-  const double var = std::max(0.0, (sum2 - r * mean * mean) / (r - 1.0));
-  return {mean, std::sqrt(var / r)};
-}
-
-// Every target any replica hit, in increasing order (space and blocked first).
-std::set<int> targetsOf(const std::vector<Tally>& tallies) {
-  std::set<int> targets;
-  for (const Tally& t : tallies)
-    for (const auto& kv : t) targets.insert(kv.first);
-  return targets;
-}
+using tally::classify;
+using tally::Tally;
 
 struct Sample {
   std::array<double, 4> u;  ///< point on the node (u0, u1) and direction (u2, u3)
@@ -132,29 +101,11 @@ void computeViewFactorRow(const RayCaster& caster, int node, const ViewFactorOpt
     castSamples(caster, sampler, sobol, random, done, per_replica, tallies);
     done = per_replica;
     if (opt.target_error <= 0 || per_replica >= cap) break;
-    double worst = 0.0;
-    for (int target : targetsOf(tallies))
-      worst = std::max(worst, replicaStats(tallies, target, double(per_replica)).second);
-    if (worst <= opt.target_error) break;
+    if (tally::worstError(tallies, double(per_replica)) <= opt.target_error) break;
     per_replica = std::min(cap, 2 * per_replica);
   }
   rays = per_replica * replicas;
-  row.clear();
-  row_error.clear();
-  space[0] = space[1] = blocked[0] = blocked[1] = 0.0;
-  for (int target : targetsOf(tallies)) {
-    const auto [mean, err] = replicaStats(tallies, target, double(per_replica));
-    if (target == kSpace) {
-      space[0] = mean;
-      space[1] = err;
-    } else if (target == kBlocked) {
-      blocked[0] = mean;
-      blocked[1] = err;
-    } else {
-      row.emplace_back(target, mean);
-      row_error.emplace_back(target, err);
-    }
-  }
+  tally::rowEstimate(tallies, double(per_replica), row, row_error, space, blocked);
 }
 
 }  // namespace

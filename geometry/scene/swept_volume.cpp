@@ -11,6 +11,34 @@ double SweptCylinder::support(const Vec3& n) const {
   return n.dot(point) + std::max(along * axial_min, along * axial_max) + radius * across;
 }
 
+bool SweptCylinder::meets(const Vec3& origin, const Vec3& dir) const {
+  // Along the axis the half-line is in the slab for t in [t0, t1]; across it, within the
+  // radius for t in [s0, s1] (a quadratic in t); it meets the solid where both overlap.
+  const Vec3 o = origin - point;
+  const double oa = o.dot(axis), da = dir.dot(axis);
+  double lo = 0.0, hi = INFINITY;
+  if (std::abs(da) < 1e-300) {
+    if (oa < axial_min || oa > axial_max) return false;
+  } else {
+    double t0 = (axial_min - oa) / da, t1 = (axial_max - oa) / da;
+    if (t0 > t1) std::swap(t0, t1);
+    lo = std::max(lo, t0);
+    hi = std::min(hi, t1);
+  }
+  const Vec3 op = o - oa * axis, dp = dir - da * axis;  // across the axis
+  const double a = dp.squaredNorm(), b = op.dot(dp), c = op.squaredNorm() - radius * radius;
+  if (a < 1e-300) {
+    if (c > 0) return false;
+  } else {
+    const double disc = b * b - a * c;
+    if (disc < 0) return false;
+    const double root = std::sqrt(disc);
+    lo = std::max(lo, (-b - root) / a);
+    hi = std::min(hi, (-b + root) / a);
+  }
+  return lo <= hi;
+}
+
 SweptCylinder sweptCylinder(const Scene& scene, const std::vector<int>& surfaces, const Vec3& point, const Vec3& axis) {
   SweptCylinder c;
   c.point = point;

@@ -17,6 +17,8 @@ struct SweptCylinder {
   double radius = 0.0;                      ///< largest distance of a vertex from the axis, m
   /// max over the cylinder of n · x, for a unit n (its support function), m.
   double support(const Vec3& n) const;
+  /// Whether the half-line origin + t dir, t ≥ 0, meets the (solid) cylinder.
+  bool meets(const Vec3& origin, const Vec3& dir) const;
 };
 
 /// The cylinder swept by `surfaces` (indices into Scene::surfaceNames()) about the axis.

@@ -19,16 +19,18 @@ namespace radnet::solver {
 struct PairUpdateStats {
   int changed_nodes = 0;   ///< rows and columns where G' differs from G
   int update_rank = 0;     ///< rank kept of ΔG
-  double residual = 0.0;   ///< bound on ‖ΔG − U M Uᵀ‖₂ (99.99 % probability), m²
+  double residual = 0.0;   ///< bound on ‖ΔG − Q B Qᵀ‖₂ of the range found (99.99 % probability), m²
+  double cut = 0.0;        ///< components of ΔG at or below this were dropped, m²
 };
 
 /// ΔG = G' − G on the rows and columns `changed` (the other entries of G' must equal G's),
 /// symmetric, sparse, m².
 Eigen::SparseMatrix<double> conductanceChange(const Network& base, const Network& moved, const std::vector<int>& changed);
 
-/// The pairs of G' = G + ΔG from the pairs of G. Components of ΔG with |μ| ≤ drop_below (m²)
-/// are dropped, and the range finder stops when its residual bound is below drop_below: the
-/// result's dropped_bound is the base's plus twice drop_below.
+/// The pairs of G' = G + ΔG from the pairs of G. Components of ΔG with |μ| at most drop_below
+/// (m²) or 1e-3 of its largest are dropped; the range finder grows its block until at most half
+/// the block is above that cut. The result's dropped_bound adds the residual bound (99.99 %)
+/// and the cut: a-priori only, the caller measures the pairs (policy::measuredPairs).
 /// @param seed  the range finder's Gaussian probes (fixed: runs are reproducible)
 EigenPairs updatedPairs(const EigenPairs& base, const Eigen::SparseMatrix<double>& change, double drop_below,
                         std::uint64_t seed = 1, PairUpdateStats* stats = nullptr);

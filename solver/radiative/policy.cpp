@@ -38,16 +38,13 @@ BandSolveCost bandSolveCost(const Network& net, int rank, Eigen::Index columns, 
 }
 
 bool exchangeFromPairs(int n, const SolverSettings& settings) {
-  return !(settings.refineEnabled() && n <= kDenseExchangeMaxNodes);
+  return settings.exchange_from_pairs || !(settings.refineEnabled() && n <= kDenseExchangeMaxNodes);
 }
 
-namespace {
-
-// An explicit rank is kept as asked, but measured on the probes all the same, so that the
-// run can say what it costs in accuracy (rank_probe.hpp; GR only when it comes from the pairs
-// and the case has emissivities).
-EigenPairs measuredExplicitRank(const Network& net, EigenPairs pairs, const Eigen::VectorXd& max_reflectance,
-                                const SolverSettings& settings, const std::vector<Eigen::VectorXd>& emissivities) {
+// Pairs measured on the probes (rank_probe.hpp): band residual, and GR error when GR comes
+// from the pairs and the case has emissivities.
+EigenPairs measuredPairs(const Network& net, EigenPairs pairs, const Eigen::VectorXd& max_reflectance,
+                         const SolverSettings& settings, const std::vector<Eigen::VectorXd>& emissivities) {
   if (pairs.status != Status::Converged || pairs.rank() == 0) return pairs;
   RankTargets targets;
   targets.reflectance = max_reflectance;
@@ -61,8 +58,6 @@ EigenPairs measuredExplicitRank(const Network& net, EigenPairs pairs, const Eige
   return pairs;
 }
 
-}  // namespace
-
 EigenPairs decomposeForBands(const Network& net, const Eigen::VectorXd& max_reflectance,
                              const SolverSettings& settings, const std::vector<Eigen::VectorXd>& emissivities) {
   EigenRequest req;
@@ -71,8 +66,8 @@ EigenPairs decomposeForBands(const Network& net, const Eigen::VectorXd& max_refl
   req.max_s = std::max(max_reflectance.cwiseQuotient(net.area()).maxCoeff(), 1e-300);
   req.max_rank = settings.max_rank;
   req.method = settings.method;
-  if (settings.rank > 0) return measuredExplicitRank(net, decomposeConductance(net, req), max_reflectance, settings,
-                                                     emissivities);
+  if (settings.rank > 0)  // kept as asked, measured all the same
+    return measuredPairs(net, decomposeConductance(net, req), max_reflectance, settings, emissivities);
   // The rank from the tolerance, measured (rank_probe.hpp): the refined band solves need
   // only a good start, the rank-k answer kept or GR from the pairs need the tolerance.
   RankTargets targets;

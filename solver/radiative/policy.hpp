@@ -77,6 +77,12 @@ bool exchangeFromPairs(int n, const SolverSettings& settings);
 EigenPairs decomposeForBands(const Network& net, const Eigen::VectorXd& max_reflectance,
                              const SolverSettings& settings, const std::vector<Eigen::VectorXd>& emissivities = {});
 
+/// `pairs` measured on the probes (rank_probe.hpp) against `net`: probe_residual, and
+/// probe_exchange_error when GR comes from the pairs and `emissivities` is not empty. For pairs
+/// kept as asked (an explicit rank) or made otherwise (an update for turned parts).
+EigenPairs measuredPairs(const Network& net, EigenPairs pairs, const Eigen::VectorXd& max_reflectance,
+                         const SolverSettings& settings, const std::vector<Eigen::VectorXd>& emissivities);
+
 /// The exchange factors GR: exact by dense LU when the settings ask for full accuracy
 /// (refinement) and n ≤ kDenseExchangeMaxNodes, or when the pairs' measured GR error
 /// exceeds the tolerance and n ≤ kDenseBandSolveMaxNodes; else E G E + E V (C − Λ) Vᵀ E.

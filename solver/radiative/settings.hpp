@@ -19,6 +19,10 @@ struct SolverSettings {
   std::optional<bool> refine;  ///< default: refine when no explicit rank is given
   int max_rank = 200;          ///< cap on k chosen from a tolerance
   EigenMethod method = EigenMethod::Auto;
+  /// GR from the pairs (E G E + E V (C − Λ) Vᵀ E, the rank chosen to meet the tolerance on it)
+  /// at every size, not by dense LU: a run with turning parts forms one GR per configuration,
+  /// and O(n³) each would dwarf the rest (docs/solver.md, "Moving parts").
+  bool exchange_from_pairs = false;
   bool refineEnabled() const { return refine.value_or(rank == 0); }
   /// The band solves' refinement tolerance: 0 (keep the rank-k answer) unless refining.
   double refineTolerance() const { return refineEnabled() ? tolerance : 0.0; }

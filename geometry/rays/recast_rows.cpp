@@ -1,0 +1,161 @@
+#include "geometry/rays/recast_rows.hpp"
+
+#include "geometry/rays/sampling.hpp"
+
+#include <chrono>
+#include <stdexcept>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace radnet::geometry {
+namespace {
+
+// The Sobol (or random) streams of one node's replicas, as computeViewFactors draws them.
+struct Streams {
+  std::vector<Sobol4> sobol;
+  std::vector<Random4> random;
+  Streams(const ViewFactorOptions& opt, int node) {
+    for (int r = 0; r < opt.replicas; ++r) {
+      const std::uint64_t s = mixSeed(opt.seed, static_cast<std::uint64_t>(node), static_cast<std::uint64_t>(r));
+      if (opt.sampling == Sampling::Sobol) sobol.emplace_back(s);
+      else random.emplace_back(s);
+    }
+  }
+  std::array<double, 4> draw(int r) {
+    return sobol.empty() ? random[static_cast<size_t>(r)].next() : sobol[static_cast<size_t>(r)].next();
+  }
+};
+
+// Samples [from, to) of every replica: redirectable rays traced into `moving`; the others
+// traced into `kept` when it is given (the arrangement as written), skipped otherwise.
+std::int64_t castRange(const RayCaster& caster, const NodeSampler& sampler, Streams& streams, int node,
+                       std::int64_t from, std::int64_t to, const RayMayChange& may_change,
+                       std::vector<tally::Tally>& moving, std::vector<tally::Tally>* kept) {
+  std::int64_t traced = 0;
+  for (size_t r = 0; r < moving.size(); ++r) {
+    if (!streams.sobol.empty()) streams.sobol[r].seek(static_cast<std::uint32_t>(from));
+    for (std::int64_t i = from; i < to; ++i) {
+      const NodeSampler::Ray ray = sampler.map(streams.draw(static_cast<int>(r)));
+      const bool changes = may_change(node, ray.point, ray.direction);
+      if (!changes && !kept) continue;
+      const Hit hit = caster.firstHit(caster.offsetOrigin(ray.point, ray.normal), ray.direction, ray.face);
+      ++(changes ? moving[r] : (*kept)[r])[tally::classify(caster, hit)];
+      traced += changes;
+    }
+  }
+  return traced;
+}
+
+std::vector<tally::Tally> sum(const std::vector<tally::Tally>& a, const std::vector<tally::Tally>& b) {
+  std::vector<tally::Tally> out = a;
+  for (size_t r = 0; r < b.size(); ++r)
+    for (const auto& [target, count] : b[r]) out[r][target] += count;
+  return out;
+}
+
+// Fills row i of `res` from its replicas' counts.
+void storeRow(int i, const std::vector<tally::Tally>& tallies, std::int64_t per_replica,
+              std::vector<std::vector<std::pair<int, double>>>& rows,
+              std::vector<std::vector<std::pair<int, double>>>& errors, ViewFactorResult& res) {
+  double space[2], blocked[2];
+  tally::rowEstimate(tallies, double(per_replica), rows[static_cast<size_t>(i)], errors[static_cast<size_t>(i)], space,
+                     blocked);
+  res.space[i] = space[0];
+  res.space_error[i] = space[1];
+  res.blocked[i] = blocked[0];
+  res.blocked_error[i] = blocked[1];
+  res.rays[static_cast<size_t>(i)] = per_replica * static_cast<std::int64_t>(tallies.size());
+}
+
+ViewFactorResult assemble(int n, const std::vector<std::vector<std::pair<int, double>>>& rows,
+                          const std::vector<std::vector<std::pair<int, double>>>& errors, ViewFactorResult res) {
+  std::vector<Eigen::Triplet<double>> f, e;
+  for (int i = 0; i < n; ++i) {
+    for (const auto& [j, v] : rows[static_cast<size_t>(i)]) f.emplace_back(i, j, v);
+    for (const auto& [j, v] : errors[static_cast<size_t>(i)]) e.emplace_back(i, j, v);
+  }
+  res.view_factors.resize(n, n);
+  res.view_factors.setFromTriplets(f.begin(), f.end());
+  res.standard_error.resize(n, n);
+  res.standard_error.setFromTriplets(e.begin(), e.end());
+  return res;
+}
+
+ViewFactorResult emptyResult(int n) {
+  ViewFactorResult res;
+  res.space = res.space_error = res.blocked = res.blocked_error = Eigen::VectorXd::Zero(n);
+  res.rays.assign(static_cast<size_t>(n), 0);
+  return res;
+}
+
+}  // namespace
+
+ViewFactorResult castPlannedRows(const RayCaster& caster, const ViewFactorOptions& opt, const RayMayChange& may_change,
+                                 RecastPlan& plan) {
+  if (opt.replicas < 2) throw std::invalid_argument("view factors need at least 2 replicas for an error estimate");
+  const auto t0 = std::chrono::steady_clock::now();
+  const int n = static_cast<int>(caster.scene().nodes().size());
+  plan.options = opt;
+  plan.per_replica.assign(static_cast<size_t>(n), 0);
+  plan.kept.assign(static_cast<size_t>(n), {});
+  plan.traced.assign(static_cast<size_t>(n), 0);
+  std::vector<std::vector<std::pair<int, double>>> rows(static_cast<size_t>(n)), errors(static_cast<size_t>(n));
+  ViewFactorResult res = emptyResult(n);
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 1)
+#endif
+  for (int i = 0; i < n; ++i) {
+    if (opt.cast_rows.empty() || !opt.cast_rows[static_cast<size_t>(i)]) continue;
+    const NodeSampler sampler(caster.scene(), i);
+    Streams streams(opt, i);
+    std::vector<tally::Tally> moving(static_cast<size_t>(opt.replicas)), kept(moving.size());
+    const std::int64_t cap = std::max<std::int64_t>(1, opt.rays_per_node / opt.replicas);
+    std::int64_t per_replica =
+        opt.target_error > 0 ? std::min(cap, std::max<std::int64_t>(1, opt.min_rays_per_node / opt.replicas)) : cap;
+    std::int64_t done = 0, traced = 0;
+    for (;;) {  // doubling until the target error, as computeViewFactors
+      traced += castRange(caster, sampler, streams, i, done, per_replica, may_change, moving, &kept);
+      done = per_replica;
+      if (opt.target_error <= 0 || per_replica >= cap ||
+          tally::worstError(sum(kept, moving), double(per_replica)) <= opt.target_error)
+        break;
+      per_replica = std::min(cap, 2 * per_replica);
+    }
+    plan.per_replica[static_cast<size_t>(i)] = per_replica;
+    plan.traced[static_cast<size_t>(i)] = traced;
+    storeRow(i, sum(kept, moving), per_replica, rows, errors, res);
+    plan.kept[static_cast<size_t>(i)] = std::move(kept);
+  }
+  for (std::int64_t r : res.rays) res.total_rays += r;
+  res = assemble(n, rows, errors, std::move(res));
+  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+ViewFactorResult recastRows(const RayCaster& moved, const RecastPlan& plan, const RayMayChange& may_change) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const int n = static_cast<int>(moved.scene().nodes().size());
+  std::vector<std::vector<std::pair<int, double>>> rows(static_cast<size_t>(n)), errors(static_cast<size_t>(n));
+  ViewFactorResult res = emptyResult(n);
+  std::vector<std::int64_t> traced(static_cast<size_t>(n), 0);
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 1)
+#endif
+  for (int i = 0; i < n; ++i) {
+    const std::int64_t per_replica = plan.per_replica[static_cast<size_t>(i)];
+    if (per_replica == 0) continue;
+    const NodeSampler sampler(moved.scene(), i);
+    Streams streams(plan.options, i);
+    std::vector<tally::Tally> moving(static_cast<size_t>(plan.options.replicas));
+    traced[static_cast<size_t>(i)] = castRange(moved, sampler, streams, i, 0, per_replica, may_change, moving, nullptr);
+    storeRow(i, sum(plan.kept[static_cast<size_t>(i)], moving), per_replica, rows, errors, res);
+  }
+  for (std::int64_t t : traced) res.total_rays += t;  // the rays traced, not the rows' counts
+  res = assemble(n, rows, errors, std::move(res));
+  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+}  // namespace radnet::geometry

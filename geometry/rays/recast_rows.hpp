@@ -1,0 +1,39 @@
+#pragma once
+// Rows of F cast again after parts of the scene turned (docs/geometry.md, "Moving parts").
+// Each row casts the same rays in every arrangement: the same Sobol points, mapped in each
+// triangle's own frame (NodeSampler::map), so a turned part casts its rays turned.
+// A ray that no motion can redirect (it misses every volume a moving part sweeps, or, from a
+// moving part, the volume the rest of the scene sweeps about its axis) lands where it landed
+// in the scene as written: its count is kept from there, and only the others are traced again.
+#include "geometry/rays/ray_caster.hpp"
+#include "geometry/rays/tally.hpp"
+#include "geometry/rays/view_factors.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace radnet::geometry {
+
+/// Whether a ray (origin, unit direction) from `node` may land elsewhere once parts turn.
+using RayMayChange = std::function<bool(int node, const Vec3& origin, const Vec3& direction)>;
+
+/// What the rows cast in the scene as written: each row's rays per replica, and the counts of
+/// the rays no motion can redirect.
+struct RecastPlan {
+  ViewFactorOptions options;  ///< the rows' (cast_rows marks them)
+  std::vector<std::int64_t> per_replica;         ///< per node, rays of each replica (0: not cast)
+  std::vector<std::vector<tally::Tally>> kept;   ///< per node and replica: the unredirectable rays' counts
+  std::vector<std::int64_t> traced;              ///< per node, rays a moved arrangement traces again
+};
+
+/// Casts the rows marked in opt.cast_rows in `caster`'s scene (the arrangement as written),
+/// until opt.target_error or opt.rays_per_node as computeViewFactors does, and keeps the plan.
+ViewFactorResult castPlannedRows(const RayCaster& caster, const ViewFactorOptions& opt, const RayMayChange& may_change,
+                                 RecastPlan& plan);
+
+/// The plan's rows in a moved arrangement of the same scene: the same rays, the kept counts
+/// where no motion can redirect them, the rest traced in `moved`.
+ViewFactorResult recastRows(const RayCaster& moved, const RecastPlan& plan, const RayMayChange& may_change);
+
+}  // namespace radnet::geometry
