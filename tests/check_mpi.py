@@ -157,6 +157,8 @@ def main():
     sun.write_text((SOURCE / "cases/examples/cubesat-3u.yaml").read_text().replace(
         "attitude: {mode: nadir}", "attitude: {mode: sun}"))
     same_result(sun, ranks=3)
+    # Sun-tracking wings: every configuration's rows, loads and GR on every rank alike.
+    same_result(SOURCE / "cases/examples/tracking-wings.yaml")
     # Three ranks for two design cases: one rank solves none; 64 samples split unevenly.
     same_result(SOURCE / "cases/examples/cubesat-hot-cold.yaml", ranks=3)
     check_command()
