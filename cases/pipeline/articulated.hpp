@@ -80,6 +80,8 @@ class Articulated {
   /// Summed over the configurations made: recast rays, update ranks.
   std::int64_t rays() const { return rays_; }
   int recastRows() const { return static_cast<int>(base_.changed.size()); }
+  /// Per node: 1 when its row (and what it receives) can change as the parts turn.
+  const std::vector<char>& rows() const { return base_.rows; }
   int largestUpdateRank() const;
 
  private:

@@ -76,6 +76,17 @@ void placeLoads(orbits::EnvironmentLoads& all, const orbits::EnvironmentLoads& p
   addLoadCounts(all, part);
 }
 
+void addLoads(orbits::EnvironmentLoads& all, const orbits::EnvironmentLoads& part) {
+  for (auto member : kLoadMatrices) {
+    const Eigen::MatrixXd& m = part.*member;
+    if (m.size() == 0) continue;
+    Eigen::MatrixXd& a = all.*member;
+    if (a.size() == 0) a = Eigen::MatrixXd::Zero(m.rows(), m.cols());
+    a += m;  // disjoint parts: a sum of zeros and values, exact
+  }
+  addLoadCounts(all, part);
+}
+
 orbits::EnvironmentLoads loadColumns(const orbits::EnvironmentLoads& all, const std::vector<int>& columns) {
   orbits::EnvironmentLoads out;
   for (auto member : kLoadMatrices) {

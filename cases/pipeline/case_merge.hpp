@@ -18,6 +18,9 @@ void appendLoads(orbits::EnvironmentLoads& all, const orbits::EnvironmentLoads& 
 /// turning parts placed among the others.
 void placeLoads(orbits::EnvironmentLoads& all, const orbits::EnvironmentLoads& part, const std::vector<int>& columns,
                 Eigen::Index positions);
+/// Adds `part`'s irradiances (same shape: loads of other nodes or positions, zero elsewhere)
+/// and ray counts to `all`'s.
+void addLoads(orbits::EnvironmentLoads& all, const orbits::EnvironmentLoads& part);
 /// `all`'s irradiance columns `columns`, for a configuration's band solves.
 orbits::EnvironmentLoads loadColumns(const orbits::EnvironmentLoads& all, const std::vector<int>& columns);
 /// The band solves' results of `part` placed at `columns` of `all` (sized on first use);

@@ -83,9 +83,12 @@ void describeLoads(const orbits::EnvironmentLoads& loads, int positions, std::os
 
 // Orbit case `orbit`'s loads at `positions` on one caster (under MPI each rank its sun
 // positions and planet nodes, then joined).
+// `sun` and `planet` (empty: all) restrict the positions whose direct load and the nodes
+// whose planet loads are computed; the rest stay 0.
 orbits::EnvironmentLoads loadPositions(const SweepInputs& in, const geometry::RayCaster& caster,
                                        const orbits::Orbit& orbit, const std::vector<orbits::SweepPosition>& positions,
-                                       geometry::SkyKernel& sky_kernel, bool show_progress, std::ostream& progress) {
+                                       geometry::SkyKernel& sky_kernel, bool show_progress, std::ostream& progress,
+                                       std::vector<char> sun = {}, std::vector<char> planet = {}) {
   const OrbitSettings& o = in.orbit;
   const Eigen::VectorXd& area = in.radiative.surfaceArea();  // irradiance per m² of the surfaces themselves
   orbits::EnvironmentOptions env = o.environment;
@@ -97,10 +100,16 @@ orbits::EnvironmentLoads loadPositions(const SweepInputs& in, const geometry::Ra
   if (in.articulated && env.planet_method == orbits::EnvironmentOptions::PlanetMethod::Auto)
     env.planet_method = orbits::EnvironmentOptions::PlanetMethod::Rays;
   if (show_progress) env.progress = progressBar(progress, "orbit loads", "positions");
-  if (cluster::distributed()) {
-    env.sun_positions = cluster::ownedMask(static_cast<long long>(positions.size()));
-    env.planet_nodes = cluster::ownedMask(area.size());
+  if (cluster::distributed()) {  // each rank its share of what is asked
+    const std::vector<char> owned_positions = cluster::ownedMask(static_cast<long long>(positions.size()));
+    const std::vector<char> owned_nodes = cluster::ownedMask(area.size());
+    if (sun.empty()) sun = owned_positions;
+    else for (size_t p = 0; p < sun.size(); ++p) sun[p] = sun[p] && owned_positions[p];
+    if (planet.empty()) planet = owned_nodes;
+    else for (size_t i = 0; i < planet.size(); ++i) planet[i] = planet[i] && owned_nodes[i];
   }
+  env.sun_positions = std::move(sun);
+  env.planet_nodes = std::move(planet);
   orbits::EnvironmentLoads loads = orbits::environmentLoads(caster, area, positions, orbits::earthFixedInBody(o.attitude),
                                                             orbit.body().equatorial_radius_m, env);
   joinLoads(loads);
@@ -115,14 +124,22 @@ orbits::EnvironmentLoads articulatedLoads(const SweepInputs& in, const orbits::O
                                           std::ostream& progress) {
   std::map<int, std::vector<int>> columns;
   for (size_t p = 0; p < config.size(); ++p) columns[config[p]].push_back(static_cast<int>(p));
+  // A node whose row no turn changes (its triangles face away from every swept volume) sees
+  // the planet the same in every configuration: its planet loads once, on the base geometry;
+  // each configuration's the turning rows' and its positions' direct sunlight.
+  const std::vector<char>& turning = in.articulated->rows();
+  std::vector<char> still(turning.size());
+  for (size_t i = 0; i < turning.size(); ++i) still[i] = !turning[i];
   orbits::EnvironmentLoads loads;
   for (const auto& [k, cols] : columns) {
     std::vector<orbits::SweepPosition> some;
     for (int p : cols) some.push_back(positions[static_cast<size_t>(p)]);
     const orbits::EnvironmentLoads part =
-        loadPositions(in, *in.articulated->at(k).caster, orbit, some, kernels[k], false, progress);
+        loadPositions(in, *in.articulated->at(k).caster, orbit, some, kernels[k], false, progress, {}, turning);
     placeLoads(loads, part, cols, static_cast<Eigen::Index>(positions.size()));
   }
+  addLoads(loads, loadPositions(in, *in.articulated->at(0).caster, orbit, positions, kernels[-1], false, progress,
+                                std::vector<char>(positions.size(), 0), still));
   return loads;
 }
 
