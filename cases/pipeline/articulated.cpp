@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <iterator>
+#include <map>
 
 #include <cmath>
 #include <ostream>
@@ -39,41 +40,71 @@ std::vector<char> turningRows(const GeometryCase& c) {
   return rows;
 }
 
+namespace {
+
+// The scene's surfaces grouped by geometry entry (the surface name up to its first '.': a
+// grid's cells, a box's faces), those of `drive` (or, with drive < 0, of no drive) only.
+std::vector<std::vector<int>> entries(const GeometryCase& c, int drive) {
+  const std::vector<std::string>& names = c.scene.surfaceNames();
+  std::vector<int> owner(names.size(), -1);
+  for (size_t d = 0; d < c.articulation.drives.size(); ++d)
+    for (int s : c.articulation.drives[d].surfaces) owner[static_cast<size_t>(s)] = static_cast<int>(d);
+  std::map<std::string, std::vector<int>> by_entry;
+  for (size_t s = 0; s < names.size(); ++s)
+    if (owner[s] == drive) by_entry[names[s].substr(0, names[s].find('.'))].push_back(static_cast<int>(s));
+  std::vector<std::vector<int>> out;
+  for (auto& [name, surfaces] : by_entry) out.push_back(std::move(surfaces));
+  return out;
+}
+
+// `around` grown to hold the cylinder `other` (about another axis) at every angle of its own:
+// its bounding sphere, taken about `around`'s axis.
+void holdSweep(geometry::SweptCylinder& around, const geometry::SweptCylinder& other) {
+  const Eigen::Vector3d mid = other.point + 0.5 * (other.axial_min + other.axial_max) * other.axis;
+  const double reach = std::hypot(other.radius, 0.5 * (other.axial_max - other.axial_min));
+  const Eigen::Vector3d to = mid - around.point;
+  const double t = to.dot(around.axis);
+  around.axial_min = std::min(around.axial_min, t - reach);
+  around.axial_max = std::max(around.axial_max, t + reach);
+  around.radius = std::max(around.radius, (to - t * around.axis).norm() + reach);
+}
+
+bool meetsAny(const std::vector<geometry::SweptCylinder>& cylinders, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
+  for (const geometry::SweptCylinder& c : cylinders)
+    if (c.meets(o, d)) return true;
+  return false;
+}
+
+}  // namespace
+
 geometry::RayMayChange redirectableRays(const GeometryCase& c) {
+  // One cylinder per geometry entry (tighter than one per drive: a wing's, not the span of both).
   const geometry::Scene& scene = c.scene;
   const std::vector<Drive>& drives = c.articulation.drives;
   std::vector<int> drive_of(scene.nodes().size(), -1);
-  std::vector<geometry::SweptCylinder> sweeps, rest;
+  std::vector<geometry::SweptCylinder> sweeps;  // every turning entry about its drive's axis
+  std::vector<std::vector<geometry::SweptCylinder>> rest(drives.size());  // what drive d's parts may meet
   for (size_t d = 0; d < drives.size(); ++d) {
     for (int i : drives[d].nodes) drive_of[static_cast<size_t>(i)] = static_cast<int>(d);
-    sweeps.push_back(geometry::sweptCylinder(scene, drives[d].surfaces, drives[d].point, drives[d].direction));
+    for (const std::vector<int>& entry : entries(c, static_cast<int>(d)))
+      sweeps.push_back(geometry::sweptCylinder(scene, entry, drives[d].point, drives[d].direction));
   }
   for (size_t d = 0; d < drives.size(); ++d) {
-    std::vector<char> mine(scene.surfaceNames().size(), 0);
-    for (int s : drives[d].surfaces) mine[static_cast<size_t>(s)] = 1;
-    std::vector<int> others;
-    for (size_t s = 0; s < mine.size(); ++s)
-      if (!mine[s]) others.push_back(static_cast<int>(s));
-    geometry::SweptCylinder r = geometry::sweptCylinder(scene, others, drives[d].point, drives[d].direction);
+    for (const std::vector<int>& entry : entries(c, -1))
+      rest[d].push_back(geometry::sweptCylinder(scene, entry, drives[d].point, drives[d].direction));
     for (size_t e = 0; e < drives.size(); ++e) {  // another drive's parts, at any of its angles
       if (e == d) continue;
-      const geometry::SweptCylinder& o = sweeps[e];
-      const Eigen::Vector3d mid = o.point + 0.5 * (o.axial_min + o.axial_max) * o.axis;
-      const double reach = std::hypot(o.radius, 0.5 * (o.axial_max - o.axial_min));
-      const Eigen::Vector3d to = mid - r.point;
-      const double t = to.dot(r.axis);
-      r.axial_min = std::min(r.axial_min, t - reach);
-      r.axial_max = std::max(r.axial_max, t + reach);
-      r.radius = std::max(r.radius, (to - t * r.axis).norm() + reach);
+      for (const std::vector<int>& entry : entries(c, static_cast<int>(e))) {
+        geometry::SweptCylinder held = geometry::sweptCylinder(scene, {}, drives[d].point, drives[d].direction);
+        held.axial_min = INFINITY, held.axial_max = -INFINITY;
+        holdSweep(held, geometry::sweptCylinder(scene, entry, drives[e].point, drives[e].direction));
+        rest[d].push_back(held);
+      }
     }
-    rest.push_back(r);
   }
   return [drive_of, sweeps, rest](int node, const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) {
     const int d = drive_of[static_cast<size_t>(node)];
-    if (d >= 0) return rest[static_cast<size_t>(d)].meets(origin, direction);
-    for (const geometry::SweptCylinder& s : sweeps)
-      if (s.meets(origin, direction)) return true;
-    return false;
+    return meetsAny(d >= 0 ? rest[static_cast<size_t>(d)] : sweeps, origin, direction);
   };
 }
 
