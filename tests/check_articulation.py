@@ -19,7 +19,8 @@ arms turned about the body y axis) is run
    tracking angle (sunlit positions) from /orbit/sun_body, eclipse holding the last sunlit
    angle, one eigendecomposition for every configuration, the configurations' angles the
    distinct binned angles; the positions of two configurations equal, to 1e-9, a hand run
-   at that angle (same rays again); and the XDMF steps point at their configuration's vertices.
+   at that angle (same rays again); `radnet export` of a turned position writes its
+   configuration's GR; and the XDMF steps point at their configuration's vertices.
 """
 import math
 import os
@@ -95,7 +96,7 @@ for degrees in (30, -130, 90):
     check(art["report"].attrs["eigendecompositions"] == 1, "%d°: one eigendecomposition" % degrees)
     for key in LOADS + ["solution/temperature"]:
         same(art[key][:], hand[key][:], "%d°, %s" % (degrees, key))
-    same(art["articulation/radiative_exchange"][1], hand["network/radiative_exchange"][:], "%d°, GR" % degrees)
+    same(art["articulation/configuration_1/radiative_exchange"][:], hand["network/radiative_exchange"][:], "%d°, GR" % degrees)
     same(art["articulation/vertices"][1], hand["geometry/vertices"][:], "%d°, vertices" % degrees, 1e-12)
 
 # 2. Default settings: independent estimates, within their error bars.
@@ -137,6 +138,23 @@ for k in sorted(set(config))[:2]:
     columns = np.where(config == k)[0]
     for key in LOADS:
         same(track[key][:], hand[key][:], "tracking, configuration %d (%g°), %s" % (k, conf_angle[k], key), columns=columns)
+# `radnet export` of a position takes its configuration's GR.
+turned_position = int(np.argmax(config > 0))
+k = config[turned_position]
+csv_dir = os.path.join(WORK, "export-%d" % turned_position)
+r = subprocess.run([RADNET, "export", os.path.join(WORK, "track.h5"), "--format", "csv", "--position",
+                    str(turned_position), "-o", csv_dir], capture_output=True, text=True)
+check(r.returncode == 0, "export of a turned position: exit %d %s" % (r.returncode, r.stderr))
+if r.returncode == 0:
+    gr = track["articulation/configuration_%d/radiative_exchange" % k][:]
+    written = {}
+    for line in open(os.path.join(csv_dir, "conductors.csv")).read().splitlines()[1:]:
+        kind, a, b, value = line.split(",")[:4]
+        if kind == "GR" and b.isdigit() and int(b) < gr.shape[0]:
+            written[(int(a), int(b))] = float(value)
+    worst = max(abs(v - gr[a, b]) for (a, b), v in written.items()) / largest(gr)
+    check(len(written) > 0 and worst <= 1e-9, "export of position %d: GR differs from configuration %d's by %.3g" %
+          (turned_position, k, worst))
 xmf = open(os.path.join(WORK, "track.xmf")).read()
 for k in sorted(set(config)):
     if k > 0:

@@ -192,7 +192,7 @@ std::vector<double> Drive::angles(const std::vector<orbits::SweepPosition>& posi
   }
   if (step_deg > 0 && track != Track::Fixed)
     for (double& a : out) a = step_deg * std::round(wrapDegrees(a) / step_deg);
-  for (double& a : out) a = wrapDegrees(a);
+  for (double& a : out) a = wrapDegrees(a) + 0.0;  // + 0.0: no −0 in the output
   return out;
 }
 

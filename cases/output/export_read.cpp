@@ -198,6 +198,28 @@ int deckNodeNumber(const ExportedNetwork& net, int i) {
   return i == n ? std::max(99999, n + 1) : i + 1;
 }
 
+// Parts that turn: the GR of the position's configuration (/articulation/configuration_<k>/),
+// which only the base optics have.
+std::string turnedGroup(const Hdf5Reader& h5, const std::string& gr_group, int position) {
+  if (!h5.has("/articulation/configuration")) return gr_group;
+  const Eigen::VectorXd configuration = h5.vector("/articulation/configuration");
+  if (position < 0 || position >= configuration.size() || !(configuration[position] >= 0) ||
+      configuration[position] != std::floor(configuration[position]))
+    malformed(h5, "/articulation/configuration", "no configuration for position " + std::to_string(position));
+  const int k = static_cast<int>(configuration[position]);
+  if (k == 0) return gr_group;  // the as-written geometry: /network/ or the base optics'
+  const std::string group = "/articulation/configuration_" + std::to_string(k) + "/";
+  if (gr_group != "/network/" && gr_group != "/optics/base/")
+    throw InputError(h5.path(), 0, 0, "position " + std::to_string(position) + " has turned parts (configuration " +
+                                          std::to_string(k) + ") and an optical set of its own: the file keeps the "
+                                          "turned configurations' GR for the base optics only");
+  if (!h5.has(group + "radiative_exchange"))
+    throw InputError(h5.path(), 0, 0, "position " + std::to_string(position) + " has turned parts, and " + group +
+                                          "radiative_exchange is not in the file (" +
+                                          h5.textAttribute("/articulation", "radiative_exchange", "not written") + ")");
+  return group;
+}
+
 ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& o, bool couplings) {
   if (!(o.min_gr >= 0 && o.min_gr < 1)) throw InputError(h5.path(), 0, 0, "--min-gr must be in [0, 1)");
   ExportedNetwork net;
@@ -210,7 +232,8 @@ ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& o
   const int positions = net.thermal            ? static_cast<int>(h5.matrix("/solution/temperature").rows())
                         : h5.has("/loads/solar") ? static_cast<int>(h5.rows("/loads/solar"))
                                                  : 1;
-  const std::string gr_group = selectCase(h5, o, net, positions);
+  const std::string case_group = selectCase(h5, o, net, positions);
+  const std::string gr_group = turnedGroup(h5, case_group, net.position);
   const bool imported = !h5.textAttribute("/meta", "imported_from", "").empty();  // no radiative node of radnet's
   const Eigen::Index radiative = imported && !h5.has("/network/radiative_exchange")
                                      ? 0 : h5.rows("/network/radiative_exchange");
@@ -220,8 +243,9 @@ ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& o
   if (!h5.has("/nodes/area") || h5.vector("/nodes/area").size() != n)
     malformed(h5, "/nodes/area", "missing or not one value per node (" + std::to_string(n) + ")");
   net.area_m2 = orZeros(h5, "/nodes/area", n);
-  net.emissivity = orZeros(h5, gr_group == "/network/" ? "/nodes/emissivity" : gr_group + "emissivity", n);
-  net.absorptivity = orZeros(h5, gr_group == "/network/" ? "/nodes/absorptivity" : gr_group + "absorptivity", n);
+  // The optics are the case's (a turned configuration's GR is of the base optics).
+  net.emissivity = orZeros(h5, case_group == "/network/" ? "/nodes/emissivity" : case_group + "emissivity", n);
+  net.absorptivity = orZeros(h5, case_group == "/network/" ? "/nodes/absorptivity" : case_group + "absorptivity", n);
   if (h5.has("/orbit/time")) {
     const Eigen::VectorXd time = h5.vector("/orbit/time");
     if (net.position >= time.size()) malformed(h5, "/orbit/time", std::to_string(time.size()) + " times for position " + std::to_string(net.position));

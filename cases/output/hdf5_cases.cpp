@@ -154,20 +154,25 @@ void writeArticulation(Hdf5Writer& h5, const GeometryCase& c, const GeometryRunR
   h5.writeIntegers("/articulation/configuration", integers(r.sweep->configuration), "1");
   h5.writeMatrix("/articulation/configuration_angle", a.configuration_angle, "deg");
   h5.writeIntegers("/articulation/update_rank", integers(a.update_rank), "1");
-  std::vector<Eigen::MatrixXd> gr, gr_space, vertices;
-  for (size_t k = 0; k < a.exchange.size(); ++k) {
-    gr.push_back(a.exchange[k].gr);
-    gr_space.push_back(a.exchange[k].gr_space.transpose());
-  }
-  const double entries = double(gr.size()) * double(gr.front().size());
-  constexpr double kMaxStackEntries = 2e7;  // 160 MB of GR stacks: beyond, rows are rebuilt from a run per angle
-  if (entries <= kMaxStackEntries) {
-    h5.writeStack("/articulation/radiative_exchange", gr, "m2");
-    h5.writeStack("/articulation/gr_space", gr_space, "m2");
+  // Each configuration's GR as a group of its own (configuration 0's are /network's, linked):
+  // what a reader or `radnet export` of one position takes as it takes /network's.
+  const double entries = double(a.exchange.size()) * double(a.exchange.front().gr.size());
+  constexpr double kMaxExchangeEntries = 2e7;  // 160 MB of GR: beyond, rebuild from a run per angle
+  if (entries <= kMaxExchangeEntries) {
+    for (size_t k = 0; k < a.exchange.size(); ++k) {
+      const std::string group = "/articulation/configuration_" + std::to_string(k) + "/";
+      if (k == 0 && r.radiative.exchange) {
+        h5.link("/network/radiative_exchange", group + "radiative_exchange");
+        h5.link("/network/gr_space", group + "gr_space");
+        continue;
+      }
+      h5.writeMatrix(group + "radiative_exchange", a.exchange[k].gr, "m2");
+      h5.writeVector(group + "gr_space", a.exchange[k].gr_space, "m2");
+    }
   } else {
     h5.attribute("/articulation", "radiative_exchange",
                  std::string("not written: ") + std::to_string(a.exchange.size()) + " configurations × n² is above " +
-                     std::to_string(static_cast<long long>(kMaxStackEntries)) + " entries");
+                     std::to_string(static_cast<long long>(kMaxExchangeEntries)) + " entries");
   }
   h5.writeStack("/articulation/vertices", a.vertices, "m");
   h5.attribute("/report", "articulation_configurations", static_cast<long long>(a.vertices.size()));

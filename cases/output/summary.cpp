@@ -3,6 +3,7 @@
 #include "cases/output/node_table.hpp"
 #include "cases/pipeline/case_merge.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <iomanip>
@@ -296,6 +297,11 @@ void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std
         << r.exact->pairs_occluded << " occluded), " << r.exact->sampled_rows << " rows by rays, ";
   out << r.total_rays << " rays, correction ≤ " << r.correction.max_change << " ("
       << r.correction.max_change_sigma << " σ); closure error " << r.correction.max_closure_error << "\n";
+  if (r.articulation && !r.articulation->vertices.empty())
+    out << "articulation: " << r.articulation->vertices.size() << " configurations on the one decomposition, "
+        << r.articulation->recast_rows << " rows recast in each (" << r.articulation->rays
+        << " rays traced again), update ranks up to "
+        << *std::max_element(r.articulation->update_rank.begin(), r.articulation->update_rank.end()) << "\n";
   const solver::EigenPairs& pairs = r.radiative.pairs;
   out << "eigenpairs: rank " << pairs.rank() << " (" << solver::toString(pairs.method) << ", " << pairs.rank_rule;
   if (pairs.probe_residual >= 0) out << "; probe residual " << pairs.probe_residual;
