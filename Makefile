@@ -51,7 +51,7 @@ bench: build
 	./$(BUILD_DIR)/bench/bench_ray_caster docs/ray-caster-benchmark.md
 	./$(BUILD_DIR)/bench/bench_loads docs/loads-benchmark.md bench/cases/satellite-1602.yaml bench/cases/satellite-6402.yaml
 	/usr/bin/python3 bench/bench_articulation.py $(BUILD_DIR)/radnet docs/articulation-benchmark.md \
-	  bench/cases/tracking-wings-2102.yaml bench/cases/steered-dish-1602.yaml
+	  bench/cases/tracking-wings-2102.yaml bench/cases/tracking-wings-2006.yaml bench/cases/steered-dish-1602.yaml
 	./$(BUILD_DIR)/bench/bench_thermal docs/thermal-benchmark.md
 	./$(BUILD_DIR)/bench/bench_design_cases bench/cases/satellite-1602-design.yaml docs/design-cases-benchmark.md \
 	  bench/cases/satellite-6402.yaml
