@@ -1,5 +1,6 @@
 #include "cases/pipeline/articulated.hpp"
 
+#include "cases/config/error_budget.hpp"
 #include "cases/config/errors.hpp"
 #include "cases/pipeline/radiative_network.hpp"
 #include "cases/pipeline/view_factor_rows.hpp"
@@ -117,6 +118,9 @@ ArticulatedBase articulatedBase(const GeometryCase& c, const geometry::RayCaster
   base.may_change = redirectableRays(c);
   geometry::ViewFactorOptions opt = c.view_factors.monte_carlo;
   opt.cast_rows = base.rows;
+  // `method: exact` sets no target for rays: the recast rows are sampled all the same, to the
+  // error budget's target (rays given in the case are kept as given).
+  if (!c.view_factors.rays_pinned && !(opt.target_error > 0)) opt.target_error = kViewFactorShare * c.solver.accuracy;
   const geometry::ViewFactorResult vf = geometry::castPlannedRows(caster, opt, base.may_change, base.plan);
   for (int i : base.changed) rays[i] = double(vf.rays[static_cast<size_t>(i)]);
   base.estimate = geometry::withSampledRows(estimate, vf, base.rows);
