@@ -182,7 +182,15 @@ std::unique_ptr<Configuration> Articulated::make(const std::vector<double>& angl
     k->own_scene->rotateSurfaces(drive.surfaces, drive.point, drive.direction, angles[d] * kRadPerDeg);
   }
   k->own_caster = std::make_unique<geometry::RayCaster>(*k->own_scene);
-  const geometry::ViewFactorResult vf = geometry::recastRows(*k->own_caster, base_.plan, base_.may_change);
+  std::vector<Eigen::Isometry3d> motion(area_.size(), Eigen::Isometry3d::Identity());
+  for (size_t d = 0; d < angles.size(); ++d) {  // each drive's nodes turn with its parts
+    const Drive& drive = c_.articulation.drives[d];
+    const Eigen::Isometry3d turn = Eigen::Translation3d(drive.point) *
+                                   Eigen::AngleAxisd(angles[d] * kRadPerDeg, drive.direction) *
+                                   Eigen::Translation3d(-drive.point);
+    for (int i : drive.nodes) motion[static_cast<size_t>(i)] = turn;
+  }
+  const geometry::ViewFactorResult vf = geometry::recastRows(*k->own_caster, base_.plan, base_.may_change, motion);
   rays_ += vf.total_rays;
   const geometry::ViewFactorEstimate estimate = geometry::withSampledRows(base_.estimate, vf, base_.rows);
   Eigen::VectorXd rays = base_.rays;

@@ -2,6 +2,7 @@
 
 #include "geometry/rays/sampling.hpp"
 
+#include <atomic>
 #include <chrono>
 #include <stdexcept>
 
@@ -28,11 +29,13 @@ struct Streams {
   }
 };
 
-// Samples [from, to) of every replica: redirectable rays traced into `moving`; the others
-// traced into `kept` when it is given (the arrangement as written), skipped otherwise.
+// Samples [from, to) of every replica: redirectable rays traced into `moving` (and, with
+// `rays`, kept), the others traced into `kept` when it is given (the arrangement as written),
+// skipped otherwise.
 std::int64_t castRange(const RayCaster& caster, const NodeSampler& sampler, Streams& streams, int node,
                        std::int64_t from, std::int64_t to, const RayMayChange& may_change,
-                       std::vector<tally::Tally>& moving, std::vector<tally::Tally>* kept) {
+                       std::vector<tally::Tally>& moving, std::vector<tally::Tally>* kept,
+                       std::vector<std::vector<RecastPlan::Ray>>* rays = nullptr) {
   std::int64_t traced = 0;
   for (size_t r = 0; r < moving.size(); ++r) {
     if (!streams.sobol.empty()) streams.sobol[r].seek(static_cast<std::uint32_t>(from));
@@ -40,12 +43,22 @@ std::int64_t castRange(const RayCaster& caster, const NodeSampler& sampler, Stre
       const NodeSampler::Ray ray = sampler.map(streams.draw(static_cast<int>(r)));
       const bool changes = may_change(node, ray.point, ray.direction);
       if (!changes && !kept) continue;
-      const Hit hit = caster.firstHit(caster.offsetOrigin(ray.point, ray.normal), ray.direction, ray.face);
+      const Vec3 origin = caster.offsetOrigin(ray.point, ray.normal);
+      const Hit hit = caster.firstHit(origin, ray.direction, ray.face);
       ++(changes ? moving[r] : (*kept)[r])[tally::classify(caster, hit)];
       traced += changes;
+      if (changes && rays) (*rays)[r].push_back({origin, ray.direction, ray.face});
     }
   }
   return traced;
+}
+
+// The kept redirectable rays of one row, moved with its part, traced in `moved`.
+void traceKept(const RayCaster& moved, const std::vector<std::vector<RecastPlan::Ray>>& rays,
+               const Eigen::Isometry3d& motion, std::vector<tally::Tally>& tallies) {
+  for (size_t r = 0; r < rays.size(); ++r)
+    for (const RecastPlan::Ray& ray : rays[r])
+      ++tallies[r][tally::classify(moved, moved.firstHit(motion * ray.origin, motion.linear() * ray.direction, ray.face))];
 }
 
 std::vector<tally::Tally> sum(const std::vector<tally::Tally>& a, const std::vector<tally::Tally>& b) {
@@ -101,6 +114,9 @@ ViewFactorResult castPlannedRows(const RayCaster& caster, const ViewFactorOption
   plan.per_replica.assign(static_cast<size_t>(n), 0);
   plan.kept.assign(static_cast<size_t>(n), {});
   plan.traced.assign(static_cast<size_t>(n), 0);
+  plan.rays.assign(static_cast<size_t>(n), {});
+  std::atomic<std::int64_t> kept_rays{0};  // across rows: the memory they take
+  const auto fits = [&] { return double(kept_rays.load()) * sizeof(RecastPlan::Ray) <= kMaxKeptRayBytes; };
   std::vector<std::vector<std::pair<int, double>>> rows(static_cast<size_t>(n)), errors(static_cast<size_t>(n));
   ViewFactorResult res = emptyResult(n);
 #ifdef _OPENMP
@@ -108,6 +124,8 @@ ViewFactorResult castPlannedRows(const RayCaster& caster, const ViewFactorOption
 #endif
   for (int i = 0; i < n; ++i) {
     if (opt.cast_rows.empty() || !opt.cast_rows[static_cast<size_t>(i)]) continue;
+    std::vector<std::vector<RecastPlan::Ray>>& row_rays = plan.rays[static_cast<size_t>(i)];
+    row_rays.assign(static_cast<size_t>(opt.replicas), {});
     const NodeSampler sampler(caster.scene(), i);
     Streams streams(opt, i);
     std::vector<tally::Tally> moving(static_cast<size_t>(opt.replicas)), kept(moving.size());
@@ -116,7 +134,8 @@ ViewFactorResult castPlannedRows(const RayCaster& caster, const ViewFactorOption
         opt.target_error > 0 ? std::min(cap, std::max<std::int64_t>(1, opt.min_rays_per_node / opt.replicas)) : cap;
     std::int64_t done = 0, traced = 0;
     for (;;) {  // doubling until the target error, as computeViewFactors
-      traced += castRange(caster, sampler, streams, i, done, per_replica, may_change, moving, &kept);
+      traced += castRange(caster, sampler, streams, i, done, per_replica, may_change, moving, &kept,
+                          fits() ? &row_rays : nullptr);
       done = per_replica;
       if (opt.target_error <= 0 || per_replica >= cap ||
           tally::worstError(sum(kept, moving), double(per_replica)) <= opt.target_error)
@@ -125,16 +144,26 @@ ViewFactorResult castPlannedRows(const RayCaster& caster, const ViewFactorOption
     }
     plan.per_replica[static_cast<size_t>(i)] = per_replica;
     plan.traced[static_cast<size_t>(i)] = traced;
+    kept_rays += traced;
     storeRow(i, sum(kept, moving), per_replica, rows, errors, res);
     plan.kept[static_cast<size_t>(i)] = std::move(kept);
   }
+  // Every row's redirectable rays, or none (a row cut short by the memory is no use).
+  std::int64_t held = 0;
+  for (int i = 0; i < n; ++i)
+    for (const auto& replica : plan.rays[static_cast<size_t>(i)]) held += static_cast<std::int64_t>(replica.size());
+  std::int64_t redirectable = 0;
+  for (std::int64_t t : plan.traced) redirectable += t;
+  plan.rays_kept = held == redirectable;
+  if (!plan.rays_kept) plan.rays.assign(static_cast<size_t>(n), {});
   for (std::int64_t r : res.rays) res.total_rays += r;
   res = assemble(n, rows, errors, std::move(res));
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
 }
 
-ViewFactorResult recastRows(const RayCaster& moved, const RecastPlan& plan, const RayMayChange& may_change) {
+ViewFactorResult recastRows(const RayCaster& moved, const RecastPlan& plan, const RayMayChange& may_change,
+                            const std::vector<Eigen::Isometry3d>& node_motion) {
   const auto t0 = std::chrono::steady_clock::now();
   const int n = static_cast<int>(moved.scene().nodes().size());
   std::vector<std::vector<std::pair<int, double>>> rows(static_cast<size_t>(n)), errors(static_cast<size_t>(n));
@@ -149,7 +178,13 @@ ViewFactorResult recastRows(const RayCaster& moved, const RecastPlan& plan, cons
     const NodeSampler sampler(moved.scene(), i);
     Streams streams(plan.options, i);
     std::vector<tally::Tally> moving(static_cast<size_t>(plan.options.replicas));
-    traced[static_cast<size_t>(i)] = castRange(moved, sampler, streams, i, 0, per_replica, may_change, moving, nullptr);
+    if (plan.rays_kept) {
+      traceKept(moved, plan.rays[static_cast<size_t>(i)],
+                node_motion.empty() ? Eigen::Isometry3d::Identity() : node_motion[static_cast<size_t>(i)], moving);
+      traced[static_cast<size_t>(i)] = plan.traced[static_cast<size_t>(i)];
+    } else {
+      traced[static_cast<size_t>(i)] = castRange(moved, sampler, streams, i, 0, per_replica, may_change, moving, nullptr);
+    }
     storeRow(i, sum(plan.kept[static_cast<size_t>(i)], moving), per_replica, rows, errors, res);
   }
   for (std::int64_t t : traced) res.total_rays += t;  // the rays traced, not the rows' counts

@@ -9,6 +9,8 @@
 #include "geometry/rays/tally.hpp"
 #include "geometry/rays/view_factors.hpp"
 
+#include <Eigen/Geometry>
+
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -25,7 +27,20 @@ struct RecastPlan {
   std::vector<std::int64_t> per_replica;         ///< per node, rays of each replica (0: not cast)
   std::vector<std::vector<tally::Tally>> kept;   ///< per node and replica: the unredirectable rays' counts
   std::vector<std::int64_t> traced;              ///< per node, rays a moved arrangement traces again
+  /// The redirectable rays themselves (offset origin, direction, emitting face), per node and
+  /// replica, as cast in the scene as written: a moved arrangement turns a moving node's with
+  /// its part and traces them, instead of drawing, mapping and testing every ray of the row
+  /// again. Kept while they fit kMaxKeptRayBytes; else empty (rays_kept false) and redrawn.
+  struct Ray {
+    Vec3 origin, direction;
+    int face;
+  };
+  std::vector<std::vector<std::vector<Ray>>> rays;
+  bool rays_kept = false;
 };
+
+/// The most memory the redirectable rays may take (RecastPlan::rays), bytes.
+inline constexpr double kMaxKeptRayBytes = 2e9;
 
 /// Casts the rows marked in opt.cast_rows in `caster`'s scene (the arrangement as written),
 /// until opt.target_error or opt.rays_per_node as computeViewFactors does, and keeps the plan.
@@ -34,6 +49,8 @@ ViewFactorResult castPlannedRows(const RayCaster& caster, const ViewFactorOption
 
 /// The plan's rows in a moved arrangement of the same scene: the same rays, the kept counts
 /// where no motion can redirect them, the rest traced in `moved`.
-ViewFactorResult recastRows(const RayCaster& moved, const RecastPlan& plan, const RayMayChange& may_change);
+/// @param node_motion  per node, the rigid motion of its part (empty, or identity: fixed)
+ViewFactorResult recastRows(const RayCaster& moved, const RecastPlan& plan, const RayMayChange& may_change,
+                            const std::vector<Eigen::Isometry3d>& node_motion = {});
 
 }  // namespace radnet::geometry
