@@ -1,6 +1,7 @@
 #include "solver/radiative/pair_update.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Cholesky>
 #include <Eigen/QR>
 
 #include <algorithm>
@@ -24,7 +25,24 @@ void rowEntries(const Network& net, int i, std::vector<std::pair<int, double>>& 
 }
 
 // Orthonormal basis of the columns of y (thin Householder Q).
+// Orthonormal basis of the columns of y: Cholesky QR twice (CholeskyQR2, Fukaya et al. 2014:
+// two Gram matrices and triangular solves, all matrix products, orthogonal to rounding when y's
+// condition number is below ~1e8), else thin Householder (rank-deficient or ill-conditioned y).
 Eigen::MatrixXd orthonormal(const Eigen::MatrixXd& y) {
+  Eigen::MatrixXd q = y;
+  for (int pass = 0; pass < 2; ++pass) {
+    Eigen::MatrixXd gram = q.transpose() * q;
+    const Eigen::LLT<Eigen::MatrixXd> llt(gram);
+    if (llt.info() != Eigen::Success) q.resize(0, 0);
+    if (q.size() == 0) break;
+    const Eigen::VectorXd d = llt.matrixLLT().diagonal();
+    if (!(d.minCoeff() > 1e-7 * d.maxCoeff())) {  // near rank deficiency: Householder
+      q.resize(0, 0);
+      break;
+    }
+    llt.matrixU().solveInPlace<Eigen::OnTheRight>(q);  // q ← q U⁻¹ (gram = Uᵀ U)
+  }
+  if (q.size() == y.size()) return q;
   Eigen::HouseholderQR<Eigen::MatrixXd> qr(y);
   return qr.householderQ() * Eigen::MatrixXd::Identity(y.rows(), y.cols());
 }
