@@ -162,16 +162,23 @@ EigenPairs updatedPairs(const EigenPairs& base, const Eigen::SparseMatrix<double
   EigenPairs out = base;
   out.dropped_bound = base.dropped_bound + own.residual + own.cut;
   if (u.cols() == 0) return out;
-  // Rayleigh–Ritz on span[V U]: [V U] = Q₂ R₂, G'_k = Q₂ (R₂ D R₂ᵀ) Q₂ᵀ, D = diag(Λ, M).
+  // Rayleigh–Ritz on span[V U]: Q₂ = [V Q_U], Q_U an orthonormal basis of U's part outside V;
+  // B = Q₂ᵀ U, and G'_k = Q₂ (diag(Λ, 0) + B M Bᵀ) Q₂ᵀ (matrix products only).
   const Eigen::Index k = base.rank(), m = k + u.cols();
-  Eigen::MatrixXd w(n, m);
-  w << base.vectors, u;
-  Eigen::VectorXd d(m);
-  d << base.values, mu;
-  Eigen::HouseholderQR<Eigen::MatrixXd> qr(w);
-  const Eigen::MatrixXd q2 = qr.householderQ() * Eigen::MatrixXd::Identity(n, m);
-  const Eigen::MatrixXd r2 = qr.matrixQR().topRows(m).triangularView<Eigen::Upper>();
-  Eigen::MatrixXd core = r2 * d.asDiagonal() * r2.transpose();
+  const Eigen::MatrixXd vu = base.vectors.transpose() * u;
+  // V projected out twice ("twice is enough"), before and after the basis is made orthonormal
+  // (where U lies nearly in span V the basis's directions come from rounding: keep them out of V).
+  Eigen::MatrixXd outside = u - base.vectors * vu;
+  outside -= base.vectors * (base.vectors.transpose() * outside);
+  outside = orthonormal(outside);
+  outside -= base.vectors * (base.vectors.transpose() * outside);
+  outside = orthonormal(outside);
+  Eigen::MatrixXd q2(n, m);
+  q2 << base.vectors, outside;
+  Eigen::MatrixXd b(m, u.cols());
+  b << vu, outside.transpose() * u;
+  Eigen::MatrixXd core = b * mu.asDiagonal() * b.transpose();
+  core.diagonal().head(k) += base.values;
   core = 0.5 * (core + core.transpose());
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(core);
   std::vector<Eigen::Index> order(static_cast<size_t>(m));
