@@ -70,6 +70,27 @@ double residualBound(const Eigen::SparseMatrix<double>& change, const Eigen::Mat
 // probes find below the tolerance.
 constexpr double kUpdateShare = 1e-3;
 
+// An orthonormal basis of the part of span(U) outside span(V) (U's columns unit, V
+// orthonormal), of the rank it has: V projected out twice ("twice is enough"), each time the
+// result normalised through its Gram matrix's eigenvectors, directions below 1e-7 of a unit
+// column dropped (U inside span V: an empty basis, not directions made of rounding).
+Eigen::MatrixXd outsideBasis(const Eigen::MatrixXd& u, const Eigen::MatrixXd& v) {
+  Eigen::MatrixXd y = u;
+  for (int pass = 0; pass < 2 && y.cols() > 0; ++pass) {
+    y -= v * (v.transpose() * y);
+    y -= v * (v.transpose() * y);
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(y.transpose() * y);
+    std::vector<Eigen::Index> keep;
+    for (Eigen::Index j = 0; j < y.cols(); ++j)
+      if (eig.eigenvalues()[j] > 1e-14) keep.push_back(j);
+    Eigen::MatrixXd w(y.cols(), static_cast<Eigen::Index>(keep.size()));
+    for (size_t c = 0; c < keep.size(); ++c)
+      w.col(static_cast<Eigen::Index>(c)) = eig.eigenvectors().col(keep[c]) / std::sqrt(eig.eigenvalues()[keep[c]]);
+    y = y * w;
+  }
+  return y;
+}
+
 }  // namespace
 
 Eigen::SparseMatrix<double> conductanceChange(const Network& base, const Network& moved, const std::vector<int>& changed) {
@@ -164,19 +185,16 @@ EigenPairs updatedPairs(const EigenPairs& base, const Eigen::SparseMatrix<double
   if (u.cols() == 0) return out;
   // Rayleigh–Ritz on span[V U]: Q₂ = [V Q_U], Q_U an orthonormal basis of U's part outside V;
   // B = Q₂ᵀ U, and G'_k = Q₂ (diag(Λ, 0) + B M Bᵀ) Q₂ᵀ (matrix products only).
-  const Eigen::Index k = base.rank(), m = k + u.cols();
+  const Eigen::Index k = base.rank();
   const Eigen::MatrixXd vu = base.vectors.transpose() * u;
-  // V projected out twice ("twice is enough"), before and after the basis is made orthonormal
-  // (where U lies nearly in span V the basis's directions come from rounding: keep them out of V).
-  Eigen::MatrixXd outside = u - base.vectors * vu;
-  outside -= base.vectors * (base.vectors.transpose() * outside);
-  outside = orthonormal(outside);
-  outside -= base.vectors * (base.vectors.transpose() * outside);
-  outside = orthonormal(outside);
+  const Eigen::MatrixXd outside = outsideBasis(u, base.vectors);
+  const Eigen::Index m = k + outside.cols();
   Eigen::MatrixXd q2(n, m);
-  q2 << base.vectors, outside;
+  q2.leftCols(k) = base.vectors;
+  q2.rightCols(outside.cols()) = outside;
   Eigen::MatrixXd b(m, u.cols());
-  b << vu, outside.transpose() * u;
+  b.topRows(k) = vu;
+  if (outside.cols() > 0) b.bottomRows(outside.cols()) = outside.transpose() * u;
   Eigen::MatrixXd core = b * mu.asDiagonal() * b.transpose();
   core.diagonal().head(k) += base.values;
   core = 0.5 * (core + core.transpose());
