@@ -1,5 +1,7 @@
 #include "cases/config/work_estimate.hpp"
 
+#include "geometry/rays/recast_rows.hpp"
+
 #include <sys/resource.h>
 #include <unistd.h>
 #include <algorithm>
@@ -100,6 +102,10 @@ WorkEstimate estimateWork(const GeometryCase& c) {
     for (const Drive& d : c.articulation.drives) configurations *= std::floor(360.0 / d.step_deg) + 1.0;
     configurations = std::min(configurations, static_cast<double>(w.positions));
     w.dense_bytes += configurations * (8.0 * n * n * (c.thermal ? 3.0 : 2.0) + kSceneBytesPerTriangle * triangles);
+    // The rays a turn can redirect, kept from the base: at most every ray of every row, and
+    // never beyond geometry::kMaxKeptRayBytes.
+    const double rays = n * static_cast<double>(c.view_factors.monte_carlo.rays_per_node);
+    w.dense_bytes += std::min(geometry::kMaxKeptRayBytes, rays * sizeof(geometry::RecastPlan::Ray));
   }
   // About 25 per-node series (loads, irradiances, heat flows, temperature; several kept twice
   // while cases are joined) and 4 per-triangle ParaView copies on two sides.
