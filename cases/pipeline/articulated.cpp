@@ -43,8 +43,13 @@ std::vector<char> turningRows(const GeometryCase& c) {
 
 namespace {
 
+// Every ray of a recast row is tested against each cylinder (a hot path): beyond this many
+// geometry entries (a CAD assembly of hundreds of parts) they share one cylinder.
+constexpr size_t kMaxEntryCylinders = 8;
+
 // The scene's surfaces grouped by geometry entry (the surface name up to its first '.': a
-// grid's cells, a box's faces), those of `drive` (or, with drive < 0, of no drive) only.
+// grid's cells, a box's faces), those of `drive` (or, with drive < 0, of no drive) only; one
+// group of them all beyond kMaxEntryCylinders entries.
 std::vector<std::vector<int>> entries(const GeometryCase& c, int drive) {
   const std::vector<std::string>& names = c.scene.surfaceNames();
   std::vector<int> owner(names.size(), -1);
@@ -55,6 +60,10 @@ std::vector<std::vector<int>> entries(const GeometryCase& c, int drive) {
     if (owner[s] == drive) by_entry[names[s].substr(0, names[s].find('.'))].push_back(static_cast<int>(s));
   std::vector<std::vector<int>> out;
   for (auto& [name, surfaces] : by_entry) out.push_back(std::move(surfaces));
+  if (out.size() > kMaxEntryCylinders) {
+    for (size_t k = 1; k < out.size(); ++k) out.front().insert(out.front().end(), out[k].begin(), out[k].end());
+    out.resize(1);
+  }
   return out;
 }
 
