@@ -183,7 +183,7 @@ TEST_CASE("auto: a patch whose pairs cost more than casting its row stops planni
   plenty.max_blockers = 8;
   plenty.row_sampling_seconds = 10.0;  // casting a row dear: every pair is planned, every row exact
   const ExactResult all = exactViewFactors(s, plenty);
-  CHECK(all.pairs_planned > 288 * 144);  // each of the 288 patches against the 144 it faces, at least
+  CHECK(all.pairs_planned >= 144 * 144);  // every facing pair once (pairs on one wall are culled by cluster, unplanned)
   CHECK(std::count(all.sampled_rows.begin(), all.sampled_rows.end(), 1) == 0);
   ExactOptions cheap = plenty;
   cheap.row_sampling_seconds = 1e-9;  // a row cheaper than any pair: each patch stops at its first pair

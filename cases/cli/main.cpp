@@ -14,6 +14,7 @@
 #include "cases/pipeline/geometry_run.hpp"
 #include "cases/pipeline/network_run.hpp"
 #include "cases/cli/read_commands.hpp"
+#include "cases/cli/tuned_process.hpp"
 #include "cases/cli/warning_tap.hpp"
 
 #include <CLI/CLI.hpp>
@@ -384,11 +385,11 @@ int radnetMain(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  radnet::cases::Hdf5Writer::noLibraryExitHandler();  // before any HDF5 call (hdf5_writer.hpp)
+  radnet::cases::restartTuned(argv);  // huge pages, sleeping OpenMP workers (tuned_process.hpp)
+  radnet::cases::Hdf5Writer::noLibraryExitHandler();  // before any HDF5 call
   removeTemporariesOnSignal();  // Ctrl-C, kill or a closed terminal leave no OUT.h5.tmp-PID
   exitOnTerminate(kExitNumerical);  // no abort: an exit code and a message
-  // Under mpirun: MPI up, and stdout (summaries, check results) from rank 0 only; every
-  // rank's errors still reach stderr, so a failure seen by one rank is located (docs/mpi.md).
+  // Under mpirun: stdout from rank 0 only; every rank's errors reach stderr (docs/mpi.md).
   radnet::cluster::start(argc, argv);
   Discard discard;
   if (radnet::cluster::rank() != 0) std::cout.rdbuf(&discard);

@@ -10,6 +10,10 @@ void applyErrorBudget(GeometryCase& c) {
     if (d.orbit) d.orbit->environment.relative_error = kLoadShare * accuracy;
   if (!c.view_factors.rays_pinned && c.view_factors.method != ViewFactorMethod::Exact)
     c.view_factors.monte_carlo.target_error = kViewFactorShare * accuracy;
+  if (!c.view_factors.tolerance_pinned && c.view_factors.method != ViewFactorMethod::MonteCarlo) {
+    c.view_factors.exact.relative_tolerance = kExactRelativeShare * accuracy;
+    c.view_factors.exact.tolerance = kExactAbsoluteFraction * c.view_factors.exact.relative_tolerance;
+  }
 }
 
 solver::SolverSettings budgetedSolverSettings(const solver::SolverSettings& settings, double max_view_factor_stderr) {

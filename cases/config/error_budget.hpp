@@ -13,6 +13,11 @@ inline constexpr double kLoadShare = 0.5;
 /// The absolute σ of each view-factor entry cast by rays (F ≤ 1 and a node's absorbed
 /// power is Σ_j F_ij M_j, so an entry's σ is roughly its relative share).
 inline constexpr double kViewFactorShare = 0.1;
+/// Each exactly integrated pair's error relative to its value (F ≥ 0 and a node's absorbed
+/// power is a positive sum over its row, so a relative error bounds the row's), and the
+/// absolute floor per entry as a fraction of it (pairs that barely see each other).
+inline constexpr double kExactRelativeShare = kViewFactorShare;
+inline constexpr double kExactAbsoluteFraction = 1e-3;
 /// The band solves refine to this fraction of the largest view-factor σ (refining below
 /// the view factors' own noise buys nothing) ...
 inline constexpr double kSolverNoiseFraction = 0.1;
@@ -21,8 +26,8 @@ inline constexpr double kSolverNoiseFraction = 0.1;
 inline constexpr double kSolverShare = 0.1;
 inline constexpr double kSolverTightest = 1e-10;
 
-/// Sets the shares the case left open: the loads' relative error and the view-factor
-/// target error of ray-cast rows.
+/// Sets the shares the case left open: the loads' relative error, the view-factor target
+/// error of ray-cast rows and the exact method's targets per pair.
 void applyErrorBudget(GeometryCase& c);
 
 /// The solver settings of a run once the view factors are known: their tolerance follows

@@ -67,6 +67,7 @@ ViewFactorSettings parseViewFactorSettings(const YamlDocument& doc, const YAML::
     throw doc.error(vf["tolerance"], what + ".tolerance is the exact method's target and has no effect with " +
                                          "method: monte_carlo; give rays or target_error instead");
   if (vf["tolerance"]) s.exact.tolerance = doc.number(vf["tolerance"], what + ".tolerance", 1e-12, 0.1);
+  s.tolerance_pinned = static_cast<bool>(vf["tolerance"]);
   if (vf["max_blockers"]) {
     if (s.method != ViewFactorMethod::Auto)
       throw doc.error(vf["max_blockers"], what + ".max_blockers applies to method: auto only");

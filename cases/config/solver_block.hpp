@@ -21,6 +21,7 @@ struct ViewFactorSettings {
   geometry::ViewFactorOptions monte_carlo;  ///< rays, seed, target error, replicas, sampling
   geometry::ExactOptions exact;             ///< tolerance; max_blockers (auto only)
   bool rays_pinned = false;                 ///< the case gave rays or target_error (the budget leaves them)
+  bool tolerance_pinned = false;            ///< the case gave tolerance (the budget leaves the exact targets)
 };
 
 /// Parses `solver:` (defaults when absent). `view_factors` is accepted here and read by

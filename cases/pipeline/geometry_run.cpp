@@ -82,12 +82,23 @@ geometry::ViewFactorEstimate exactStage(const GeometryCase& c, const geometry::R
   const geometry::ExactResult ex = geometry::exactViewFactors(c.scene, opt);
   r.exact = ExactViewFactorStats{ex.patches,        ex.pairs_culled, ex.pairs_hidden, ex.pairs_unoccluded,
                                  ex.pairs_occluded, 0,               ex.seconds};
-  // The quadrature stops at max_depth: say so when an estimate stayed above the target.
-  const double worst = ex.standard_error.nonZeros() ? ex.standard_error.coeffs().maxCoeff() : 0.0;
-  if (worst > opt.tolerance)
-    progress << "radnet: warning: exact view factors: the largest error estimate " << worst
-             << " exceeds solver.view_factors.tolerance " << opt.tolerance
-             << " (occluded pairs reached the refinement limit); /network/view_factor_stderr has it per entry\n";
+  r.exact->pairs_by_quadrature = ex.pairs_by_quadrature;
+  // The quadrature stops at max_depth: say so when an estimate stayed above its target
+  // (the absolute tolerance, or the relative one times the entry).
+  double worst = 0.0, worst_target = opt.tolerance;
+  for (Eigen::Index i = 0; i < ex.standard_error.outerSize(); ++i) {
+    Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator f(ex.view_factors, i);
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator e(ex.standard_error, i); e; ++e) {
+      while (f && f.col() < e.col()) ++f;
+      const double value = (f && f.col() == e.col()) ? f.value() : 0.0;
+      const double target = std::max(opt.tolerance, opt.relative_tolerance * value);
+      if (e.value() / target > worst / worst_target) worst = e.value(), worst_target = target;
+    }
+  }
+  if (worst > worst_target * (1 + 1e-9))
+    progress << "radnet: warning: exact view factors: an error estimate of " << worst << " exceeds its target "
+             << worst_target << " (occluded pairs reached the refinement limit); /network/view_factor_stderr "
+             << "has it per entry\n";
   // An exact row's entries are good to the tolerance: that is its variance floor.
   rays.setConstant(1.0 / opt.tolerance);
   geometry::ViewFactorEstimate estimate = ex;
@@ -196,7 +207,8 @@ void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, c
   progress << "radnet: view factors (" << toString(c.view_factors.method) << "): ";
   if (r.exact)
     progress << r.exact->pairs_unoccluded << " unoccluded and " << r.exact->pairs_occluded
-             << " occluded patch pairs exact, " << r.exact->sampled_rows << " rows left to rays, ";
+             << " occluded patch pairs exact (" << r.exact->pairs_by_quadrature << " by point rules, "
+             << r.exact->seconds << " s), " << r.exact->sampled_rows << " rows left to rays, ";
   progress << r.total_rays << " rays"
            << (r.rays_per_second > 0 ? " (" + std::to_string(static_cast<long long>(r.rays_per_second)) + " rays/s)"
                                      : "")

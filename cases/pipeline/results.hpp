@@ -135,7 +135,11 @@ struct ExactViewFactorStats {
   int patches = 0;
   std::int64_t pairs_culled = 0, pairs_hidden = 0, pairs_unoccluded = 0, pairs_occluded = 0;
   int sampled_rows = 0;  ///< rows left to ray casting
-  double seconds = 0.0;
+  double seconds = 0.0;  ///< the pair integrals (patches, clusters, plan and integration)
+  std::int64_t pairs_by_quadrature = 0;  ///< unoccluded pairs settled by few-point rules
+  /// Predicted time of the view-factor stage, s (auto's cost model: pair integrals over the
+  /// threads plus the rows it casts); 0 when nothing was planned.
+  double predicted_seconds = 0.0;
 };
 
 /// The design cases of a geometry run (docs/case-files.md, "Design cases"): what each is

@@ -1,6 +1,10 @@
 #include "geometry/exact/view_factors.hpp"
 
+#include "geometry/exact/assemble_rows.hpp"
+#include "geometry/exact/clusters.hpp"
 #include "geometry/exact/occluded_factor.hpp"
+#include "geometry/exact/pair_quadrature.hpp"
+#include "geometry/exact/pair_values.hpp"
 #include "geometry/exact/patches.hpp"
 #include "geometry/exact/polygon_factor.hpp"
 #include "geometry/exact/shaft.hpp"
@@ -15,12 +19,8 @@
 namespace radnet::geometry {
 namespace {
 
-struct PairValue {
-  int q;
-  double exchange_area, error;  // A_P F_PQ and its error estimate, m²
-};
-
-enum class PairKind { Culled, Hidden, Unoccluded, Occluded, Sampled };
+// Free: in a free cluster pair (unoccluded and unclipped, known without classifying).
+enum class PairKind { Culled, Hidden, Unoccluded, Occluded, Sampled, Free };
 
 std::vector<Vec3> pointsOf(const Patch& p) {
   std::vector<Vec3> out;
@@ -51,10 +51,15 @@ std::vector<Loop> clippedPieces(const Patch& a, const Patch& b) {
   return out;
 }
 
-// What every thread reads: patches, occluders, and each patch's share of its node's area.
+// What every thread reads: patches, occluders, their clusters and point rules, and each
+// patch's share of its node's area.
 struct ExactScene {
-  ExactScene(const Scene& scene) : patches(buildPatches(scene)), index(buildOccluders(scene)) {
-    tol = 1e-9 * std::max(scene.extent(), 1e-300);
+  ExactScene(const Scene& scene, int threads)
+      : patches(buildPatches(scene)),
+        index(buildOccluders(scene)),
+        tol(1e-9 * std::max(scene.extent(), 1e-300)),
+        rules(patches),
+        clusters(patches, index, tol, threads) {
     for (const Node& node : scene.nodes()) node_area.push_back(node.area_m2);
     for (const Patch& p : patches) {
       points.push_back(pointsOf(p));
@@ -79,19 +84,23 @@ struct ExactScene {
   }
   std::vector<Patch> patches;
   OccluderIndex index;
+  double tol = 0.0;  // m: nearer a plane than this counts as on it
+  PatchRules rules;
+  PatchClusters clusters;
   std::vector<std::vector<Vec3>> points;
   std::vector<double> node_area, share;
   std::vector<char> sampled;  // per patch: its node's row is cast as rays from the start
-  double tol = 0.0;           // m: nearer a plane than this counts as on it
 };
 
-// Predicted cost of a pair, µs (integers, so that sums do not depend on the thread split):
-// measured on bench_exact_view_factors' 1,600-node satellite, about 2 µs an unoccluded pair
-// and 0.1 ms an occluded one (430 visibility points of a few blockers each).
-std::int64_t pairMicroseconds(PairKind kind, size_t blockers) {
-  if (kind == PairKind::Unoccluded) return 2;
+// Predicted cost of a pair, ns (integers, so that sums do not depend on the thread split):
+// measured on bench_exact_view_factors' 1,600-node satellite, about 2 µs an unoccluded
+// pair by the contour integral and 0.1 ms an occluded one (430 visibility points of a few
+// blockers each); a pair of a free cluster pair about 0.1 µs (mostly the order-1 rule).
+std::int64_t pairNanoseconds(PairKind kind, size_t blockers) {
+  if (kind == PairKind::Free) return 100;
+  if (kind == PairKind::Unoccluded) return 2000;
   if (kind == PairKind::Culled || kind == PairKind::Hidden) return 0;
-  return 100 + 25 * static_cast<std::int64_t>(blockers);
+  return 100000 + 25000 * static_cast<std::int64_t>(blockers);
 }
 
 // One thread's pair computations (its own scratch lists).
@@ -124,24 +133,51 @@ class PairSolver {
     if (opt_.max_blockers >= 0 && static_cast<int>(blockers_.size()) > opt_.max_blockers) return PairKind::Sampled;
     return PairKind::Occluded;
   }
+  // A pair of a free cluster pair: whole, unoccluded (no classification needed).
+  void setFree(size_t a, size_t b) {
+    a_ = a;
+    b_ = b;
+    clip_p_ = clip_q_ = false;
+    p_pieces_ = &s_.patches[a].pieces;
+    q_pieces_ = &s_.patches[b].pieces;
+  }
   size_t blockers() const { return blockers_.size(); }
   size_t candidates() const { return candidates_.size(); }
 
+  // Free and unclipped unoccluded pairs try the ladder of point rules first; the contour
+  // integral takes what it leaves, and the occluded pairs their quadrature. The target is
+  // the absolute one or relative_tolerance of the pair's value, whichever is larger.
   FactorEstimate integrate(PairKind kind) {
     const Patch &p = s_.patches[a_], &q = s_.patches[b_];
     // This pair's share of the target on F_ij and F_ji alike (see docs/geometry.md).
     const double area_i = p.node >= 0 ? s_.node_area[static_cast<size_t>(p.node)] : p.area_m2;
     const double area_j = q.node >= 0 ? s_.node_area[static_cast<size_t>(q.node)] : q.area_m2;
     const double tol = opt_.tolerance * s_.share[a_] * s_.share[b_] * std::min(area_i, area_j);
-    if (kind == PairKind::Unoccluded) {
+    by_quadrature = false;
+    const bool whole = !clip_p_ && !clip_q_;
+    long long evaluations = 0;
+    double scale = whole ? s_.rules.centroidValue(a_, b_) : 0.0;  // a value for the relative target
+    if (kind == PairKind::Free || (kind == PairKind::Unoccluded && whole)) {
+      const FactorEstimate est = s_.rules.exchangeArea(a_, b_, tol, opt_.relative_tolerance, by_quadrature);
+      if (by_quadrature) return est;
+      evaluations = est.evaluations;
+      scale = est.value;
+    }
+    const double target = std::max(tol, opt_.relative_tolerance * scale);
+    FactorEstimate out;
+    if (kind == PairKind::Free || kind == PairKind::Unoccluded) {
       const PlanarRegion pr = clip_p_ ? PlanarRegion{*p_pieces_, p.region.normal} : p.region;
       const PlanarRegion qr = clip_q_ ? PlanarRegion{*q_pieces_, q.region.normal} : q.region;
-      return polygonExchangeArea(pr, qr, tol);
+      out = polygonExchangeArea(pr, qr, target);
+    } else {
+      OccludedPair pair{p_pieces_, p.region.normal, q_pieces_, {}, {}};
+      for (int id : blockers_) pair.blockers.push_back(&s_.index.occluders()[static_cast<size_t>(id)]);
+      out = occludedExchangeArea(pair, target, opt_.max_depth);
     }
-    OccludedPair pair{p_pieces_, p.region.normal, q_pieces_, {}, {}};
-    for (int id : blockers_) pair.blockers.push_back(&s_.index.occluders()[static_cast<size_t>(id)]);
-    return occludedExchangeArea(pair, tol, opt_.max_depth);
+    out.evaluations += evaluations;
+    return out;
   }
+  bool by_quadrature = false;  ///< the last integrate() was settled by the ladder
 
  private:
   const ExactScene& s_;
@@ -153,45 +189,6 @@ class PairSolver {
   const std::vector<Loop>* q_pieces_ = nullptr;
   std::vector<int> candidates_, blockers_;
 };
-
-// Sums the pair values into F, F_blocked and their error estimates.
-void assemble(const std::vector<Patch>& patches, const std::vector<std::vector<PairValue>>& values,
-              const Eigen::VectorXd& area, ExactResult& res) {
-  const Eigen::Index n = area.size();
-  std::vector<Eigen::Triplet<double>> f, e;
-  res.blocked = res.blocked_error = Eigen::VectorXd::Zero(n);
-  auto credit = [&](int i, int j, double g, double err) {
-    if (i < 0 || res.sampled_rows[static_cast<size_t>(i)]) return;
-    if (j >= 0) {
-      f.emplace_back(i, j, g / area[i]);
-      e.emplace_back(i, j, err / area[i]);
-    } else {
-      res.blocked[i] += g / area[i];
-      res.blocked_error[i] += err / area[i];
-    }
-  };
-  for (size_t a = 0; a < values.size(); ++a)
-    for (const PairValue& v : values[a]) {
-      const int i = patches[a].node, j = patches[static_cast<size_t>(v.q)].node;
-      credit(i, j, v.exchange_area, v.error);
-      credit(j, i, v.exchange_area, v.error);
-    }
-  res.view_factors.resize(n, n);
-  res.view_factors.setFromTriplets(f.begin(), f.end());
-  res.standard_error.resize(n, n);
-  res.standard_error.setFromTriplets(e.begin(), e.end());
-  res.space.resize(n);
-  res.space_error.resize(n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    if (res.sampled_rows[static_cast<size_t>(i)]) {
-      res.space[i] = res.space_error[i] = 0.0;
-      continue;
-    }
-    const double row = res.view_factors.row(i).sum() + res.blocked[i];
-    res.space[i] = std::max(0.0, 1.0 - row);
-    res.space_error[i] = res.standard_error.row(i).sum() + res.blocked_error[i];
-  }
-}
 
 // Patches whose rows are integrated; a pair is visited from its exact side: for exact a,
 // every b that is sampled or comes after a.
@@ -206,28 +203,48 @@ bool visitedFrom(const ExactScene& scene, int a, int b) {
   return b != a && (scene.sampled[static_cast<size_t>(b)] || b > a);
 }
 
+// Calls visit(b, free) for every pair visited from `a`, cluster by cluster, until it
+// returns false; pairs of culled cluster pairs are only counted. `free`: the pair lies in a
+// free cluster pair (whole and unoccluded without further tests).
+template <class Visit>
+void forPairs(const ExactScene& scene, int a, std::int64_t& culled, Visit&& visit) {
+  const auto ca = static_cast<size_t>(scene.clusters.clusterOf(static_cast<size_t>(a)));
+  for (size_t c = 0; c < scene.clusters.size(); ++c) {
+    const ClusterPair kind = scene.clusters.pair(ca, c);
+    for (int b : scene.clusters.members(c)) {
+      if (!visitedFrom(scene, a, b)) continue;
+      if (kind == ClusterPair::Culled) {
+        ++culled;
+      } else if (!visit(b, kind == ClusterPair::Free)) {
+        return;
+      }
+    }
+  }
+}
+
 // Method auto's plan: rows whose pairs would cost more to integrate than to cast, or that
 // have a pair of more than max_blockers blockers, are marked for sampling.
 // Planning a pair costs too: its occluder candidates are each tested against the pair's
 // hull (about 50 ns a candidate on bench_exact_view_factors' scenes), and on a cluttered CAD
 // assembly a pair's box holds thousands of them (a 37,706-triangle frame planned for more
 // than 10 minutes before this bound). Integers, so that sums do not depend on the threads.
-std::int64_t planMicroseconds(size_t candidates) { return static_cast<std::int64_t>(candidates / 20); }
+std::int64_t planNanoseconds(size_t candidates) { return 50 * static_cast<std::int64_t>(candidates); }
 
 // Which rows auto leaves to rays: a node with a pair of too many blockers, or whose pairs
 // would cost more than casting its row. A patch stops planning as soon as its own pairs
 // (planned and predicted) cost more than casting its whole row: the row is cast then, and
-// each patch's planning stays bounded by that cost.
-std::int64_t planRows(ExactScene& scene, const ExactOptions& opt, std::vector<char>& rows, int threads) {
-  const int np = static_cast<int>(scene.patches.size());
+// each patch's planning stays bounded by that cost. Returns the pairs planned; `predicted`
+// gets the predicted cost of the pairs integrated (s, one thread).
+std::int64_t planRows(ExactScene& scene, const ExactOptions& opt, std::vector<char>& rows, int threads,
+                      double& predicted) {
   const std::vector<int> exact = exactPatches(scene);
   const size_t n = rows.size();
-  const double limit_us = opt.row_sampling_seconds * 1e6;
+  const double limit_ns = opt.row_sampling_seconds * 1e9;
   std::vector<std::int64_t> cost(n, 0);
   std::vector<char> crowded(n, 0);
-  std::int64_t planned = 0;
+  std::int64_t planned = 0, culled = 0;
 #ifdef _OPENMP
-#pragma omp parallel num_threads(threads) reduction(+ : planned)
+#pragma omp parallel num_threads(threads) reduction(+ : planned, culled)
 #endif
   {
     PairSolver solver(scene, opt);
@@ -239,23 +256,23 @@ std::int64_t planRows(ExactScene& scene, const ExactOptions& opt, std::vector<ch
     for (size_t k = 0; k < exact.size(); ++k) {
       const int a = exact[k];
       const int node_a = scene.patches[static_cast<size_t>(a)].node;
-      std::int64_t patch_us = 0;
-      for (int b = 0; b < np; ++b) {
-        if (!visitedFrom(scene, a, b)) continue;
-        const PairKind kind = solver.classify(static_cast<size_t>(a), static_cast<size_t>(b));
+      std::int64_t patch_ns = 0;
+      forPairs(scene, a, culled, [&](int b, bool free) {
+        const PairKind kind = free ? PairKind::Free : solver.classify(static_cast<size_t>(a), static_cast<size_t>(b));
         ++planned;
-        const std::int64_t us = pairMicroseconds(kind, solver.blockers());
-        patch_us += us + planMicroseconds(solver.candidates());
+        const std::int64_t ns = pairNanoseconds(kind, free ? 0 : solver.blockers());
+        patch_ns += ns + (free ? 0 : planNanoseconds(solver.candidates()));
         for (int node : {node_a, scene.patches[static_cast<size_t>(b)].node}) {
           if (node < 0) continue;
-          my_cost[static_cast<size_t>(node)] += us;
+          my_cost[static_cast<size_t>(node)] += ns;
           if (kind == PairKind::Sampled) my_crowded[static_cast<size_t>(node)] = 1;
         }
-        if (node_a >= 0 && limit_us > 0 && double(patch_us) > limit_us) {
+        if (node_a >= 0 && limit_ns > 0 && double(patch_ns) > limit_ns) {
           my_crowded[static_cast<size_t>(node_a)] = 1;
-          break;
+          return false;
         }
-      }
+        return true;
+      });
     }
 #ifdef _OPENMP
 #pragma omp critical(radnet_exact_plan)
@@ -265,58 +282,18 @@ std::int64_t planRows(ExactScene& scene, const ExactOptions& opt, std::vector<ch
       crowded[i] = crowded[i] || my_crowded[i];
     }
   }
-  for (size_t i = 0; i < n; ++i)
-    rows[i] = rows[i] || crowded[i] || (opt.row_sampling_seconds > 0 && double(cost[i]) > limit_us);
+  predicted = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    rows[i] = rows[i] || crowded[i] || (opt.row_sampling_seconds > 0 && double(cost[i]) > limit_ns);
+    if (!rows[i]) predicted += 0.5e-9 * double(cost[i]);  // each pair's cost was counted on both its rows
+  }
   scene.markSampled(rows);
   return planned;
-}
-
-struct PairCounts {
-  std::int64_t culled = 0, hidden = 0, unoccluded = 0, occluded = 0;
-  long long evaluations = 0;
-};
-
-// This process's part of the pair values and counts, packed: the counts, then per emitting
-// patch it integrated [patch, count, (q, exchange area, error)…].
-std::vector<double> packPart(const std::vector<std::vector<PairValue>>& values, const PairCounts& c,
-                             const std::vector<int>& mine) {
-  std::vector<double> out = {double(c.culled), double(c.hidden), double(c.unoccluded), double(c.occluded),
-                             double(c.evaluations), double(mine.size())};
-  for (int a : mine) {
-    const std::vector<PairValue>& v = values[static_cast<size_t>(a)];
-    out.push_back(a);
-    out.push_back(static_cast<double>(v.size()));
-    for (const PairValue& p : v) out.insert(out.end(), {double(p.q), p.exchange_area, p.error});
-  }
-  return out;
-}
-
-// Every process's parts back into `values`, the counts summed.
-PairCounts unpackParts(const std::vector<double>& all, std::vector<std::vector<PairValue>>& values) {
-  PairCounts total;
-  for (size_t at = 0; at < all.size();) {
-    total.culled += static_cast<std::int64_t>(all[at]);
-    total.hidden += static_cast<std::int64_t>(all[at + 1]);
-    total.unoccluded += static_cast<std::int64_t>(all[at + 2]);
-    total.occluded += static_cast<std::int64_t>(all[at + 3]);
-    total.evaluations += static_cast<long long>(all[at + 4]);
-    const auto patches = static_cast<size_t>(all[at + 5]);
-    at += 6;
-    for (size_t k = 0; k < patches; ++k) {
-      std::vector<PairValue>& v = values[static_cast<size_t>(all[at])];
-      const auto count = static_cast<size_t>(all[at + 1]);
-      at += 2;
-      v.clear();
-      for (size_t j = 0; j < count; ++j, at += 3) v.push_back({static_cast<int>(all[at]), all[at + 1], all[at + 2]});
-    }
-  }
-  return total;
 }
 
 // Integrates every pair of which at least one row is exact (this process's emitting patches).
 PairCounts integratePairs(const ExactScene& scene, const ExactOptions& opt, int threads,
                           std::vector<std::vector<PairValue>>& values) {
-  const int np = static_cast<int>(scene.patches.size());
   std::vector<int> exact = exactPatches(scene);
   if (opt.parts > 1) {
     std::vector<int> mine;
@@ -324,11 +301,11 @@ PairCounts integratePairs(const ExactScene& scene, const ExactOptions& opt, int 
       mine.push_back(exact[k]);
     exact = std::move(mine);
   }
-  std::int64_t culled = 0, hidden = 0, unoccluded = 0, occluded = 0;
+  std::int64_t culled = 0, hidden = 0, unoccluded = 0, occluded = 0, by_quadrature = 0;
   long long evaluations = 0;
   int finished = 0;
 #ifdef _OPENMP
-#pragma omp parallel num_threads(threads) reduction(+ : culled, hidden, unoccluded, occluded, evaluations)
+#pragma omp parallel num_threads(threads) reduction(+ : culled, hidden, unoccluded, occluded, by_quadrature, evaluations)
 #endif
   {
     PairSolver solver(scene, opt);
@@ -337,18 +314,23 @@ PairCounts integratePairs(const ExactScene& scene, const ExactOptions& opt, int 
 #endif
     for (size_t k = 0; k < exact.size(); ++k) {
       const int a = exact[k];
-      for (int b = 0; b < np; ++b) {
-        if (!visitedFrom(scene, a, b)) continue;
-        const PairKind kind = solver.classify(static_cast<size_t>(a), static_cast<size_t>(b));
-        if (kind != PairKind::Unoccluded && kind != PairKind::Occluded) {
+      forPairs(scene, a, culled, [&](int b, bool free) {
+        PairKind kind = PairKind::Free;
+        if (free)
+          solver.setFree(static_cast<size_t>(a), static_cast<size_t>(b));
+        else
+          kind = solver.classify(static_cast<size_t>(a), static_cast<size_t>(b));
+        if (kind == PairKind::Culled || kind == PairKind::Hidden || kind == PairKind::Sampled) {
           (kind == PairKind::Hidden ? hidden : culled) += 1;
-          continue;
+          return true;
         }
-        (kind == PairKind::Unoccluded ? unoccluded : occluded) += 1;
+        (kind == PairKind::Occluded ? occluded : unoccluded) += 1;
         const FactorEstimate g = solver.integrate(kind);
+        by_quadrature += solver.by_quadrature;
         evaluations += g.evaluations;
         if (g.value != 0 || g.error != 0) values[static_cast<size_t>(a)].push_back({b, std::max(g.value, 0.0), g.error});
-      }
+        return true;
+      });
 #ifdef _OPENMP
 #pragma omp critical(radnet_exact_progress)
 #endif
@@ -358,7 +340,7 @@ PairCounts integratePairs(const ExactScene& scene, const ExactOptions& opt, int 
       }
     }
   }
-  const PairCounts counts{culled, hidden, unoccluded, occluded, evaluations};
+  const PairCounts counts{culled, hidden, unoccluded, occluded, by_quadrature, evaluations};
   if (opt.parts <= 1) return counts;
   return unpackParts(opt.gather(packPart(values, counts, exact)), values);
 }
@@ -375,22 +357,25 @@ ExactResult exactViewFactors(const Scene& scene, const ExactOptions& opt) {
 #else
   const int threads = 1;
 #endif
-  ExactScene shared(scene);
+  ExactScene shared(scene, threads);
   const size_t n = scene.nodes().size();
   ExactResult res;
   res.sampled_rows = shared.presample(n, opt.max_patches);
   if (opt.max_blockers >= 0 || opt.row_sampling_seconds > 0)
-    res.pairs_planned = planRows(shared, opt, res.sampled_rows, threads);
+    res.pairs_planned = planRows(shared, opt, res.sampled_rows, threads, res.predicted_seconds);
   std::vector<std::vector<PairValue>> values(shared.patches.size());
   const PairCounts counts = integratePairs(shared, opt, threads, values);
   Eigen::VectorXd area(static_cast<Eigen::Index>(n));
   for (Eigen::Index i = 0; i < area.size(); ++i) area[i] = scene.nodes()[static_cast<size_t>(i)].area_m2;
-  assemble(shared.patches, values, area, res);
+  std::vector<int> patch_node;
+  for (const Patch& p : shared.patches) patch_node.push_back(p.node);
+  assemblePairRows(patch_node, values, area, res.sampled_rows, threads, res);
   res.patches = static_cast<int>(shared.patches.size());
   res.pairs_culled = counts.culled;
   res.pairs_hidden = counts.hidden;
   res.pairs_unoccluded = counts.unoccluded;
   res.pairs_occluded = counts.occluded;
+  res.pairs_by_quadrature = counts.by_quadrature;
   res.evaluations = counts.evaluations;
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;

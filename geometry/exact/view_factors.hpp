@@ -5,7 +5,10 @@
 // polygon-to-polygon factor (double contour integral, polygon_factor.hpp); pairs with
 // blockers the adaptive emitter quadrature of exact point visibility (occluded_factor.hpp).
 // Each pair is computed once and credited both ways, so A F is symmetric by
-// construction; each carries an error estimate.
+// construction; each carries an error estimate. Pairs are visited cluster pair by cluster
+// pair (clusters.hpp): culled and free (whole, unoccluded) cluster pairs settle all their
+// patch pairs at once, and free pairs far enough apart take a few-point rule
+// (pair_quadrature.hpp) instead of the contour integral.
 #include "geometry/reciprocity.hpp"
 #include "geometry/scene/scene.hpp"
 
@@ -28,6 +31,9 @@ constexpr double kSecondsPerRay = 1e-6;
 struct ExactOptions {
   /// Target absolute error of every F_ij (view-factor units).
   double tolerance = 1e-6;
+  /// Target error of every pair relative to its value (0: the absolute target alone). A
+  /// pair meets the larger of the two; the error budget sets this (docs/solver.md).
+  double relative_tolerance = 0.0;
   int max_depth = 8;  ///< deepest 4-way split of an emitter triangle of an occluded pair
   /// Pairs with more blockers than this are left to sampling (`auto`): their nodes'
   /// rows come out empty and are listed in sampled_rows. −1: no limit (`exact`).
@@ -62,6 +68,9 @@ struct ExactResult : ViewFactorEstimate {
   std::int64_t pairs_unoccluded = 0;  ///< exact contour integral
   std::int64_t pairs_occluded = 0;    ///< quadrature with exact point visibility
   std::int64_t pairs_planned = 0;     ///< pairs classified while auto chose the rows (a patch stops at its row's cost)
+  std::int64_t pairs_by_quadrature = 0;  ///< unoccluded pairs settled by point rules (pair_quadrature.hpp)
+  /// What auto's plan predicted the integrated pairs to cost, s of one thread (0 without a plan).
+  double predicted_seconds = 0.0;
   /// Per node: 1 when its row is left to ray casting (empty here, space and blocked 0).
   std::vector<char> sampled_rows;
   long long evaluations = 0;          ///< integrand evaluations (outer contour points, visibility points)
