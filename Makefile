@@ -62,6 +62,9 @@ bench: build
 	  docs/exact-view-factor-benchmark.csv $$( [ -x $(BUILD_DIR)/view3d/view3d ] && echo $(BUILD_DIR)/view3d/view3d )
 	/usr/bin/python3 bench/plot_exact_benchmark.py docs/exact-view-factor-benchmark.csv \
 	  docs/exact-view-factor-benchmark.png
+	# View factors at default settings on rooms, cylinders, satellites and a CAD assembly (issue 30).
+	/usr/bin/python3 bench/bench_view_factor_defaults.py $(BUILD_DIR)/radnet docs/view-factor-defaults-benchmark.md \
+	  $$( [ -x $(BUILD_DIR)/view3d/view3d ] && echo $(BUILD_DIR)/view3d/view3d )
 	# Writing the n × n matrices: HDF5's filter against radnet's parallel chunks (issue 12).
 	./$(BUILD_DIR)/radnet run bench/cases/satellite-6402.yaml -o $(BUILD_DIR)/satellite-6402.h5 -q
 	./$(BUILD_DIR)/bench/bench_hdf5_write $(BUILD_DIR)/satellite-6402.h5 docs/hdf5-write-benchmark.md

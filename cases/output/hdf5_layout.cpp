@@ -107,6 +107,10 @@ void writeViewFactorEstimate(Hdf5Writer& h5, const GeometryRunResult& r, ViewFac
     h5.attribute("/network", "exact_pairs_occluded", static_cast<long long>(r.exact->pairs_occluded));
     h5.attribute("/network", "exact_pairs_hidden", static_cast<long long>(r.exact->pairs_hidden));
     h5.attribute("/network", "rows_sampled", static_cast<long long>(r.exact->sampled_rows));
+    h5.attribute("/network", "exact_pairs_by_quadrature", static_cast<long long>(r.exact->pairs_by_quadrature));
+    // auto's cost model against the stage's measured time (time_view_factors_s)
+    if (r.exact->predicted_seconds > 0)
+      h5.attribute("/report", "time_view_factors_predicted_s", r.exact->predicted_seconds);
   }
   h5.attribute("/report", "view_factor_error", solver::largestEntry(r.view_factor_stderr));
   h5.attribute("/report", "rays_per_second", r.rays_per_second);

@@ -16,11 +16,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <memory>
 #include <ostream>
 
 namespace radnet::cases {
 namespace {
+
 
 // Per node, the largest reflectance of either band under any optical set, and under the
 // samples of `uncertainty:` to 4σ.
@@ -61,55 +63,6 @@ solver::EigenPairs decomposeOnce(const solver::Network& net, const GeometryCase&
   for (const OpticalSet& set : c.optical_sets)
     if (!set.own_specular) emissivities.push_back(set.emissivity);
   return decomposeShared(net, largestReflectance(c), emissivities, settings, timings);
-}
-
-// F by the exact method, with the rows it leaves to sampling (auto) cast as rays.
-geometry::ViewFactorEstimate exactStage(const GeometryCase& c, const geometry::RayCaster& caster,
-                                        GeometryRunResult& r, Eigen::VectorXd& rays, bool show_progress,
-                                        std::ostream& progress) {
-  geometry::ExactOptions opt = c.view_factors.exact;
-  const bool automatic = c.view_factors.method == ViewFactorMethod::Auto;
-  opt.max_blockers = !automatic ? -1 : (opt.max_blockers >= 0 ? opt.max_blockers : geometry::kAutoMaxBlockers);
-  opt.max_patches = automatic ? geometry::kAutoMaxPatches : -1;
-  opt.row_sampling_seconds =
-      automatic ? double(c.view_factors.monte_carlo.rays_per_node) * geometry::kSecondsPerRay : 0.0;
-  if (show_progress) opt.progress = progressBar(progress, "view factors", "patches");
-  if (cluster::distributed()) {  // the pair integrals shared out over the ranks by emitting patch
-    opt.part = cluster::rank();
-    opt.parts = cluster::size();
-    opt.gather = [](const std::vector<double>& mine) { return cluster::gatherAll(mine); };
-  }
-  const geometry::ExactResult ex = geometry::exactViewFactors(c.scene, opt);
-  r.exact = ExactViewFactorStats{ex.patches,        ex.pairs_culled, ex.pairs_hidden, ex.pairs_unoccluded,
-                                 ex.pairs_occluded, 0,               ex.seconds};
-  r.exact->pairs_by_quadrature = ex.pairs_by_quadrature;
-  // The quadrature stops at max_depth: say so when an estimate stayed above its target
-  // (the absolute tolerance, or the relative one times the entry).
-  double worst = 0.0, worst_target = opt.tolerance;
-  for (Eigen::Index i = 0; i < ex.standard_error.outerSize(); ++i) {
-    Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator f(ex.view_factors, i);
-    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator e(ex.standard_error, i); e; ++e) {
-      while (f && f.col() < e.col()) ++f;
-      const double value = (f && f.col() == e.col()) ? f.value() : 0.0;
-      const double target = std::max(opt.tolerance, opt.relative_tolerance * value);
-      if (e.value() / target > worst / worst_target) worst = e.value(), worst_target = target;
-    }
-  }
-  if (worst > worst_target * (1 + 1e-9))
-    progress << "radnet: warning: exact view factors: an error estimate of " << worst << " exceeds its target "
-             << worst_target << " (occluded pairs reached the refinement limit); /network/view_factor_stderr "
-             << "has it per entry\n";
-  // An exact row's entries are good to the tolerance: that is its variance floor.
-  rays.setConstant(1.0 / opt.tolerance);
-  geometry::ViewFactorEstimate estimate = ex;
-  for (char row : ex.sampled_rows) r.exact->sampled_rows += row;
-  if (r.exact->sampled_rows == 0) return estimate;
-  const geometry::ViewFactorResult vf = castRays(c, caster, ex.sampled_rows, show_progress, progress);
-  for (Eigen::Index i = 0; i < rays.size(); ++i)
-    if (ex.sampled_rows[static_cast<size_t>(i)]) rays[i] = double(vf.rays[static_cast<size_t>(i)]);
-  r.total_rays = vf.total_rays;
-  r.rays_per_second = vf.seconds > 0 ? double(vf.total_rays) / vf.seconds : 0.0;
-  return geometry::withSampledRows(estimate, vf, ex.sampled_rows);
 }
 
 // The network's areas in a band: A κ, or A where κ = 0 (a pure mirror: its row and column
@@ -180,13 +133,13 @@ void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, c
   Eigen::VectorXd rays(n);
   geometry::ViewFactorEstimate estimate;
   if (c.view_factors.method == ViewFactorMethod::MonteCarlo) {
-    const geometry::ViewFactorResult vf = castRays(c, caster, {}, show_progress, progress);
+    geometry::ViewFactorResult vf = castRays(c, caster, {}, show_progress, progress);
     for (Eigen::Index i = 0; i < n; ++i) rays[i] = double(vf.rays[static_cast<size_t>(i)]);
     r.total_rays = vf.total_rays;
     r.rays_per_second = vf.seconds > 0 ? double(vf.total_rays) / vf.seconds : 0.0;
-    estimate = vf;
+    moveEstimate(vf, estimate);
   } else {
-    estimate = exactStage(c, caster, r, rays, show_progress, progress);
+    exactStage(c, caster, r, rays, show_progress, progress, estimate);
   }
   if (diffuse) *diffuse = {estimate, rays};  // what an optical set's own networks start from
   if (c.hasSpecular()) {
@@ -199,8 +152,8 @@ void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, c
   } else {
     r.correction = geometry::enforceReciprocity(area, estimate, rays);
   }
-  r.raw_view_factors = estimate.view_factors;
-  r.view_factor_stderr = estimate.standard_error;
+  r.raw_view_factors.swap(estimate.view_factors);
+  r.view_factor_stderr.swap(estimate.standard_error);
   // What leaves to space or to inactive sides is uncertain too (it sets the GR to space).
   r.lost_view_factor_stderr = (estimate.space_error.array().square() + estimate.blocked_error.array().square()).sqrt();
   timer.stop();

@@ -4,6 +4,10 @@
 #include "cases/pipeline/distributed.hpp"
 #include "cases/pipeline/progress.hpp"
 #include "solver/radiative/policy.hpp"
+#include "geometry/exact/view_factors.hpp"
+
+#include <algorithm>
+#include <ostream>
 
 namespace radnet::cases {
 namespace {
@@ -40,6 +44,75 @@ std::unique_ptr<solver::Network> buildNetwork(const GeometryCase& c, const Eigen
   if (solver::policy::storeSparse(correction.view_factors.nonZeros(), n))
     return std::make_unique<solver::Network>(c.node_names, area, f, correction.blocked, tol);
   return std::make_unique<solver::Network>(c.node_names, area, Eigen::MatrixXd(f), correction.blocked, tol);
+}
+
+// Moves F, σ and the per-node vectors of `from` into `to`. Eigen 3.4's sparse matrices
+// have no move constructor (std::move copies them): swapped instead, since at 6,144 nodes F
+// and σ are 0.75 GB and a copy costs 1–1.5 s of fresh pages here.
+void moveEstimate(geometry::ViewFactorEstimate& from, geometry::ViewFactorEstimate& to) {
+  to.view_factors.swap(from.view_factors);
+  to.standard_error.swap(from.standard_error);
+  to.space.swap(from.space);
+  to.space_error.swap(from.space_error);
+  to.blocked.swap(from.blocked);
+  to.blocked_error.swap(from.blocked_error);
+}
+
+// F by the exact method into `estimate`, with the rows it leaves to sampling (auto) cast as rays.
+void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, GeometryRunResult& r,
+                Eigen::VectorXd& rays, bool show_progress, std::ostream& progress,
+                geometry::ViewFactorEstimate& estimate) {
+  geometry::ExactOptions opt = c.view_factors.exact;
+  const bool automatic = c.view_factors.method == ViewFactorMethod::Auto;
+  opt.max_blockers = !automatic ? -1 : (opt.max_blockers >= 0 ? opt.max_blockers : geometry::kAutoMaxBlockers);
+  opt.max_patches = automatic ? geometry::kAutoMaxPatches : -1;
+  opt.row_sampling_seconds =
+      automatic ? double(c.view_factors.monte_carlo.rays_per_node) * geometry::kSecondsPerRay : 0.0;
+  if (show_progress) opt.progress = progressBar(progress, "view factors", "patches");
+  if (cluster::distributed()) {  // the pair integrals shared out over the ranks by emitting patch
+    opt.part = cluster::rank();
+    opt.parts = cluster::size();
+    opt.gather = [](const std::vector<double>& mine) { return cluster::gatherAll(mine); };
+  }
+  geometry::ExactResult ex = geometry::exactViewFactors(c.scene, opt);
+  r.exact = ExactViewFactorStats{ex.patches,        ex.pairs_culled, ex.pairs_hidden, ex.pairs_unoccluded,
+                                 ex.pairs_occluded, 0,               ex.seconds};
+  r.exact->pairs_by_quadrature = ex.pairs_by_quadrature;
+  if (automatic) {  // the plan's pairs, and the rows it leaves to rays at the case's rays per node
+    r.exact->predicted_seconds = ex.predicted_seconds;
+    for (char row : ex.sampled_rows)
+      if (row)
+        r.exact->predicted_seconds +=
+            double(c.view_factors.monte_carlo.rays_per_node) * geometry::kSecondsPerRay / ex.threads;
+  }
+  // The quadrature stops at max_depth: say so when an estimate stayed above its target
+  // (the absolute tolerance, or the relative one times the entry).
+  double worst = 0.0, worst_target = opt.tolerance;
+  for (Eigen::Index i = 0; i < ex.standard_error.outerSize(); ++i) {
+    Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator f(ex.view_factors, i);
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator e(ex.standard_error, i); e; ++e) {
+      while (f && f.col() < e.col()) ++f;
+      const double value = (f && f.col() == e.col()) ? f.value() : 0.0;
+      const double target = std::max(opt.tolerance, opt.relative_tolerance * value);
+      if (e.value() / target > worst / worst_target) worst = e.value(), worst_target = target;
+    }
+  }
+  if (worst > worst_target * (1 + 1e-9))
+    progress << "radnet: warning: exact view factors: an error estimate of " << worst << " exceeds its target "
+             << worst_target << " (occluded pairs reached the refinement limit); /network/view_factor_stderr "
+             << "has it per entry\n";
+  // An exact row's entries are good to the tolerance: that is its variance floor.
+  rays.setConstant(1.0 / opt.tolerance);
+  moveEstimate(ex, estimate);
+  for (char row : ex.sampled_rows) r.exact->sampled_rows += row;
+  if (r.exact->sampled_rows == 0) return;
+  const geometry::ViewFactorResult vf = castRays(c, caster, ex.sampled_rows, show_progress, progress);
+  for (Eigen::Index i = 0; i < rays.size(); ++i)
+    if (ex.sampled_rows[static_cast<size_t>(i)]) rays[i] = double(vf.rays[static_cast<size_t>(i)]);
+  r.total_rays = vf.total_rays;
+  r.rays_per_second = vf.seconds > 0 ? double(vf.total_rays) / vf.seconds : 0.0;
+  geometry::ViewFactorEstimate merged = geometry::withSampledRows(estimate, vf, ex.sampled_rows);
+  moveEstimate(merged, estimate);
 }
 
 }  // namespace radnet::cases

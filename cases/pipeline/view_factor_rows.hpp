@@ -2,6 +2,7 @@
 // View-factor rows and the network built from them, shared by the geometry run and its
 // articulated configurations (which recast the rows a turning part changes).
 #include "cases/config/geometry_case.hpp"
+#include "cases/pipeline/results.hpp"
 #include "geometry/rays/ray_caster.hpp"
 #include "geometry/rays/view_factors.hpp"
 #include "geometry/reciprocity.hpp"
@@ -18,6 +19,15 @@ namespace radnet::cases {
 /// the same F as one process).
 geometry::ViewFactorResult castRays(const GeometryCase& c, const geometry::RayCaster& caster, std::vector<char> rows,
                                    bool show_progress, std::ostream& progress);
+
+/// Moves F, σ and the per-node vectors of `from` into `to` (swapped: no copy).
+void moveEstimate(geometry::ViewFactorEstimate& from, geometry::ViewFactorEstimate& to);
+
+/// F by the exact method into `estimate`, with the rows `auto` leaves to sampling cast as
+/// rays; `rays` gets each row's variance weight, `r` the method's counts and timings.
+void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, GeometryRunResult& r,
+                Eigen::VectorXd& rays, bool show_progress, std::ostream& progress,
+                geometry::ViewFactorEstimate& estimate);
 
 /// The network from the corrected F, stored sparse or dense by the solver policy.
 std::unique_ptr<solver::Network> buildNetwork(const GeometryCase& c, const Eigen::VectorXd& area,

@@ -69,8 +69,10 @@ struct ExactResult : ViewFactorEstimate {
   std::int64_t pairs_occluded = 0;    ///< quadrature with exact point visibility
   std::int64_t pairs_planned = 0;     ///< pairs classified while auto chose the rows (a patch stops at its row's cost)
   std::int64_t pairs_by_quadrature = 0;  ///< unoccluded pairs settled by point rules (pair_quadrature.hpp)
-  /// What auto's plan predicted the integrated pairs to cost, s of one thread (0 without a plan).
+  /// What auto's plan predicted the integrated pairs to cost, s of wall time on `threads`
+  /// (0 without a plan).
   double predicted_seconds = 0.0;
+  int threads = 1;  ///< threads the pairs were integrated on
   /// Per node: 1 when its row is left to ray casting (empty here, space and blocked 0).
   std::vector<char> sampled_rows;
   long long evaluations = 0;          ///< integrand evaluations (outer contour points, visibility points)
