@@ -58,6 +58,14 @@ void moveEstimate(geometry::ViewFactorEstimate& from, geometry::ViewFactorEstima
   to.blocked_error.swap(from.blocked_error);
 }
 
+// The rays auto expects a cast row to take: the pinned count, or under the budget's target
+// error what rows take on average (most stop well below the cap).
+double rowRays(const GeometryCase& c) {
+  const geometry::ViewFactorOptions& mc = c.view_factors.monte_carlo;
+  if (mc.target_error <= 0) return double(mc.rays_per_node);
+  return std::clamp(geometry::kRaysPerRowUnderTarget, double(mc.min_rays_per_node), double(mc.rays_per_node));
+}
+
 // F by the exact method into `estimate`, with the rows it leaves to sampling (auto) cast as rays.
 void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, GeometryRunResult& r,
                 Eigen::VectorXd& rays, bool show_progress, std::ostream& progress,
@@ -66,8 +74,7 @@ void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, Geomet
   const bool automatic = c.view_factors.method == ViewFactorMethod::Auto;
   opt.max_blockers = !automatic ? -1 : (opt.max_blockers >= 0 ? opt.max_blockers : geometry::kAutoMaxBlockers);
   opt.max_patches = automatic ? geometry::kAutoMaxPatches : -1;
-  opt.row_sampling_seconds =
-      automatic ? double(c.view_factors.monte_carlo.rays_per_node) * geometry::kSecondsPerRay : 0.0;
+  opt.row_sampling_seconds = automatic ? rowRays(c) * geometry::kSecondsPerRay : 0.0;
   if (show_progress) opt.progress = progressBar(progress, "view factors", "patches");
   if (cluster::distributed()) {  // the pair integrals shared out over the ranks by emitting patch
     opt.part = cluster::rank();
@@ -82,8 +89,7 @@ void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, Geomet
     r.exact->predicted_seconds = ex.predicted_seconds;
     for (char row : ex.sampled_rows)
       if (row)
-        r.exact->predicted_seconds +=
-            double(c.view_factors.monte_carlo.rays_per_node) * geometry::kSecondsPerRay / ex.threads;
+        r.exact->predicted_seconds += rowRays(c) * geometry::kSecondsPerRay / ex.threads;
   }
   // The quadrature stops at max_depth: say so when an estimate stayed above its target
   // (the absolute tolerance, or the relative one times the entry).

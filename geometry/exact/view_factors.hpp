@@ -24,9 +24,14 @@ constexpr int kAutoMaxBlockers = 8;
 /// Method auto's default for ExactOptions::max_patches: a node of more flat patches than
 /// this (a finely facetted curved surface) has its row cast as rays from the start.
 constexpr int kAutoMaxPatches = 64;
-/// One ray of the Monte Carlo method on one core, s (bench_view_factors: about 1.1 M rays
-/// per second per core on scenes of 1k–100k triangles): what method auto weighs against.
-constexpr double kSecondsPerRay = 1e-6;
+/// One ray of the Monte Carlo method on one core, s: what method auto weighs against. The
+/// four-wide caster casts 8 M rays/s per core on the bench satellites (16.1–16.8 M/s on two
+/// cores, 1,602 nodes; docs/view-factor-defaults-benchmark.md); 6.7 M/s is assumed.
+constexpr double kSecondsPerRay = 1.5e-7;
+/// Rays a row takes under a target error (rays stop when the row's largest entries reach
+/// their σ, at most the cap): 12,884 on average on the 1,602-node satellite's cast rows at
+/// target 1e-3 (cap 100,000), the figure auto prices a row at when rays are not pinned.
+constexpr double kRaysPerRowUnderTarget = 16384;
 
 struct ExactOptions {
   /// Target absolute error of every F_ij (view-factor units).
