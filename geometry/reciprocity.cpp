@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace radnet::geometry {
 namespace {
@@ -167,7 +168,11 @@ void reportChanges(const ViewFactorEstimate& est, const Eigen::VectorXd& rays, R
       const double before = (f && f.col() == j) ? f.value() : 0.0;
       const double sigma = (e && e.col() == j) ? e.value() : 0.0;
       const double change = std::abs(it.value() - before);
-      const double s = std::max(sigma, 1.0 / std::max(1.0, rays[i]));
+      // A cast row's σ comes from its own hits: an entry that drew no hit says σ = 0 whatever
+      // its size. Measured against the binomial σ at the larger of the two values (what N rays
+      // would scatter such an entry by), floored at one ray.
+      const double n_rays = std::max(1.0, rays[i]), p = std::min(1.0, std::max(it.value(), before));
+      const double s = std::max({sigma, std::sqrt(p * (1.0 - p) / n_rays), 1.0 / n_rays});
       if (change > out.max_change) {
         out.max_change = change;
         out.worst_from = i;
@@ -242,6 +247,15 @@ ReciprocityCorrection enforceReciprocity(const Eigen::VectorXd& area, const View
         changed = true;
       }
     }
+    // Space and blocked terms likewise: one driven below zero is pinned there (clamping it
+    // afterwards would leave the row's closure to nothing: a closed enclosure's row summed
+    // over 1 by its quadrature error).
+    for (int i = 0; i < n; ++i)
+      for (auto [g_term, v_term] : {std::pair{&g_space, &v_space}, std::pair{&g_blocked, &v_blocked}})
+        if ((*v_term)[i] > 0 && (*g_term)[i] + (*v_term)[i] * mu[i] < 0) {
+          (*g_term)[i] = (*v_term)[i] = 0.0;
+          changed = true;
+        }
     if (!changed) break;
   }
   ReciprocityCorrection out;

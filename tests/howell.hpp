@@ -26,6 +26,18 @@ inline double perpendicularRectangles(double l, double w, double h) {
           0.25 * std::log(a * std::pow(b, W * W) * std::pow(c, H * H)));
 }
 
+/// C-93 (Howell's catalogue): from the inside of the outer of two coaxial cylinders of one
+/// length l to the outside of the inner one, radii r1 (inner) < r2 (outer).
+inline double outerToInnerCylinder(double r1, double r2, double l) {
+  const double R = r2 / r1, L = l / r1, A = L * L + R * R - 1, B = L * L - R * R + 1;
+  const double pi = 3.14159265358979323846;
+  const double f21 = 1 / R - 1 / (pi * R) *
+                                 (std::acos(B / A) - 1 / (2 * L) *
+                                                         (std::sqrt((A + 2) * (A + 2) - 4 * R * R) * std::acos(B / (R * A)) +
+                                                          B * std::asin(1 / R) - pi * A / 2));
+  return f21;
+}
+
 /// C-40: coaxial parallel discs, radii r1 (from) and r2 at distance h.
 inline double coaxialDiscs(double r1, double r2, double h) {
   const double R1 = r1 / h, R2 = r2 / h, x = 1 + (1 + R2 * R2) / (R1 * R1);
