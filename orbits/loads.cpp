@@ -123,9 +123,20 @@ void planetRadianceLoads(const geometry::PlanetRays& r, const Eigen::Vector3d& c
   const double per_replica = double(r.rays) / replicas, flux = pos.solar_flux_w_m2;
   std::vector<double> albedo(static_cast<size_t>(replicas)), ir(static_cast<size_t>(replicas));
   size_t k = 0;
+  // A uniform albedo and IR (the common case): Σ w max(0, ŝ·n) per replica, ŝ·n = (ŝ·h − ŝ·c)/R
+  // with no branch, which the compiler vectorises (the general loop below: 2–3× slower).
+  const bool uniform = !ir_by_hit && opt.albedo_by_latitude.empty();
+  const double sun_at_center = pos.sun_body.dot(center), inv_re = 1.0 / re;
   for (int rep = 0; rep < replicas; ++rep) {
     double albedo_part = 0.0, ir_part = 0.0;
-    for (; k < static_cast<size_t>(r.replica_end[static_cast<size_t>(rep)]); ++k) {
+    const size_t end = static_cast<size_t>(r.replica_end[static_cast<size_t>(rep)]);
+    if (uniform) {
+      for (; k < end; ++k)
+        albedo_part += std::max(0.0, (r.hit_points[k].dot(pos.sun_body) - sun_at_center) * inv_re) * r.weights[k];
+      albedo[static_cast<size_t>(rep)] = flux * opt.albedo * albedo_part / per_replica;
+      continue;
+    }
+    for (; k < end; ++k) {
       const Eigen::Vector3d normal = (r.hit_points[k] - center) / re;  // outward, body frame
       const double cos_sun = normal.dot(pos.sun_body);
       if (ir_by_hit) ir_part += opt.planet_ir.exitance(cos_sun, flux) * r.weights[k];
@@ -220,6 +231,9 @@ void castPlanetPaths(const geometry::RayCaster& caster, const Eigen::Vector3d& c
 // Position p's planet loads of the nodes `nodes` leaves in from their cone rays.
 void coneLoads(const PlanetCast& cast, double re, const SweepPosition& pos, const EnvironmentOptions& opt,
                const std::vector<char>& nodes, int p, EnvironmentLoads& out) {
+  // Nodes apart: each writes only its own entries of column p (the same numbers on any
+  // number of threads). 76 positions × 2.3 M kept rays were 0.5 s of one core.
+#pragma omp parallel for schedule(dynamic, 16)
   for (int i = 0; i < static_cast<int>(cast.rays.size()); ++i) {
     if (!mine(nodes, i)) continue;
     const geometry::PlanetRays& r = cast.rays[static_cast<size_t>(i)];
