@@ -53,20 +53,46 @@ void compact(RowSparse& m, const std::vector<std::int64_t>& start, const std::ve
   m.data().resize(static_cast<Eigen::Index>(at));
 }
 
-}  // namespace
-
-void assemblePairRows(const std::vector<int>& patch_node, std::vector<std::vector<PairValue>>& values,
-                      const Eigen::VectorXd& area, const std::vector<char>& sampled_rows, int threads,
-                      ViewFactorEstimate& out) {
-  const auto n = static_cast<size_t>(area.size());
+// Entries each node's row receives from the pair values (a pair credits both its rows,
+// except rows left to sampling and the blocked side, j < 0).
+std::vector<std::int64_t> rowLengths(const std::vector<int>& patch_node,
+                                     const std::vector<std::vector<PairValue>>& values,
+                                     const std::vector<char>& sampled_rows) {
+  std::vector<std::int64_t> length(sampled_rows.size(), 0);
   auto credited = [&](int i, int j) { return i >= 0 && j >= 0 && !sampled_rows[size_t(i)]; };
-  std::vector<std::int64_t> start(n, 0), length(n, 0);
   for (size_t a = 0; a < values.size(); ++a)
     for (const PairValue& v : values[a]) {
       const int i = patch_node[a], j = patch_node[size_t(v.q)];
       if (credited(i, j)) ++length[size_t(i)];
       if (credited(j, i)) ++length[size_t(j)];
     }
+  return length;
+}
+
+// What an integrated row leaves to space (1 − Σ F − blocked, its error the summed
+// estimates); sampled rows get theirs from the rays.
+void spaceTerms(const std::vector<char>& sampled_rows, ViewFactorEstimate& out) {
+  const auto n = static_cast<Eigen::Index>(sampled_rows.size());
+  out.space.resize(n);
+  out.space_error.resize(n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    if (sampled_rows[size_t(k)]) {
+      out.space[k] = out.space_error[k] = 0.0;
+      continue;
+    }
+    const double row = out.view_factors.row(k).sum() + out.blocked[k];
+    out.space[k] = std::max(0.0, 1.0 - row);
+    out.space_error[k] = out.standard_error.row(k).sum() + out.blocked_error[k];
+  }
+}
+
+}  // namespace
+
+void assemblePairRows(const std::vector<int>& patch_node, std::vector<std::vector<PairValue>>& values,
+                      const Eigen::VectorXd& area, const std::vector<char>& sampled_rows, int threads,
+                      ViewFactorEstimate& out) {
+  const auto n = static_cast<size_t>(area.size());
+  std::vector<std::int64_t> length = rowLengths(patch_node, values, sampled_rows), start(n, 0);
   std::int64_t total = 0;
   for (size_t i = 0; i < n; ++i) start[i] = total, total += length[i];
   // Filled straight into F's and σ's own buffers (at 6,144 nodes F has 31 M entries: a
@@ -113,18 +139,7 @@ void assemblePairRows(const std::vector<int>& patch_node, std::vector<std::vecto
   (void)threads;
   compact(f, start, length);
   compact(e, start, length);
-  out.space.resize(area.size());
-  out.space_error.resize(area.size());
-  for (size_t i = 0; i < n; ++i) {
-    const auto k = static_cast<Eigen::Index>(i);
-    if (sampled_rows[i]) {
-      out.space[k] = out.space_error[k] = 0.0;
-      continue;
-    }
-    const double row = f.row(k).sum() + out.blocked[k];
-    out.space[k] = std::max(0.0, 1.0 - row);
-    out.space_error[k] = e.row(k).sum() + out.blocked_error[k];
-  }
+  spaceTerms(sampled_rows, out);
 }
 
 }  // namespace radnet::geometry
