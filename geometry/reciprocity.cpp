@@ -200,8 +200,10 @@ void reportChanges(const ViewFactorEstimate& est, const Eigen::VectorXd& rays, R
       const double sigma = (e && e.col() == j) ? e.value() : 0.0;
       const double change = std::abs(it.value() - before);
       // A cast row's σ comes from its own hits: an entry that drew no hit says σ = 0 whatever
-      // its size. Measured against the binomial σ at the larger of the two values (what N rays
-      // would scatter such an entry by), floored at one ray.
+      // its size, one that drew one hit σ = its value. Measured against the binomial σ at the
+      // larger of the two values (what N rays scatter an entry of that size by), floored at
+      // one ray. An integrated row (N = 1 / tolerance) is measured generously this way, but
+      // its entries barely move: where it and a cast row disagree, the cast entry moves.
       const double n_rays = std::max(1.0, rays[i]), p = std::min(1.0, std::max(it.value(), before));
       const double s = std::max({sigma, std::sqrt(p * (1.0 - p) / n_rays), 1.0 / n_rays});
       if (change > out.max_change) {
