@@ -97,9 +97,14 @@ bool samePattern(const RowSparse& f, const RowSparse& sigma) {
          std::equal(f.innerIndexPtr(), f.innerIndexPtr() + f.nonZeros(), sigma.innerIndexPtr());
 }
 
-// σ laid on F's pattern (compressed F): an entry σ does not hold is 0.
+// σ laid on F's pattern (compressed F): an entry σ does not hold is 0 (all of them when σ
+// was left empty or has another shape).
 RowSparse sigmaOnPattern(const RowSparse& f, const RowSparse& sigma) {
   RowSparse out = f;
+  if (sigma.rows() != f.rows() || sigma.cols() != f.cols()) {
+    std::fill(out.valuePtr(), out.valuePtr() + out.nonZeros(), 0.0);
+    return out;
+  }
   for (Eigen::Index i = 0; i < f.outerSize(); ++i) {
     RowSparse::InnerIterator e(sigma, i);
     for (RowSparse::InnerIterator it(out, i); it; ++it) {
@@ -304,7 +309,7 @@ ReciprocityCorrection enforceReciprocity(const Eigen::VectorXd& area, const View
   out.space = (g_space + v_space.cwiseProduct(mu)).cwiseMax(0.0).cwiseQuotient(area);
   out.blocked = (g_blocked + v_blocked.cwiseProduct(mu)).cwiseMax(0.0).cwiseQuotient(area);
   out.view_factors = correctedRows(pairs, g, area);
-  reportChanges(est, rays, out);
+  reportChanges(*shared, rays, out);  // σ on F's pattern (absent entries 0)
   return out;
 }
 

@@ -297,4 +297,10 @@ TEST_CASE("reciprocity correction: the same answer whatever the node order, pair
   const Eigen::MatrixXd g = af.asDiagonal() * f;
   CHECK((g - g.transpose()).cwiseAbs().maxCoeff() < 1e-12);
   CHECK((f.rowwise().sum() + cf.space - Eigen::VectorXd::Ones(n)).cwiseAbs().maxCoeff() < 1e-9);
+  // An estimate whose σ was left empty: every entry weighs one ray's worth, still a correction.
+  ViewFactorEstimate bare = ef;
+  bare.standard_error = Eigen::SparseMatrix<double, Eigen::RowMajor>();
+  const ReciprocityCorrection cbare = enforceReciprocity(af, bare, rf);
+  const Eigen::MatrixXd fb = Eigen::MatrixXd(cbare.view_factors);
+  CHECK((fb.rowwise().sum() + cbare.space - Eigen::VectorXd::Ones(n)).cwiseAbs().maxCoeff() < 1e-9);
 }
