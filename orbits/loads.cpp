@@ -124,7 +124,8 @@ void planetRadianceLoads(const geometry::PlanetRays& r, const Eigen::Vector3d& c
   std::vector<double> albedo(static_cast<size_t>(replicas)), ir(static_cast<size_t>(replicas));
   size_t k = 0;
   // A uniform albedo and IR (the common case): Σ w max(0, ŝ·n) per replica, ŝ·n = (ŝ·h − ŝ·c)/R
-  // with no branch, which the compiler vectorises (the general loop below: 2–3× slower).
+  // with no branch, which the compiler vectorises (the loads stage of the 1,602-node
+  // satellite, 76 positions: 0.53 s with the general loop below, 0.40 s with this one).
   const bool uniform = !ir_by_hit && opt.albedo_by_latitude.empty();
   const double sun_at_center = pos.sun_body.dot(center), inv_re = 1.0 / re;
   for (int rep = 0; rep < replicas; ++rep) {

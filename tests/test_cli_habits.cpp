@@ -343,7 +343,8 @@ TEST_CASE("orbit angles are reduced modulo 360 deg exactly before they become ra
 
 // Issue 12: large matrices are deflated by radnet on all cores and handed to
 // HDF5 as finished chunks; what a reader gets back must be the matrix, bit for bit, with
-// edge chunks (700 = 2·256 + 188) cut at the matrix's edge.
+// edge chunks (700 = 2·256 + 188) cut at the matrix's edge, and chunks of +0.0 left unwritten
+// (HDF5 gives them back as its fill value) while a chunk of −0.0 keeps its sign bits.
 TEST_CASE("large matrices written chunk by chunk read back bit for bit, with their edges") {
   TempDir dir;
   const std::string file = (dir.path / "m.h5").string();
@@ -351,6 +352,9 @@ TEST_CASE("large matrices written chunk by chunk read back bit for bit, with the
   m(699, 529) = -0.0;
   m(0, 0) = std::numeric_limits<double>::denorm_min();
   m.col(7).setZero();  // runs of zeros, as in a sparse view-factor matrix
+  m.block(256, 0, 256, 256).setZero();       // a whole chunk of +0.0: not written, read as the fill value
+  m.block(0, 256, 256, 256).setConstant(-0.0);  // -0.0 is not the fill value's bits: written
+  m.block(512, 256, 188, 256).setZero();     // an edge chunk of zeros
   const Eigen::MatrixXd small = Eigen::MatrixXd::Random(100, 90);  // below the chunked path
   {
     radnet::cases::Hdf5Writer h5(file);

@@ -213,7 +213,8 @@ void Hdf5Writer::writeChunkedMatrix(const std::string& path, Eigen::Index rows, 
   const Eigen::Index col_chunks = (cols + kMatrixChunk - 1) / kMatrixChunk;
   std::vector<std::vector<unsigned char>> compressed(static_cast<size_t>(col_chunks));
   // A chunk of nothing but +0.0 is not written at all: HDF5 reads a chunk never written as
-  // the dataset's fill value, 0 (most of a satellite's F: 19,202 nodes wrote for 30 s).
+  // the dataset's fill value, 0 (the blocks between parts that see nothing of each other:
+  // the 19,202-node satellite's write 30.6 → 21.1 s, its file 4 % smaller).
   std::vector<char> zero(static_cast<size_t>(col_chunks), 0);
   for (Eigen::Index ci = 0; ci < row_chunks; ++ci) {  // one row of chunks at a time: bounded memory
     std::atomic<bool> failed{false};

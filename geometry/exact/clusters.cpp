@@ -63,21 +63,9 @@ struct Outline {
   std::vector<Vec3> points;
 };
 
-bool allWithin(const std::vector<Vec3>& pts, const Patch& plane, double tol) {
-  for (const Vec3& v : pts)
-    if (plane.region.normal.dot(v) - plane.offset > tol) return false;
-  return true;
-}
-
-bool anyBehind(const std::vector<Vec3>& pts, const Patch& plane, double tol) {
-  for (const Vec3& v : pts)
-    if (plane.region.normal.dot(v) - plane.offset < -tol) return true;
-  return false;
-}
-
 ClusterPair classify(const OccluderIndex& index, const Outline& a, const Outline& b, double tol,
                      std::vector<int>& candidates, std::vector<int>& blockers) {
-  if (allWithin(b.points, a.plane, tol) || allWithin(a.points, b.plane, tol)) return ClusterPair::Culled;
+  if (allBehind(b.points, a.plane, tol) || allBehind(a.points, b.plane, tol)) return ClusterPair::Culled;
   if (anyBehind(b.points, a.plane, tol) || anyBehind(a.points, b.plane, tol)) return ClusterPair::Mixed;
   pairBlockers(index, a.plane, a.plane.pieces, b.plane, b.plane.pieces, tol, candidates, blockers);
   return blockers.empty() ? ClusterPair::Free : ClusterPair::Mixed;

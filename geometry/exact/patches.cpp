@@ -167,6 +167,18 @@ std::vector<Patch> buildPatches(const Scene& scene) {
   return patches;
 }
 
+bool allBehind(const std::vector<Vec3>& points, const Patch& plane, double tol) {
+  for (const Vec3& v : points)
+    if (plane.region.normal.dot(v) - plane.offset > tol) return false;
+  return true;
+}
+
+bool anyBehind(const std::vector<Vec3>& points, const Patch& plane, double tol) {
+  for (const Vec3& v : points)
+    if (plane.region.normal.dot(v) - plane.offset < -tol) return true;
+  return false;
+}
+
 std::vector<Occluder> buildOccluders(const Scene& scene) {
   const double extent = std::max(scene.extent(), 1e-300);
   std::map<PlaneKey, Group> groups;

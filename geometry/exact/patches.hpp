@@ -35,6 +35,13 @@ struct Occluder {
 /// loops, the triangles themselves otherwise.
 std::vector<Patch> buildPatches(const Scene& scene);
 
+/// Whether every point lies on or behind `plane` (within tol, m): nothing of them is in
+/// front of it (a pair so placed cannot see each other).
+bool allBehind(const std::vector<Vec3>& points, const Patch& plane, double tol);
+/// Whether some point lies behind `plane` by more than tol (the other side must be clipped
+/// to the part in front).
+bool anyBehind(const std::vector<Vec3>& points, const Patch& plane, double tol);
+
 /// Every scene triangle as part of one convex occluder.
 std::vector<Occluder> buildOccluders(const Scene& scene);
 

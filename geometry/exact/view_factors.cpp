@@ -28,18 +28,6 @@ std::vector<Vec3> pointsOf(const Patch& p) {
   return out;
 }
 
-bool allBehind(const std::vector<Vec3>& points, const Patch& plane, double tol) {
-  for (const Vec3& v : points)
-    if (plane.region.normal.dot(v) - plane.offset > tol) return false;
-  return true;
-}
-
-bool anyBehind(const std::vector<Vec3>& points, const Patch& plane, double tol) {
-  for (const Vec3& v : points)
-    if (plane.region.normal.dot(v) - plane.offset < -tol) return true;
-  return false;
-}
-
 // The convex pieces of `a` in front of b's plane.
 std::vector<Loop> clippedPieces(const Patch& a, const Patch& b) {
   std::vector<Loop> out;
