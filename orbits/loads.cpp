@@ -280,35 +280,27 @@ bool kernelServes(const std::vector<SweepPosition>& positions, bool earth_fixed,
   return wanted && opt.planet_rays == 0 && opt.albedo_by_latitude.empty() && smallest_cap_sin2 >= kSkyKernelMinCapSin2;
 }
 
-// The sweep's planet loads from the sky kernel, cone rays only for the node-positions
-// whose kernel error exceeds the target (cast once per node when the Earth is fixed).
+// The sweep's planet loads from the sky kernel (cast once per geometry: kSkyKernelFirstRays
+// a node, then more for the nodes over their target), cone rays only for the node-positions
+// still over (cast once per node when the Earth is fixed).
 void kernelPlanetLoads(const geometry::RayCaster& caster, const std::vector<SweepPosition>& positions, bool earth_fixed,
                        double re, double smallest_cap_sin2, const EnvironmentOptions& opt, EnvironmentLoads& out) {
   geometry::SkyKernel local;
   geometry::SkyKernel& kernel = opt.sky_kernel_cache ? *opt.sky_kernel_cache : local;
-  if (kernel.nodes.empty()) {
-    geometry::SkyKernelOptions k;
-    k.max_rays_per_node = kMaxPlanetRays;
-    k.target_stderr = opt.relative_error * 0.1 * smallest_cap_sin2;
-    k.seed = opt.seed;
-    k.nodes = opt.planet_nodes;
-    const auto t0 = std::chrono::steady_clock::now();
-    kernel = geometry::skyKernel(caster, k);
-    out.kernel_rays += kernel.rays;
-    out.kernel_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  }
-  const std::vector<int> used = usedSkyBins(kernel);
+  std::vector<PlanetView> views;
+  for (const SweepPosition& pos : positions) views.push_back(planetView(pos, re, opt));
+  const KernelTargets targets = kernelLoads(caster, views, smallest_cap_sin2, opt, kernel, out);
   PlanetCast fallback;
-  std::vector<char> have(kernel.nodes.size(), 0);
+  const size_t n = kernel.nodes.size();
+  std::vector<char> have(n, 0), over(n, 0), need(n, 0);
   for (int p = 0; p < static_cast<int>(positions.size()); ++p) {
     const SweepPosition& pos = positions[static_cast<size_t>(p)];
-    const std::vector<char> over =
-        skyKernelLoads(kernel, used, planetView(pos, re, opt), opt.planet_nodes, opt.relative_error, p, out);
     const Eigen::Vector3d center = pos.planet_body * pos.planet_distance_m;
     if (!(earth_fixed && samePlace(fallback, center))) std::fill(have.begin(), have.end(), 0);
-    std::vector<char> need(over.size(), 0);
     bool any = false;
-    for (size_t i = 0; i < over.size(); ++i) {
+    for (size_t i = 0; i < n; ++i) {
+      over[i] = mine(opt.planet_nodes, static_cast<int>(i)) && kernel.nodes[i].rays > 0 &&
+                targets.over(out, static_cast<Eigen::Index>(i), p) > 1.0;
       out.kernel_fallbacks += over[i];
       need[i] = over[i] && !have[i];
       any = any || need[i];
@@ -317,7 +309,7 @@ void kernelPlanetLoads(const geometry::RayCaster& caster, const std::vector<Swee
       castConeRays(caster, center, re, opt, need, fallback, out);
       fallback.center = center;
       ++fallback.casts;
-      for (size_t i = 0; i < need.size(); ++i) have[i] = have[i] || need[i];
+      for (size_t i = 0; i < n; ++i) have[i] = have[i] || need[i];
     }
     coneLoads(fallback, re, pos, opt, over, p, out);
   }

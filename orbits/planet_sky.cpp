@@ -142,7 +142,7 @@ PlanetChannels unobstructedPlanetLoads(const PlanetView& v, const Eigen::Vector3
   const Eigen::Vector3d e1 = c.unitOrthogonal(), e2 = c.cross(e1);
   // Where the rings' arcs change: the plane's horizon, the terminator (and the night floor).
   std::vector<double> cuts{0.0, gamma_max};
-  const Wave n_full = ringWave(normal, c, e1, e2, 1.0, 1.0);
+  const Wave n_full = ringWave(normal, c, e1, e2, 1.0, 1.0), sun_full = ringWave(v.toward_sun, c, e1, e2, 1.0, 1.0);
   const double theta_max = std::asin(std::sqrt(v.capSin2())), theta_horizon = std::atan2(std::abs(n_full.a), n_full.b);
   if (theta_horizon < theta_max) cuts.push_back(gammaOfTheta(theta_horizon, d, r));
   for (const double c0 : {0.0, em.c0})
@@ -159,9 +159,11 @@ PlanetChannels unobstructedPlanetLoads(const PlanetView& v, const Eigen::Vector3
       // dω = sin θ (dθ/dγ) dγ dφ, θ = atan2(R sin γ, d − R cos γ).
       const double theta = std::atan2(r * std::sin(gamma), d - r * std::cos(gamma));
       const double dtheta = (r * d * std::cos(gamma) - r * r) / (d * d - 2.0 * d * r * std::cos(gamma) + r * r);
-      const double jacobian = weight * std::sin(theta) * dtheta / M_PI;
-      const Wave plane = ringWave(normal, c, e1, e2, std::cos(theta), std::sin(theta));
-      const Wave sun = ringWave(v.toward_sun, c, e1, e2, -std::cos(gamma), std::sin(gamma));
+      const double sin_theta = std::sin(theta), cos_theta = std::cos(theta);
+      const double jacobian = weight * sin_theta * dtheta / M_PI;
+      // The waves' phases are the same on every ring: only their two parts scale.
+      const Wave plane{n_full.a * cos_theta, n_full.b * sin_theta, n_full.phase};
+      const Wave sun{-sun_full.a * std::cos(gamma), sun_full.b * std::sin(gamma), sun_full.phase};
       if (lit) sum.albedo += jacobian * v.albedo * v.solar_flux_w_m2 * ringIntegral(plane, sun);
       if (warm) sum.ir += jacobian * em.k * ringIntegral(plane, Wave{sun.a - em.c0, sun.b, sun.phase});
     }

@@ -13,19 +13,58 @@
 #include "orbits/loads.hpp"
 #include "orbits/planet_sky.hpp"
 
+#include <array>
+#include <cstdint>
 #include <vector>
 
 namespace radnet::orbits {
 
-/// The bins any node's kernel uses (ascending), computed once per kernel.
-std::vector<int> usedSkyBins(const geometry::SkyKernel& kernel);
+/// The bins the kernels of the nodes `mask` leaves in (empty: all) use, ascending.
+std::vector<int> usedSkyBins(const geometry::SkyKernel& kernel, const std::vector<char>& mask = {});
 
-/// Writes column p of earth_view_factor, albedo, earth_ir and their σ for the nodes `mask`
-/// leaves in (empty: all). Returns, per node, whether its view-factor σ exceeds
-/// relative_error · max(F, 0.1 sin² θ_max) (the planet rays' own target): those nodes
-/// need rays at this position.
-std::vector<char> skyKernelLoads(const geometry::SkyKernel& kernel, const std::vector<int>& used_bins,
-                                 const PlanetView& view, const std::vector<char>& mask, double relative_error, int p,
-                                 EnvironmentLoads& out);
+/// Writes every position's earth_view_factor, albedo, earth_ir and their σ (a column per
+/// view) for the nodes `mask` leaves in (empty: all). Whether a node's σ is within its
+/// target is the caller's to judge (orbits/loads.cpp: against the node's largest load
+/// over the sweep).
+/// The unobstructed loads (view factor, albedo, planet IR) of the kernel's normals at every
+/// position (normals × positions, per channel), each computed once however many sweeps read
+/// it: the rings cost some 3 µs a normal and position, and a curved part has a normal per
+/// facet (2,204 on the 1,602-node satellite, whose dish alone is 1,100).
+struct UnobstructedLoads {
+  std::array<Eigen::MatrixXd, 3> channel;
+  std::vector<char> have;  ///< per normal: computed
+  /// Computes the normals the nodes `mask` leaves in use that are not there yet.
+  void fill(const geometry::SkyKernel& kernel, const std::vector<PlanetView>& views, const std::vector<char>& mask);
+};
+
+void skyKernelSweep(const geometry::SkyKernel& kernel, const std::vector<PlanetView>& views,
+                    UnobstructedLoads& unobstructed, const std::vector<char>& mask, EnvironmentLoads& out);
+
+/// The sky kernel's first cast, rays a node (32 a replica): a node whose error over the
+/// sweep is then above its target is cast again with what its error asks.
+inline constexpr std::int64_t kSkyKernelFirstRays = 1024;
+
+/// What each node's albedo and planet IR may be off by (1σ, W/m²) at any position of the
+/// sweep: half the loads' relative error times the node's largest load of that kind over
+/// the sweep (at least that of a tenth of the planet's cap). The budget is a share of each
+/// node's absorbed power against its orbit maximum, which is at least α × the largest
+/// albedo and ε × the largest planet IR: an albedo σ and an IR σ within half the share each
+/// keep the absorbed power's within the share for any optical properties (the two add: they
+/// share the blocked sky). Against the sweep's largest, not each position's own value: a
+/// node's small loads where it barely sees the planet need no more rays than its large ones
+/// (the old per-position target cast 3× the rays on the 1,602-node satellite).
+struct KernelTargets {
+  std::vector<double> albedo, ir;  ///< per node, W/m²
+  /// How far node i's σ at position p is over its target (≤ 1: within).
+  double over(const EnvironmentLoads& out, Eigen::Index i, int p) const;
+};
+
+/// Every position's planet loads from the kernel for the nodes opt.planet_nodes leaves in.
+/// An empty kernel is cast first: kSkyKernelFirstRays a node, then, in rounds, the nodes
+/// over their target again with more (up to kMaxPlanetRays). Returns the targets, for the
+/// caller to give the node-positions still over planet rays.
+KernelTargets kernelLoads(const geometry::RayCaster& caster, const std::vector<PlanetView>& views,
+                          double smallest_cap_sin2, const EnvironmentOptions& opt, geometry::SkyKernel& kernel,
+                          EnvironmentLoads& out);
 
 }  // namespace radnet::orbits

@@ -78,8 +78,10 @@ NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& o
   for (int r = 0; r < kReplicas; ++r)
     streams.emplace_back(mixSeed(opt.seed, static_cast<std::uint64_t>(node), 0x5c7 + static_cast<std::uint64_t>(r)));
   std::vector<std::vector<SkyRay>> rays(kReplicas);
-  const std::int64_t cap = std::max<std::int64_t>(1, opt.max_rays_per_node / kReplicas);
-  std::int64_t per_replica = opt.target_stderr > 0 ? std::min<std::int64_t>(cap, 32) : cap, cast = 0;
+  const bool fixed = !opt.node_rays.empty();
+  const std::int64_t asked = fixed ? opt.node_rays[static_cast<size_t>(node)] : opt.max_rays_per_node;
+  const std::int64_t cap = std::max<std::int64_t>(1, (asked + kReplicas - 1) / kReplicas);
+  std::int64_t per_replica = opt.target_stderr > 0 && !fixed ? std::min<std::int64_t>(cap, 32) : cap, cast = 0;
   std::vector<double> share(kReplicas);
   for (;;) {
     for (int r = 0; r < kReplicas; ++r)
@@ -98,7 +100,7 @@ NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& o
     }
     const double mean = sum / kReplicas;
     const double sigma = std::sqrt(std::max(0.0, (sum2 - kReplicas * mean * mean) / (kReplicas - 1)) / kReplicas);
-    if (opt.target_stderr <= 0 || sigma <= opt.target_stderr || per_replica >= cap) break;
+    if (fixed || opt.target_stderr <= 0 || sigma <= opt.target_stderr || per_replica >= cap) break;
     per_replica = std::min(cap, 2 * per_replica);
   }
   NodeSky sky;
@@ -155,6 +157,8 @@ SkyKernel skyKernel(const RayCaster& caster, const SkyKernelOptions& opt) {
   const int n = static_cast<int>(caster.scene().nodes().size());
   if (!opt.nodes.empty() && opt.nodes.size() != static_cast<size_t>(n))
     throw std::invalid_argument("sky kernel: the node mask must have one entry per node");
+  if (!opt.node_rays.empty() && opt.node_rays.size() != static_cast<size_t>(n))
+    throw std::invalid_argument("sky kernel: the rays per node must have one entry per node");
   SkyKernel kernel;
   kernel.nodes.resize(static_cast<size_t>(n));
   std::int64_t rays = 0;
@@ -163,6 +167,7 @@ SkyKernel skyKernel(const RayCaster& caster, const SkyKernelOptions& opt) {
 #endif
   for (int i = 0; i < n; ++i) {
     if (!opt.nodes.empty() && !opt.nodes[static_cast<size_t>(i)]) continue;
+    if (!opt.node_rays.empty() && opt.node_rays[static_cast<size_t>(i)] <= 0) continue;
     kernel.nodes[static_cast<size_t>(i)] = castNodeSky(caster, i, opt);
     rays += kernel.nodes[static_cast<size_t>(i)].rays;
   }

@@ -71,6 +71,10 @@ struct SkyKernelOptions {
   double target_stderr = 0.0;
   std::uint64_t seed = 1;
   std::vector<char> nodes;  ///< nodes to build (empty: all)
+  /// Per node (empty: none): cast exactly this many rays (rounded up to whole replicas; 0:
+  /// leave the node out), in place of the target and the cap. A node's rays are the same
+  /// Sobol points whatever the count: a node cast again with more keeps its first ones.
+  std::vector<std::int64_t> node_rays;
 };
 
 SkyKernel skyKernel(const RayCaster& caster, const SkyKernelOptions& options);
