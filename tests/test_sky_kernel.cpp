@@ -152,6 +152,37 @@ TEST_CASE("sky kernel: a plate beside a wall and under an awning agrees with pla
   CHECK(k.earth_ir.cwiseAbs().sum() > 0);
 }
 
+TEST_CASE("sky kernel: every node meets its target, half the loads' share of its largest albedo and IR") {
+  // The refined kernel's promise (orbits/sky_loads.hpp, KernelTargets): at every position a
+  // node's albedo σ and IR σ within 0.5 × relative_error × that node's largest albedo and
+  // IR over the sweep (or the floor of a tenth of the cap), after 1,024 rays and the rounds
+  // of re-casting; none of this scene's node-positions needs the planet rays' fallback.
+  geometry::Scene s;
+  s.addSurface("floor", "floor", geometry::rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 3, 3), "floor", "");
+  s.addSurface("wall", "wall", geometry::rectangle(Vec3(0, 0, 0), Vec3(0, 0, 0.6), Vec3(0, 1, 0), 2, 2), "wall.back",
+               "wall");
+  geometry::RayCaster caster(s);
+  const auto ps = tumblingPositions(24, 5);
+  orbits::EnvironmentOptions opt;
+  const orbits::EnvironmentLoads k = orbits::environmentLoads(caster, testing::nodeAreas(s), ps, false, kR, opt);
+  REQUIRE(k.planet_kernel);
+  CHECK(k.kernel_fallbacks == 0);
+  // More rays than the first cast's 1,024 a node: some nodes were re-cast.
+  CHECK(k.kernel_rays > 1024 * static_cast<std::int64_t>(s.nodes().size()));
+  double cap_sin2 = 1.0;
+  for (const auto& pos : ps) cap_sin2 = std::min(cap_sin2, std::pow(kR / pos.planet_distance_m, 2));
+  const double share = 0.5 * opt.relative_error, floor_view = 0.1 * cap_sin2;
+  for (Eigen::Index i = 0; i < k.albedo.rows(); ++i) {
+    const double albedo_target = share * std::max(k.albedo.row(i).maxCoeff(), floor_view * 0.3 * 1361.0);
+    const double ir_target = share * std::max(k.earth_ir.row(i).maxCoeff(), floor_view * 237.0);
+    for (Eigen::Index p = 0; p < k.albedo.cols(); ++p) {
+      INFO(s.nodes()[static_cast<size_t>(i)].name << " position " << p);
+      CHECK(k.albedo_stderr(i, p) <= albedo_target);
+      CHECK(k.earth_ir_stderr(i, p) <= ir_target);
+    }
+  }
+}
+
 TEST_CASE("sky kernel loads shared out by node (as over MPI ranks) add up to the whole, bit for bit") {
   const geometry::Scene s = testing::plateUnderRoof();
   geometry::RayCaster caster(s);
