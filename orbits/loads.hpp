@@ -56,6 +56,12 @@ struct EnvironmentOptions {
   /// Where to keep the sky kernel between calls (several orbit cases of one geometry):
   /// built when empty, reused otherwise. nullptr: built for this call only.
   geometry::SkyKernel* sky_kernel_cache = nullptr;
+  /// Each node's blocked share of its sky, cosine-weighted (1 − F_space from the view
+  /// factors), and its σ (empty: not known). With it the sky kernel has only to split the
+  /// share between the planet's cap and the rest (a ratio estimate: exact where every
+  /// blocker lies inside the cap or outside it); a node whose kernel disagrees with it by
+  /// more than 5σ keeps its own estimate.
+  Eigen::VectorXd blocked_share, blocked_share_stderr;
   std::uint64_t seed = 1;
   /// Positions whose direct load, and nodes whose planet loads (albedo, Earth IR, Earth view
   /// factor), this process computes (empty: all). The rest stay 0 for other processes to

@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 namespace radnet::orbits {
 
@@ -61,6 +62,7 @@ const BinDirections& binDirections() {
 // the four corners) and the error scale of that mean.
 struct BlockTables {
   std::array<Table, kChannels> mean, half;
+  Rows peak;  // the planet's largest radiance anywhere, per channel and position
 };
 
 // Column q of the radiance tables at one position (one thread).
@@ -96,14 +98,66 @@ void binRadiance(const std::vector<int>& used, const PlanetView& view, int q, Bl
   }
 }
 
+// What the view factors tell of a node's sky: its blocked share and σ (NaN: nothing).
+struct KnownShare {
+  double blocked = std::numeric_limits<double>::quiet_NaN(), stderr_share = 0.0;
+};
+
+// The node's counted load over a block (the planet's radiance over the rays it counts) and
+// the variance of its sampling, from the replicas' estimates per channel (m × B each) and
+// their counted shares. With the known share t of what the node counts (b, or 1 − b
+// counting open rays) the estimate is the ratio t Ŷ/ŝ: only the split of the counted
+// share between directions is sampled, so a node whose blockers lie wholly inside the
+// planet's cap, or wholly outside it, has no sampling error left. Its variance to first
+// order is (t/ŝ)² Var(Ŷ − (Ŷ/ŝ) ŝ) over the replicas plus (Ŷ/ŝ)² σ_t² (Cochran, Sampling
+// Techniques, §6.3), taken where it is smaller than the plain estimate's. A kernel that saw none of a known share cannot place it: σ covers
+// half of it at the planet's largest radiance. A kernel and a share more than 5σ apart
+// (other geometry, a clipped row) leave the kernel's own estimate.
+void countedLoad(const std::array<Table, kChannels>& estimates, const Eigen::ArrayXd& replica_share,
+                 const KnownShare& known, bool counts_open, const Rows& peak, Rows& counted, Rows& variance,
+                 const Rows& binning) {
+  constexpr int m = geometry::kSkyReplicas;
+  const auto spread = [m](const Table& e) {
+    const Eigen::ArrayXd sum = e.colwise().sum().transpose().array();
+    const Eigen::ArrayXd sum2 = e.array().square().colwise().sum().transpose();
+    return Eigen::ArrayXd(((sum2 - sum.square() / m) / (m - 1)).max(0.0) / m);
+  };
+  const double s = replica_share.mean();
+  const double var_s = (replica_share - s).square().sum() / (m - 1) / m;
+  const double t = counts_open ? 1.0 - known.blocked : known.blocked, var_t = known.stderr_share * known.stderr_share;
+  const bool have = std::isfinite(t) && t >= 0.0;
+  const bool ratio = have && t > 0 && s > 0 && std::abs(s - t) <= 5.0 * std::sqrt(var_s + var_t) + 1e-3;
+  variance = binning;
+  for (int c = 0; c < kChannels; ++c) {
+    const Table& e = estimates[static_cast<size_t>(c)];
+    if (!ratio) {
+      variance.row(c) += spread(e).transpose();
+      if (have && t > 0 && s == 0) variance.row(c) += (0.5 * t * M_PI * peak.row(c)).square();
+      continue;
+    }
+    const Eigen::ArrayXd r = counted.row(c).transpose() / s;  // Ŷ/ŝ per position
+    Table residual = e;
+    residual.array() -= (replica_share.matrix() * r.matrix().transpose()).array();
+    const double f = t / s;
+    const Eigen::ArrayXd plain = binning.row(c).transpose() + spread(e);
+    const Eigen::ArrayXd by_ratio = f * f * (binning.row(c).transpose() + spread(residual)) + var_t * r.square();
+    // The share's own σ (the view factors' rays) can outweigh what it saves: the smaller.
+    for (Eigen::Index q = 0; q < r.size(); ++q) {
+      const bool better = by_ratio[q] < plain[q];
+      counted(c, q) *= better ? f : 1.0;
+      variance(c, q) = better ? by_ratio[q] : plain[q];
+    }
+  }
+}
+
 // One node's loads and σ at every position of a block, from its kernel, per channel. The
 // σ: each replica's estimate from its counted share per coarse cell times the radiance of
 // the cell's counted bins (the cells' correlations kept), the spread of the 32; and the
 // binning error. Each bin's radiance over the block is one row: the sums run along them.
 void nodeLoads(const geometry::NodeSky& sky, const std::vector<int>& slot, const BlockTables& t,
-               const UnobstructedLoads& unobstructed, int p0, Rows& value, Rows& sigma) {
+               const UnobstructedLoads& unobstructed, int p0, const KnownShare& known, Rows& value, Rows& sigma) {
   const Eigen::Index B = t.mean[0].cols();
-  Rows free = Rows::Zero(kChannels, B), counted = Rows::Zero(kChannels, B), variance = Rows::Zero(kChannels, B);
+  Rows free = Rows::Zero(kChannels, B), counted = Rows::Zero(kChannels, B), binning = Rows::Zero(kChannels, B);
   for (const auto& [k, share] : sky.normals)
     for (int c = 0; c < kChannels; ++c)
       free.row(c) += share * unobstructed.channel[static_cast<size_t>(c)].row(k).segment(p0, B).array();
@@ -124,22 +178,23 @@ void nodeLoads(const geometry::NodeSky& sky, const std::vector<int>& slot, const
       const auto mean = t.mean[static_cast<size_t>(c)].row(u).array();
       counted.row(c) += w * mean;
       cell_radiance[static_cast<size_t>(c)].row(cell).array() += w * mean;
-      variance.row(c) += (w * t.half[static_cast<size_t>(c)].row(u).array()).square();
+      binning.row(c) += (w * t.half[static_cast<size_t>(c)].row(u).array()).square();
     }
   }
   // Replica r's estimate over the block: Σ_cells π share_r,cell / weight_cell × cell radiance.
   constexpr int m = geometry::kSkyReplicas;
   Table scale = Table::Zero(m, cells);
+  Eigen::ArrayXd replica_share = Eigen::ArrayXd::Zero(m);
   for (Eigen::Index k = 0; k < cells; ++k)
-    if (cell_weight[k] > 0)
-      for (int r = 0; r < m; ++r)
-        scale(r, k) = M_PI * sky.cell_shares[static_cast<size_t>(k)][static_cast<size_t>(r)] / cell_weight[k];
-  for (int c = 0; c < kChannels; ++c) {
-    const Table estimates = scale * cell_radiance[static_cast<size_t>(c)];  // m × B
-    const Eigen::ArrayXd sum = estimates.colwise().sum().transpose().array();
-    const Eigen::ArrayXd sum2 = estimates.array().square().colwise().sum().transpose();
-    variance.row(c) += ((sum2 - sum.square() / m) / (m - 1)).max(0.0).transpose() / m;
-  }
+    for (int r = 0; r < m; ++r) {
+      const double share = sky.cell_shares[static_cast<size_t>(k)][static_cast<size_t>(r)];
+      replica_share[r] += share;
+      if (cell_weight[k] > 0) scale(r, k) = M_PI * share / cell_weight[k];
+    }
+  std::array<Table, kChannels> estimates;
+  for (int c = 0; c < kChannels; ++c) estimates[static_cast<size_t>(c)] = scale * cell_radiance[static_cast<size_t>(c)];
+  Rows variance;
+  countedLoad(estimates, replica_share, known, sky.counts_open, t.peak, counted, variance, binning);
   value = sky.counts_open ? counted : Rows(free - counted);
   // What reaches a node is never below 0 nor above what reaches it unobstructed.
   value = value.max(0.0).min(free);
@@ -155,6 +210,13 @@ BlockTables blockTables(const std::vector<int>& used, const std::vector<PlanetVi
 #pragma omp parallel for schedule(dynamic, 1)
 #endif
   for (int q = 0; q < B; ++q) binRadiance(used, views[static_cast<size_t>(p0 + q)], q, t);
+  t.peak = Rows::Zero(kChannels, B);
+  for (int q = 0; q < B; ++q) {
+    const PlanetView& v = views[static_cast<size_t>(p0 + q)];
+    t.peak(0, q) = 1.0 / M_PI;
+    t.peak(1, q) = v.albedo * v.solar_flux_w_m2 / M_PI;
+    t.peak(2, q) = v.ir.maxExitance(v.solar_flux_w_m2) / M_PI;
+  }
   return t;
 }
 
@@ -220,7 +282,7 @@ void refineKernel(const geometry::RayCaster& caster, const std::vector<PlanetVie
     }
     out.kernel_rays += more.rays;
     out.kernel_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    skyKernelSweep(kernel, views, unobstructed, candidates, out);
+    skyKernelSweep(kernel, views, unobstructed, candidates, opt.blocked_share, opt.blocked_share_stderr, out);
   }
 }
 
@@ -259,7 +321,9 @@ void UnobstructedLoads::fill(const geometry::SkyKernel& kernel, const std::vecto
 }
 
 void skyKernelSweep(const geometry::SkyKernel& kernel, const std::vector<PlanetView>& views,
-                    UnobstructedLoads& unobstructed, const std::vector<char>& mask, EnvironmentLoads& out) {
+                    UnobstructedLoads& unobstructed, const std::vector<char>& mask,
+                    const Eigen::VectorXd& blocked_share, const Eigen::VectorXd& blocked_share_stderr,
+                    EnvironmentLoads& out) {
   unobstructed.fill(kernel, views, mask);
   const std::vector<int> used = usedSkyBins(kernel, mask);
   std::vector<int> slot(SkyBins::kBins, -1);
@@ -277,7 +341,9 @@ void skyKernelSweep(const geometry::SkyKernel& kernel, const std::vector<PlanetV
       const geometry::NodeSky& sky = kernel.nodes[static_cast<size_t>(i)];
       if ((!mask.empty() && !mask[static_cast<size_t>(i)]) || sky.rays == 0) continue;
       Rows value, sigma;
-      nodeLoads(sky, slot, t, unobstructed, p0, value, sigma);
+      KnownShare known;
+      if (blocked_share.size() == n) known = {blocked_share[i], blocked_share_stderr[i]};
+      nodeLoads(sky, slot, t, unobstructed, p0, known, value, sigma);
       for (int q = 0; q < B; ++q) {
         out.earth_view_factor(i, p0 + q) = value(0, q);
         out.albedo(i, p0 + q) = value(1, q), out.albedo_stderr(i, p0 + q) = sigma(1, q);
@@ -302,7 +368,7 @@ KernelTargets kernelLoads(const geometry::RayCaster& caster, const std::vector<P
     out.kernel_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   UnobstructedLoads unobstructed;
-  skyKernelSweep(kernel, views, unobstructed, opt.planet_nodes, out);
+  skyKernelSweep(kernel, views, unobstructed, opt.planet_nodes, opt.blocked_share, opt.blocked_share_stderr, out);
   const KernelTargets targets = kernelTargets(out, views, smallest_cap_sin2, opt);
   if (fresh) refineKernel(caster, views, unobstructed, opt, targets, kernel, out);
   return targets;

@@ -37,8 +37,12 @@ struct UnobstructedLoads {
   void fill(const geometry::SkyKernel& kernel, const std::vector<PlanetView>& views, const std::vector<char>& mask);
 };
 
+/// `blocked_share`, `blocked_share_stderr` (empty: not known): each node's blocked share of
+/// its sky from the view factors and its σ, for the ratio estimate (EnvironmentOptions).
 void skyKernelSweep(const geometry::SkyKernel& kernel, const std::vector<PlanetView>& views,
-                    UnobstructedLoads& unobstructed, const std::vector<char>& mask, EnvironmentLoads& out);
+                    UnobstructedLoads& unobstructed, const std::vector<char>& mask,
+                    const Eigen::VectorXd& blocked_share, const Eigen::VectorXd& blocked_share_stderr,
+                    EnvironmentLoads& out);
 
 /// The sky kernel's first cast, rays a node (32 a replica): a node whose error over the
 /// sweep is then above its target is cast again with what its error asks.

@@ -77,7 +77,8 @@ void sweepCase(const DesignContext& ctx, int k, GeometryRunResult& r, std::vecto
   const LoadReuse reuse = ctx.articulated ? LoadReuse{} : findReuse(c, k, runs);
   const SetNetworks nets = networksOf(ctx, d.optics);
   run.sweep = runSweep({*d.orbit, ctx.caster, nets.radiative, *bc.solar, *bc.ir, ctx.solver, nets.view_factor_stderr,
-                        reuse.from, reuse.direct, reuse.albedo, reuse.earth_ir, ctx.articulated, d.optics},
+                        reuse.from, reuse.direct, reuse.albedo, reuse.earth_ir, ctx.articulated, d.optics,
+                        &nets.lost_view_factor_stderr},
                        t, show_progress, progress);
 }
 

@@ -95,6 +95,14 @@ orbits::EnvironmentLoads loadPositions(const SweepInputs& in, const geometry::Ra
   env.solar_specular = in.radiative.solar_specular;
   env.ir_specular = in.radiative.ir_specular;
   env.sky_kernel_cache = &sky_kernel;
+  // Each node's blocked share from the view factors (1 − F_space: every other node and
+  // inactive surface), where they are this caster's geometric ones: not with mirrors or
+  // windows (the network's F̃ is then E^s κ) nor turning parts (each configuration's own).
+  if (in.lost_view_factor_stderr && in.lost_view_factor_stderr->size() == area.size() && !in.articulated &&
+      in.radiative.surface_area.size() == 0) {
+    env.blocked_share = (1.0 - in.radiative.network->spaceViewFactor().array()).matrix();
+    env.blocked_share_stderr = *in.lost_view_factor_stderr;
+  }
   // Turning parts: a configuration holds a few positions, whose planet rays cost less than
   // a whole sky kernel of its own.
   if (in.articulated && env.planet_method == orbits::EnvironmentOptions::PlanetMethod::Auto)

@@ -28,6 +28,9 @@ struct SweepInputs {
   /// configuration (caster, network, cores of optical set `optics`); null: a fixed geometry.
   class Articulated* articulated = nullptr;
   int optics = 0;
+  /// σ of F_space + F_blocked per node (null: not known): with the network's F_space, what
+  /// the view factors tell the sky kernel of each node's blocked share (orbits/sky_loads.hpp).
+  const Eigen::VectorXd* lost_view_factor_stderr = nullptr;
 };
 
 /// @throws NumericalError when a band solve fails
