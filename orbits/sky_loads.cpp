@@ -271,6 +271,7 @@ void refineKernel(const geometry::RayCaster& caster, const std::vector<PlanetVie
     geometry::SkyKernelOptions k;
     k.seed = opt.seed;
     k.node_rays = refinedRays(kernel, out, targets, candidates);
+    k.prefix = &kernel;  // the nodes resume their Sobol points: only the new rays are traced
     if (std::none_of(k.node_rays.begin(), k.node_rays.end(), [](std::int64_t r) { return r > 0; })) return;
     const auto t0 = std::chrono::steady_clock::now();
     geometry::SkyKernel more = geometry::skyKernel(caster, k);
@@ -280,7 +281,7 @@ void refineKernel(const geometry::RayCaster& caster, const std::vector<PlanetVie
       kernel.rays += more.nodes[i].rays - kernel.nodes[i].rays;
       kernel.nodes[i] = std::move(more.nodes[i]);
     }
-    out.kernel_rays += more.rays;
+    out.kernel_rays += more.cast_rays;
     out.kernel_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     skyKernelSweep(kernel, views, unobstructed, candidates, opt.blocked_share, opt.blocked_share_stderr, out);
   }
@@ -364,7 +365,7 @@ KernelTargets kernelLoads(const geometry::RayCaster& caster, const std::vector<P
     k.nodes = opt.planet_nodes;
     const auto t0 = std::chrono::steady_clock::now();
     kernel = geometry::skyKernel(caster, k);
-    out.kernel_rays += kernel.rays;
+    out.kernel_rays += kernel.cast_rays;
     out.kernel_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   UnobstructedLoads unobstructed;

@@ -71,64 +71,114 @@ struct SkyRay {
   bool blocked;
 };
 
-// Rays from one node, doubling per replica until the counted share's σ meets the target.
-NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& opt) {
-  const NodeSampler sampler(caster.scene(), node);
-  std::vector<Sobol4> streams;
-  for (int r = 0; r < kReplicas; ++r)
-    streams.emplace_back(mixSeed(opt.seed, static_cast<std::uint64_t>(node), 0x5c7 + static_cast<std::uint64_t>(r)));
-  std::vector<std::vector<SkyRay>> rays(kReplicas);
-  const bool fixed = !opt.node_rays.empty();
-  const std::int64_t asked = fixed ? opt.node_rays[static_cast<size_t>(node)] : opt.max_rays_per_node;
-  const std::int64_t cap = std::max<std::int64_t>(1, (asked + kReplicas - 1) / kReplicas);
-  std::int64_t per_replica = opt.target_stderr > 0 && !fixed ? std::min<std::int64_t>(cap, 32) : cap, cast = 0;
-  std::vector<double> share(kReplicas);
-  for (;;) {
-    for (int r = 0; r < kReplicas; ++r)
-      for (std::int64_t k = cast; k < per_replica; ++k) {
-        const NodeSampler::Ray ray = sampler.map(streams[static_cast<size_t>(r)].next());
-        const bool blocked = caster.occluded(caster.offsetOrigin(ray.point, ray.normal), ray.direction, ray.face);
-        rays[static_cast<size_t>(r)].push_back({SkyBins::bin(ray.direction), blocked});
-      }
-    cast = per_replica;
-    double sum = 0.0, sum2 = 0.0;
+// A node's kernel as counts: rays per replica, each replica's blocked rays, and the
+// counted rays (the minority) per bin and per coarse cell and replica.
+struct SkyCounts {
+  std::int64_t per_replica = 0;
+  std::array<std::int64_t, kReplicas> blocked{};
+  bool counts_open = false;
+  std::map<std::int32_t, std::int64_t> bins;
+  std::map<std::int16_t, std::array<std::int64_t, kReplicas>> cells;
+};
+
+// The counts a kept kernel stands for (its shares times its ray counts, integers again).
+SkyCounts countsOf(const NodeSky& sky) {
+  SkyCounts c;
+  c.per_replica = sky.rays / kReplicas;
+  c.counts_open = sky.counts_open;
+  for (size_t j = 0; j < sky.bins.size(); ++j) c.bins[sky.bins[j]] = std::llround(double(sky.weights[j]) * double(sky.rays));
+  std::array<std::int64_t, kReplicas> counted{};
+  for (size_t k = 0; k < sky.cells.size(); ++k) {
+    auto& cell = c.cells[sky.cells[k]];
     for (int r = 0; r < kReplicas; ++r) {
-      const auto& v = rays[static_cast<size_t>(r)];
-      share[static_cast<size_t>(r)] =
-          double(std::count_if(v.begin(), v.end(), [](const SkyRay& s) { return s.blocked; })) / double(cast);
-      sum += share[static_cast<size_t>(r)], sum2 += share[static_cast<size_t>(r)] * share[static_cast<size_t>(r)];
+      cell[static_cast<size_t>(r)] = std::llround(double(sky.cell_shares[k][static_cast<size_t>(r)]) * double(c.per_replica));
+      counted[static_cast<size_t>(r)] += cell[static_cast<size_t>(r)];
     }
-    const double mean = sum / kReplicas;
-    const double sigma = std::sqrt(std::max(0.0, (sum2 - kReplicas * mean * mean) / (kReplicas - 1)) / kReplicas);
-    if (fixed || opt.target_stderr <= 0 || sigma <= opt.target_stderr || per_replica >= cap) break;
-    per_replica = std::min(cap, 2 * per_replica);
   }
-  NodeSky sky;
-  sky.rays = cast * kReplicas;
-  double blocked = 0.0;
-  for (double s : share) blocked += s;
-  sky.blocked_fraction = blocked / kReplicas;
-  sky.counts_open = sky.blocked_fraction > 0.5;
-  // The counted rays, binned, and their share per coarse cell and replica for the σ.
-  std::map<std::int32_t, std::int64_t> counts;
-  std::map<std::int16_t, std::array<float, kReplicas>> cells;
   for (int r = 0; r < kReplicas; ++r)
-    for (const SkyRay& s : rays[static_cast<size_t>(r)]) {
-      if (s.blocked == sky.counts_open) continue;
-      ++counts[s.bin];
-      auto [it, fresh] = cells.try_emplace(static_cast<std::int16_t>(SkyBins::coarse(s.bin)));
-      if (fresh) it->second.fill(0.0f);
-      it->second[static_cast<size_t>(r)] += static_cast<float>(1.0 / double(cast));
-    }
-  for (const auto& [bin, count] : counts) {
+    c.blocked[static_cast<size_t>(r)] = sky.counts_open ? c.per_replica - counted[static_cast<size_t>(r)] : counted[static_cast<size_t>(r)];
+  return c;
+}
+
+// The kernel of counts (the counted minority chosen by the blocked fraction beforehand).
+NodeSky nodeSkyOf(const SkyCounts& c) {
+  NodeSky sky;
+  sky.rays = c.per_replica * kReplicas;
+  sky.counts_open = c.counts_open;
+  double blocked = 0.0;
+  for (const std::int64_t b : c.blocked) blocked += double(b);
+  sky.blocked_fraction = sky.rays > 0 ? blocked / double(sky.rays) : 0.0;
+  for (const auto& [bin, count] : c.bins) {
     sky.bins.push_back(bin);
     sky.weights.push_back(static_cast<float>(double(count) / double(sky.rays)));
   }
-  for (const auto& [cell, shares] : cells) {
+  for (const auto& [cell, counts] : c.cells) {
     sky.cells.push_back(cell);
+    std::array<float, kReplicas> shares{};
+    for (int r = 0; r < kReplicas; ++r)
+      shares[static_cast<size_t>(r)] = static_cast<float>(double(counts[static_cast<size_t>(r)]) / double(c.per_replica));
     sky.cell_shares.push_back(shares);
   }
   return sky;
+}
+
+// σ of the blocked share over the replicas.
+double blockedSigma(const SkyCounts& c) {
+  double sum = 0.0, sum2 = 0.0;
+  for (const std::int64_t b : c.blocked) {
+    const double share = double(b) / double(c.per_replica);
+    sum += share, sum2 += share * share;
+  }
+  const double mean = sum / kReplicas;
+  return std::sqrt(std::max(0.0, (sum2 - kReplicas * mean * mean) / (kReplicas - 1)) / kReplicas);
+}
+
+// Rays from one node, doubling per replica until the counted share's σ meets the target
+// (or to a count per node). With `before` (the same seed's first points, cast earlier) the
+// stream resumes after them and only the new rays are traced; `cast` counts those.
+NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& opt, const NodeSky* before,
+                    std::int64_t& cast) {
+  const NodeSampler sampler(caster.scene(), node);
+  const bool fixed = !opt.node_rays.empty();
+  const std::int64_t asked = fixed ? opt.node_rays[static_cast<size_t>(node)] : opt.max_rays_per_node;
+  const std::int64_t cap = std::max<std::int64_t>(1, (asked + kReplicas - 1) / kReplicas);
+  SkyCounts c = before && before->rays % kReplicas == 0 && before->rays / kReplicas <= cap ? countsOf(*before) : SkyCounts{};
+  std::vector<Sobol4> streams;
+  for (int r = 0; r < kReplicas; ++r) {
+    streams.emplace_back(mixSeed(opt.seed, static_cast<std::uint64_t>(node), 0x5c7 + static_cast<std::uint64_t>(r)));
+    streams.back().seek(static_cast<std::uint32_t>(c.per_replica));
+  }
+  const std::int64_t start = c.per_replica;
+  std::vector<std::vector<SkyRay>> rays(kReplicas);
+  std::int64_t per_replica = opt.target_stderr > 0 && !fixed ? std::min<std::int64_t>(cap, 32) : cap;
+  for (;;) {
+    for (int r = 0; r < kReplicas; ++r)
+      for (std::int64_t k = c.per_replica; k < per_replica; ++k) {
+        const NodeSampler::Ray ray = sampler.map(streams[static_cast<size_t>(r)].next());
+        const bool blocked = caster.occluded(caster.offsetOrigin(ray.point, ray.normal), ray.direction, ray.face);
+        rays[static_cast<size_t>(r)].push_back({SkyBins::bin(ray.direction), blocked});
+        c.blocked[static_cast<size_t>(r)] += blocked;
+      }
+    cast += (per_replica - c.per_replica) * kReplicas;
+    c.per_replica = std::max(c.per_replica, per_replica);
+    if (fixed || opt.target_stderr <= 0 || blockedSigma(c) <= opt.target_stderr || per_replica >= cap) break;
+    per_replica = std::min(cap, 2 * per_replica);
+  }
+  double blocked = 0.0;
+  for (const std::int64_t b : c.blocked) blocked += double(b);
+  const bool counts_open = blocked > 0.5 * double(c.per_replica * kReplicas);
+  // The earlier rays kept only their minority: if the majority turned, cast them all again.
+  if (start > 0 && counts_open != c.counts_open) return castNodeSky(caster, node, opt, nullptr, cast);
+  c.counts_open = counts_open;
+  for (int r = 0; r < kReplicas; ++r)
+    for (const SkyRay& ray : rays[static_cast<size_t>(r)]) {
+      if (ray.blocked == c.counts_open) continue;
+      ++c.bins[ray.bin];
+      auto [it, fresh] = c.cells.try_emplace(static_cast<std::int16_t>(SkyBins::coarse(ray.bin)));
+      if (fresh) it->second.fill(0);
+      ++it->second[static_cast<size_t>(r)];
+    }
+  return nodeSkyOf(c);
 }
 
 // Each node's facet normals (on its side) as indices into one list of distinct normals,
@@ -161,17 +211,21 @@ SkyKernel skyKernel(const RayCaster& caster, const SkyKernelOptions& opt) {
     throw std::invalid_argument("sky kernel: the rays per node must have one entry per node");
   SkyKernel kernel;
   kernel.nodes.resize(static_cast<size_t>(n));
-  std::int64_t rays = 0;
+  if (opt.prefix && opt.prefix->nodes.size() != static_cast<size_t>(n))
+    throw std::invalid_argument("sky kernel: the earlier kernel must have one entry per node");
+  std::int64_t rays = 0, cast = 0;
 #ifdef _OPENMP
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : rays)
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : rays, cast)
 #endif
   for (int i = 0; i < n; ++i) {
     if (!opt.nodes.empty() && !opt.nodes[static_cast<size_t>(i)]) continue;
     if (!opt.node_rays.empty() && opt.node_rays[static_cast<size_t>(i)] <= 0) continue;
-    kernel.nodes[static_cast<size_t>(i)] = castNodeSky(caster, i, opt);
+    const NodeSky* before = opt.prefix ? &opt.prefix->nodes[static_cast<size_t>(i)] : nullptr;
+    kernel.nodes[static_cast<size_t>(i)] = castNodeSky(caster, i, opt, before, cast);
     rays += kernel.nodes[static_cast<size_t>(i)].rays;
   }
   kernel.rays = rays;
+  kernel.cast_rays = cast;
   collectNormals(caster.scene(), kernel);
   return kernel;
 }

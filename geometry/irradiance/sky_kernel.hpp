@@ -60,7 +60,8 @@ struct NodeSky {
 struct SkyKernel {
   std::vector<Vec3> normals;   ///< the distinct facet normals (node side), unit
   std::vector<NodeSky> nodes;  ///< scene order; empty entries for nodes left out
-  std::int64_t rays = 0;
+  std::int64_t rays = 0;       ///< rays the nodes' kernels stand for
+  std::int64_t cast_rays = 0;  ///< rays traced to build it (fewer when it resumed an earlier kernel)
   std::size_t bytes() const;
 };
 
@@ -75,6 +76,10 @@ struct SkyKernelOptions {
   /// leave the node out), in place of the target and the cap. A node's rays are the same
   /// Sobol points whatever the count: a node cast again with more keeps its first ones.
   std::vector<std::int64_t> node_rays;
+  /// An earlier kernel of the same scene and seed (null: none): a node's first rays are
+  /// taken from it and only the rest are traced (a node whose majority, blocked or open,
+  /// changes with the new rays is cast whole again: the earlier kept only its minority).
+  const SkyKernel* prefix = nullptr;
 };
 
 SkyKernel skyKernel(const RayCaster& caster, const SkyKernelOptions& options);
