@@ -47,6 +47,8 @@ void skyKernelSweep(const geometry::SkyKernel& kernel, const std::vector<PlanetV
 /// The sky kernel's first cast, rays a node (32 a replica): a node whose error over the
 /// sweep is then above its target is cast again with what its error asks.
 inline constexpr std::int64_t kSkyKernelFirstRays = 1024;
+/// The fewest rays a node partly blocked keeps (its σ from the replicas is trusted from here).
+inline constexpr std::int64_t kMinPartlyBlockedRays = 4096;
 
 /// What each node's albedo and planet IR may be off by (1σ, W/m²) at any position of the
 /// sweep: half the loads' relative error times the node's largest load of that kind over

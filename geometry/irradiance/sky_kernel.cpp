@@ -24,12 +24,6 @@ int SkyBins::bin(const Vec3& d) {
   return (face * kBinsPerEdge + cell(d[(k + 1) % 3])) * kBinsPerEdge + cell(d[(k + 2) % 3]);
 }
 
-int SkyBins::coarse(int bin) {
-  const int face = bin / (kBinsPerEdge * kBinsPerEdge), i = (bin / kBinsPerEdge) % kBinsPerEdge,
-            j = bin % kBinsPerEdge;
-  return (face * kCoarseSplit + kCoarseSplit * i / kBinsPerEdge) * kCoarseSplit + kCoarseSplit * j / kBinsPerEdge;
-}
-
 namespace {
 
 // The direction at cube-map coordinates (i, j) (in bins, fractional) of a face.
@@ -57,7 +51,7 @@ std::size_t SkyKernel::bytes() const {
   std::size_t b = normals.size() * sizeof(Vec3) + nodes.size() * sizeof(NodeSky);
   for (const NodeSky& s : nodes)
     b += s.bins.size() * (sizeof(std::int32_t) + sizeof(float)) + s.normals.size() * sizeof(s.normals[0]) +
-         s.cells.size() * (sizeof(std::int16_t) + sizeof(s.cell_shares[0]));
+         s.replica_counts.size() * sizeof(NodeSky::ReplicaCount);
   return b;
 }
 
@@ -72,13 +66,13 @@ struct SkyRay {
 };
 
 // A node's kernel as counts: rays per replica, each replica's blocked rays, and the
-// counted rays (the minority) per bin and per coarse cell and replica.
+// counted rays (the minority) per bin and per (bin, replica).
 struct SkyCounts {
   std::int64_t per_replica = 0;
   std::array<std::int64_t, kReplicas> blocked{};
   bool counts_open = false;
-  std::map<std::int32_t, std::int64_t> bins;
-  std::map<std::int16_t, std::array<std::int64_t, kReplicas>> cells;
+  /// (bin × kReplicas + replica, count), in any order and with repeats until nodeSkyOf.
+  std::vector<std::pair<std::int64_t, std::int64_t>> replica_bins;
 };
 
 // The counts a kept kernel stands for (its shares times its ray counts, integers again).
@@ -86,14 +80,10 @@ SkyCounts countsOf(const NodeSky& sky) {
   SkyCounts c;
   c.per_replica = sky.rays / kReplicas;
   c.counts_open = sky.counts_open;
-  for (size_t j = 0; j < sky.bins.size(); ++j) c.bins[sky.bins[j]] = std::llround(double(sky.weights[j]) * double(sky.rays));
   std::array<std::int64_t, kReplicas> counted{};
-  for (size_t k = 0; k < sky.cells.size(); ++k) {
-    auto& cell = c.cells[sky.cells[k]];
-    for (int r = 0; r < kReplicas; ++r) {
-      cell[static_cast<size_t>(r)] = std::llround(double(sky.cell_shares[k][static_cast<size_t>(r)]) * double(c.per_replica));
-      counted[static_cast<size_t>(r)] += cell[static_cast<size_t>(r)];
-    }
+  for (const NodeSky::ReplicaCount& e : sky.replica_counts) {
+    c.replica_bins.emplace_back(std::int64_t{e.bin} * kReplicas + e.replica, e.count);
+    counted[static_cast<size_t>(e.replica)] += e.count;
   }
   for (int r = 0; r < kReplicas; ++r)
     c.blocked[static_cast<size_t>(r)] = sky.counts_open ? c.per_replica - counted[static_cast<size_t>(r)] : counted[static_cast<size_t>(r)];
@@ -101,23 +91,22 @@ SkyCounts countsOf(const NodeSky& sky) {
 }
 
 // The kernel of counts (the counted minority chosen by the blocked fraction beforehand).
-NodeSky nodeSkyOf(const SkyCounts& c) {
+NodeSky nodeSkyOf(SkyCounts& c) {
   NodeSky sky;
   sky.rays = c.per_replica * kReplicas;
   sky.counts_open = c.counts_open;
   double blocked = 0.0;
   for (const std::int64_t b : c.blocked) blocked += double(b);
   sky.blocked_fraction = sky.rays > 0 ? blocked / double(sky.rays) : 0.0;
-  for (const auto& [bin, count] : c.bins) {
-    sky.bins.push_back(bin);
-    sky.weights.push_back(static_cast<float>(double(count) / double(sky.rays)));
-  }
-  for (const auto& [cell, counts] : c.cells) {
-    sky.cells.push_back(cell);
-    std::array<float, kReplicas> shares{};
-    for (int r = 0; r < kReplicas; ++r)
-      shares[static_cast<size_t>(r)] = static_cast<float>(double(counts[static_cast<size_t>(r)]) / double(c.per_replica));
-    sky.cell_shares.push_back(shares);
+  std::sort(c.replica_bins.begin(), c.replica_bins.end());
+  for (size_t k = 0; k < c.replica_bins.size();) {
+    const std::int64_t key = c.replica_bins[k].first;
+    std::int64_t count = 0;
+    for (; k < c.replica_bins.size() && c.replica_bins[k].first == key; ++k) count += c.replica_bins[k].second;
+    const std::int32_t bin = static_cast<std::int32_t>(key / kReplicas);
+    sky.replica_counts.push_back({bin, static_cast<std::int16_t>(key % kReplicas), static_cast<std::uint16_t>(count)});
+    if (sky.bins.empty() || sky.bins.back() != bin) sky.bins.push_back(bin), sky.weights.push_back(0.0f);
+    sky.weights.back() += static_cast<float>(double(count) / double(sky.rays));
   }
   return sky;
 }
@@ -173,10 +162,7 @@ NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& o
   for (int r = 0; r < kReplicas; ++r)
     for (const SkyRay& ray : rays[static_cast<size_t>(r)]) {
       if (ray.blocked == c.counts_open) continue;
-      ++c.bins[ray.bin];
-      auto [it, fresh] = c.cells.try_emplace(static_cast<std::int16_t>(SkyBins::coarse(ray.bin)));
-      if (fresh) it->second.fill(0);
-      ++it->second[static_cast<size_t>(r)];
+      c.replica_bins.emplace_back(std::int64_t{ray.bin} * kReplicas + r, 1);
     }
   return nodeSkyOf(c);
 }
@@ -211,6 +197,11 @@ SkyKernel skyKernel(const RayCaster& caster, const SkyKernelOptions& opt) {
     throw std::invalid_argument("sky kernel: the rays per node must have one entry per node");
   SkyKernel kernel;
   kernel.nodes.resize(static_cast<size_t>(n));
+  // A replica's count in one bin is kept in 16 bits.
+  std::int64_t most = opt.max_rays_per_node;
+  for (const std::int64_t r : opt.node_rays) most = std::max(most, r);
+  if (most > 65535 * static_cast<std::int64_t>(kReplicas))
+    throw std::invalid_argument("sky kernel: at most 2,097,120 rays a node");
   if (opt.prefix && opt.prefix->nodes.size() != static_cast<size_t>(n))
     throw std::invalid_argument("sky kernel: the earlier kernel must have one entry per node");
   std::int64_t rays = 0, cast = 0;
