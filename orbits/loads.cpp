@@ -300,7 +300,7 @@ void kernelPlanetLoads(const geometry::RayCaster& caster, const std::vector<Swee
     bool any = false;
     for (size_t i = 0; i < n; ++i) {
       over[i] = mine(opt.planet_nodes, static_cast<int>(i)) && kernel.nodes[i].rays > 0 &&
-                targets.over(out, static_cast<Eigen::Index>(i), p) > 1.0;
+                targets.over(out, static_cast<Eigen::Index>(i), p) > kKernelFallbackRatio;
       out.kernel_fallbacks += over[i];
       need[i] = over[i] && !have[i];
       any = any || need[i];

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -116,10 +115,11 @@ struct KnownShare {
 // order is (t/ŝ)² Var(Ŷ − (Ŷ/ŝ) ŝ) over the replicas plus (Ŷ/ŝ)² σ_t² (Cochran, Sampling
 // Techniques, §6.3), taken where it is smaller than the plain estimate's. A kernel that saw none of a known share cannot place it: σ covers
 // half of it at the planet's largest radiance. A kernel and a share more than 5σ apart
-// (other geometry, a clipped row) leave the kernel's own estimate.
+// (other geometry, a clipped row) leave the kernel's own estimate. `binning` (in: the
+// binning variance) comes back as the estimate's share of it, the part more rays leave.
 void countedLoad(const std::array<Table, kChannels>& estimates, const Eigen::ArrayXd& replica_share,
                  const KnownShare& known, bool counts_open, const Rows& peak, Rows& counted, Rows& variance,
-                 const Rows& binning) {
+                 Rows& binning) {
   constexpr int m = geometry::kSkyReplicas;
   const auto spread = [m](const Table& e) {
     const Eigen::ArrayXd sum = e.colwise().sum().transpose().array();
@@ -150,6 +150,7 @@ void countedLoad(const std::array<Table, kChannels>& estimates, const Eigen::Arr
       const bool better = by_ratio[q] < plain[q];
       counted(c, q) *= better ? f : 1.0;
       variance(c, q) = better ? by_ratio[q] : plain[q];
+      binning(c, q) *= better ? f * f : 1.0;
     }
   }
 }
@@ -158,7 +159,8 @@ void countedLoad(const std::array<Table, kChannels>& estimates, const Eigen::Arr
 // σ: the spread of the 32 replicas' own estimates (each from its counted rays' bins) and
 // the binning error. Each bin's radiance over the block is one row: the sums run along them.
 void nodeLoads(const geometry::NodeSky& sky, const std::vector<int>& slot, const BlockTables& t,
-               const UnobstructedLoads& unobstructed, int p0, const KnownShare& known, Rows& value, Rows& sigma) {
+               const UnobstructedLoads& unobstructed, int p0, const KnownShare& known, Rows& value, Rows& sigma,
+               Rows& binning_sigma) {
   const Eigen::Index B = t.mean[0].cols();
   Rows free = Rows::Zero(kChannels, B), counted = Rows::Zero(kChannels, B), binning = Rows::Zero(kChannels, B);
   for (const auto& [k, share] : sky.normals)
@@ -191,6 +193,7 @@ void nodeLoads(const geometry::NodeSky& sky, const std::vector<int>& slot, const
   // What reaches a node is never below 0 nor above what reaches it unobstructed.
   value = value.max(0.0).min(free);
   sigma = variance.sqrt();
+  binning_sigma = binning.sqrt();
 }
 
 // The tables of positions [p0, p0 + B).
@@ -213,88 +216,7 @@ void blockTables(const std::vector<int>& used, const std::vector<PlanetView>& vi
   }
 }
 
-KernelTargets kernelTargets(const EnvironmentLoads& out, const std::vector<PlanetView>& views,
-                            double smallest_cap_sin2, const EnvironmentOptions& opt) {
-  const double share = 0.5 * opt.relative_error, floor_view = 0.1 * smallest_cap_sin2;
-  double flux = 0.0;
-  for (const PlanetView& view : views) flux = std::max(flux, view.solar_flux_w_m2);
-  const double floor_albedo = floor_view * opt.albedo * flux, floor_ir = floor_view * opt.planet_ir.maxExitance(flux);
-  KernelTargets t;
-  for (Eigen::Index i = 0; i < out.albedo.rows(); ++i) {
-    t.albedo.push_back(share * std::max(out.albedo.row(i).maxCoeff(), floor_albedo));
-    t.ir.push_back(share * std::max(out.earth_ir.row(i).maxCoeff(), floor_ir));
-  }
-  return t;
-}
-
-
-// The rays each node over its target somewhere in the sweep asks for, 0 for the nodes
-// within: its present count times its worst ratio to the power 4/3, at least doubled, a
-// power of two up to kMaxPlanetRays. Monte Carlo's σ ∝ N^(−1/2) would ask the ratio
-// squared; the kernel's Sobol points do better (σ ∝ N^(−0.9) measured on the 1,602-node
-// satellite: a ratio of 5 met by 32× the rays), so the square overshoots, and a node still
-// over is cast again in the next round.
-std::vector<std::int64_t> refinedRays(const geometry::SkyKernel& kernel, const EnvironmentLoads& out,
-                                      const KernelTargets& t, const std::vector<char>& candidates) {
-  const Eigen::Index n = out.albedo.rows();
-  const int P = static_cast<int>(out.albedo.cols());
-  std::vector<std::int64_t> rays(static_cast<size_t>(n), 0);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const std::int64_t present = kernel.nodes[static_cast<size_t>(i)].rays;
-    if (!candidates[static_cast<size_t>(i)] || present <= 0 || present >= kMaxPlanetRays) continue;
-    double worst = 0.0;
-    for (int p = 0; p < P; ++p) worst = std::max(worst, t.over(out, i, p));
-    // A node partly blocked is not judged on the spread of 32 replicas of 32 rays: where a
-    // thin blocker meets a few rays of each, that spread is itself too uncertain (a node
-    // reported 54.50 ± 0.39 W/m² at 1,024 rays against 52.09 ± 0.02). From kMinPartlyBlockedRays
-    // on it is (on the 1,602-node satellite, inertial, against a run at 20× the accuracy:
-    // abs(Δ)/σ over 4 at 0.41 % of node-positions with 4,096 a node, 3.1 % with 1,024).
-    const double b = kernel.nodes[static_cast<size_t>(i)].blocked_fraction;
-    const bool partly = b > 0.0 && b < 1.0 && present < kMinPartlyBlockedRays;
-    if (worst <= 1.0 && !partly) continue;
-    const double wanted = std::max(static_cast<double>(present) * std::pow(worst, 4.0 / 3.0),
-                                   partly ? double(kMinPartlyBlockedRays) : 0.0);
-    std::int64_t r = 2 * present;
-    while (static_cast<double>(r) < wanted && r < kMaxPlanetRays) r *= 2;
-    rays[static_cast<size_t>(i)] = std::min(r, kMaxPlanetRays);
-  }
-  return rays;
-}
-
-// Casts again, with what their error asks, the nodes over their target, and recomputes their
-// loads at every position; rounds until every node is within or at kMaxPlanetRays.
-void refineKernel(const geometry::RayCaster& caster, const std::vector<PlanetView>& views,
-                  UnobstructedLoads& unobstructed, const EnvironmentOptions& opt, const KernelTargets& targets,
-                  geometry::SkyKernel& kernel, EnvironmentLoads& out) {
-  std::vector<char> candidates(kernel.nodes.size(), 0);
-  for (size_t i = 0; i < candidates.size(); ++i) candidates[i] = opt.planet_nodes.empty() || opt.planet_nodes[i];
-  for (;;) {
-    geometry::SkyKernelOptions k;
-    k.seed = opt.seed;
-    k.node_rays = refinedRays(kernel, out, targets, candidates);
-    k.prefix = &kernel;  // the nodes resume their Sobol points: only the new rays are traced
-    if (std::none_of(k.node_rays.begin(), k.node_rays.end(), [](std::int64_t r) { return r > 0; })) return;
-    const auto t0 = std::chrono::steady_clock::now();
-    geometry::SkyKernel more = geometry::skyKernel(caster, k);
-    for (size_t i = 0; i < kernel.nodes.size(); ++i) {
-      candidates[i] = k.node_rays[i] > 0;
-      if (!candidates[i]) continue;
-      kernel.rays += more.nodes[i].rays - kernel.nodes[i].rays;
-      kernel.nodes[i] = std::move(more.nodes[i]);
-    }
-    out.kernel_rays += more.cast_rays;
-    out.kernel_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    skyKernelSweep(kernel, views, unobstructed, candidates, opt.blocked_share, opt.blocked_share_stderr, out);
-  }
-}
-
 }  // namespace
-
-double KernelTargets::over(const EnvironmentLoads& out, Eigen::Index i, int p) const {
-  const size_t k = static_cast<size_t>(i);
-  const auto ratio = [](double sigma, double target) { return target > 0 ? sigma / target : (sigma > 0 ? 1e300 : 0.0); };
-  return std::max(ratio(out.albedo_stderr(i, p), albedo[k]), ratio(out.earth_ir_stderr(i, p), ir[k]));
-}
 
 void UnobstructedLoads::fill(const geometry::SkyKernel& kernel, const std::vector<PlanetView>& views,
                              const std::vector<char>& mask) {
@@ -325,7 +247,7 @@ void UnobstructedLoads::fill(const geometry::SkyKernel& kernel, const std::vecto
 void skyKernelSweep(const geometry::SkyKernel& kernel, const std::vector<PlanetView>& views,
                     UnobstructedLoads& unobstructed, const std::vector<char>& mask,
                     const Eigen::VectorXd& blocked_share, const Eigen::VectorXd& blocked_share_stderr,
-                    EnvironmentLoads& out) {
+                    EnvironmentLoads& out, BinningErrors* binning) {
   unobstructed.fill(kernel, views, mask);
   const std::vector<int> used = usedSkyBins(kernel, mask);
   std::vector<int> slot(SkyBins::kBins, -1);
@@ -343,10 +265,13 @@ void skyKernelSweep(const geometry::SkyKernel& kernel, const std::vector<PlanetV
     for (int i = 0; i < n; ++i) {
       const geometry::NodeSky& sky = kernel.nodes[static_cast<size_t>(i)];
       if ((!mask.empty() && !mask[static_cast<size_t>(i)]) || sky.rays == 0) continue;
-      Rows value, sigma;
+      Rows value, sigma, binning_sigma;
       KnownShare known;
       if (blocked_share.size() == n) known = {blocked_share[i], blocked_share_stderr[i]};
-      nodeLoads(sky, slot, t, unobstructed, p0, known, value, sigma);
+      nodeLoads(sky, slot, t, unobstructed, p0, known, value, sigma, binning_sigma);
+      if (binning)
+        for (int q = 0; q < B; ++q)
+          binning->albedo(i, p0 + q) = binning_sigma(1, q), binning->ir(i, p0 + q) = binning_sigma(2, q);
       for (int q = 0; q < B; ++q) {
         out.earth_view_factor(i, p0 + q) = value(0, q);
         out.albedo(i, p0 + q) = value(1, q), out.albedo_stderr(i, p0 + q) = sigma(1, q);
@@ -354,27 +279,6 @@ void skyKernelSweep(const geometry::SkyKernel& kernel, const std::vector<PlanetV
       }
     }
   }
-}
-
-KernelTargets kernelLoads(const geometry::RayCaster& caster, const std::vector<PlanetView>& views,
-                          double smallest_cap_sin2, const EnvironmentOptions& opt, geometry::SkyKernel& kernel,
-                          EnvironmentLoads& out) {
-  const bool fresh = kernel.nodes.empty();
-  if (fresh) {
-    geometry::SkyKernelOptions k;
-    k.max_rays_per_node = kSkyKernelFirstRays;
-    k.seed = opt.seed;
-    k.nodes = opt.planet_nodes;
-    const auto t0 = std::chrono::steady_clock::now();
-    kernel = geometry::skyKernel(caster, k);
-    out.kernel_rays += kernel.cast_rays;
-    out.kernel_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  }
-  UnobstructedLoads unobstructed;
-  skyKernelSweep(kernel, views, unobstructed, opt.planet_nodes, opt.blocked_share, opt.blocked_share_stderr, out);
-  const KernelTargets targets = kernelTargets(out, views, smallest_cap_sin2, opt);
-  if (fresh) refineKernel(caster, views, unobstructed, opt, targets, kernel, out);
-  return targets;
 }
 
 }  // namespace radnet::orbits
