@@ -113,8 +113,9 @@ struct KnownShare {
 // share between directions is sampled, so a node whose blockers lie wholly inside the
 // planet's cap, or wholly outside it, has no sampling error left. Its variance to first
 // order is (t/ŝ)² Var(Ŷ − (Ŷ/ŝ) ŝ) over the replicas plus (Ŷ/ŝ)² σ_t² (Cochran, Sampling
-// Techniques, §6.3), taken where it is smaller than the plain estimate's. A kernel that saw none of a known share cannot place it: σ covers
-// half of it at the planet's largest radiance. A kernel and a share more than 5σ apart
+// Techniques, §6.3), taken where it is smaller than the plain estimate's. A kernel that
+// saw none of a known share cannot place it: σ covers half of it at the planet's largest
+// radiance. A kernel and a share more than 5σ apart
 // (other geometry, a clipped row) leave the kernel's own estimate. `binning` (in: the
 // binning variance) comes back as the estimate's share of it, the part more rays leave.
 void countedLoad(const std::array<Table, kChannels>& estimates, const Eigen::ArrayXd& replica_share,
