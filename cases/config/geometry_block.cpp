@@ -316,6 +316,7 @@ void warnUnfollowedTables(GeometryCase& c) {
 void parseSolverBlock(const YamlDocument& doc, GeometryCase& c) {
   const YAML::Node& root = doc.root();
   c.solver = parseSolverSettings(doc, root["solver"]);
+  c.output = parseOutputSettings(doc, root);
   if (root["solver"]) c.view_factors = parseViewFactorSettings(doc, root["solver"]["view_factors"]);
 }
 
@@ -334,7 +335,7 @@ GeometryCase loadGeometryCase(const YamlDocument& doc) {
   const YAML::Node& root = doc.root();
   doc.expectMap(root, "case",
                 {"name", "description", "materials", "geometry", "solver", "expect", "orbit", "attitude", "environment",
-                 "thermal", "optics", "cases", "uncertainty", "limits", "articulation"});
+                 "thermal", "optics", "cases", "uncertainty", "limits", "articulation", "output"});
   GeometryCase c;
   c.file = doc.file();
   c.yaml_text = doc.text();

@@ -6,6 +6,7 @@
 #include "cases/config/design_cases.hpp"
 #include "cases/config/expectation.hpp"
 #include "cases/config/orbit_settings.hpp"
+#include "cases/config/output_settings.hpp"
 #include "cases/config/solver_block.hpp"
 #include "cases/config/thermal_settings.hpp"
 #include "cases/config/yaml_document.hpp"
@@ -111,6 +112,7 @@ struct GeometryCase {
   std::vector<TemperatureLimit> limits;
   std::optional<ThermalSettings> thermal;  ///< absent: no temperatures
   std::vector<ShellSpec> shells;
+  OutputSettings output;  ///< `output:` which matrices are also written densely
   Articulation articulation;  ///< `articulation:` parts that turn (docs/case-files.md, "Moving parts")
   std::vector<Expectation> expectations;
   std::vector<std::string> warnings;  ///< accepted but suspicious input, printed when the run starts

@@ -127,13 +127,14 @@ bool isNetworkCase(const YamlDocument& doc) { return doc.root().IsMap() && doc.r
 
 NetworkCase loadNetworkCase(const YamlDocument& doc) {
   const YAML::Node& root = doc.root();
-  doc.expectMap(root, "case", {"name", "description", "network", "solver", "thermal", "expect"});
+  doc.expectMap(root, "case", {"name", "description", "network", "solver", "thermal", "expect", "output"});
   NetworkCase c;
   c.file = doc.file();
   c.yaml_text = doc.text();
   c.name = doc.string(doc.required(root, "name", "case"), "name");
   parseNetwork(doc, doc.required(root, "network", "case"), c);
   c.solver = parseSolverSettings(doc, root["solver"]);
+  c.output = parseOutputSettings(doc, root);
   if (root["solver"] && root["solver"]["view_factors"])
     throw doc.error(root["solver"]["view_factors"],
                     "solver.view_factors: only for geometry cases; this case gives the view factors");

@@ -2,6 +2,7 @@
 // The network-only case form: the user gives areas, reflectances and form factors from
 // another tool (or a paper) and radnet solves the network. Schema in docs/case-files.md.
 #include "cases/config/expectation.hpp"
+#include "cases/config/output_settings.hpp"
 #include "cases/config/thermal_settings.hpp"
 #include "cases/config/yaml_document.hpp"
 #include "solver/radiative/network.hpp"
@@ -30,6 +31,7 @@ struct NetworkCase {
   Eigen::SparseMatrix<double> view_factors_sparse;  ///< `view_factor_entries` form
   solver::NetworkTolerances tolerances;
   solver::SolverSettings solver;
+  OutputSettings output;  ///< `output:` which matrices are also written densely
   std::optional<ThermalSettings> thermal;  ///< steady state with dissipations (needs emissivities)
   std::vector<Expectation> expectations;
   int network_line = 0, network_column = 0;  ///< position of `network:` for re-located errors

@@ -36,7 +36,7 @@ std::optional<double> lookupShared(const RadiativeNetwork& radiative, const std:
       return radiative.pairs.values[x.index];
     case Q::RadiativeExchange:
       if (!radiative.exchange) return std::nullopt;
-      return radiative.exchange->gr(i, j);
+      return radiative.exchange->entry(i, j);
     case Q::GrSpace:
       if (!radiative.exchange) return std::nullopt;
       return radiative.exchange->gr_space[i];

@@ -1,6 +1,7 @@
 #include "cases/output/export.hpp"
 
 #include "cases/config/errors.hpp"
+#include "cases/output/hdf5_matrix_reader.hpp"
 #include "cases/output/hdf5_reader.hpp"
 
 #include <algorithm>
@@ -96,52 +97,66 @@ std::string selectCase(const Hdf5Reader& h5, const ExportOptions& o, ExportedNet
                          (net.design_case.empty() ? "the run" : "case '" + net.design_case + "'") + " (" +
                          std::to_string(first) + " … " + std::to_string(end - 1) + ")");
   const std::string set = "/optics/" + optics + "/";
-  return h5.has(set + "radiative_exchange") ? set : "/network/";
+  return hasExchange(h5, set) ? set : "/network/";
 }
 
-// GR between nodes (i < j) and to space (j = n), user couplings and MLI added.
+// GR between nodes (i < j) and to space (j = n), user couplings and MLI added. GR is taken
+// by blocks of rows (formed from the factors when the file holds no (n,n) GR), so a large
+// network is never held whole.
 void readCouplings(const Hdf5Reader& h5, const std::string& gr_group, ExportedNetwork& net, double min_gr) {
   const auto n = static_cast<Eigen::Index>(net.nodes.size());
   // An imported network has no radiative node of radnet's (its GR are couplings, below).
   const bool imported = h5.has("/meta") && !h5.textAttribute("/meta", "imported_from", "").empty();
-  const bool has_exchange = !imported || h5.has(gr_group + "radiative_exchange");
-  const Eigen::MatrixXd exchange = has_exchange ? finite(h5, gr_group + "radiative_exchange", h5.matrix(gr_group + "radiative_exchange"))
-                                                : Eigen::MatrixXd(0, 0);
-  const Eigen::VectorXd to_space = has_exchange ? finite(h5, gr_group + "gr_space", h5.vector(gr_group + "gr_space"))
-                                                : Eigen::VectorXd(0);
-  if (exchange.rows() != exchange.cols() || exchange.rows() > n)
-    malformed(h5, gr_group + "radiative_exchange", "shape " + shape(exchange) + " for " + std::to_string(n) + " nodes");
-  if (to_space.size() != exchange.rows())
-    malformed(h5, gr_group + "gr_space", std::to_string(to_space.size()) + " values for " +
-                                             std::to_string(exchange.rows()) + " radiative nodes");
-  Eigen::MatrixXd gr = Eigen::MatrixXd::Zero(n, n + 1);
-  gr.topLeftCorner(exchange.rows(), exchange.cols()) = exchange;
-  gr.col(n).head(to_space.size()) = to_space;
+  const bool has_exchange = !imported || hasExchange(h5, gr_group);
+  const solver::ExchangeFactors exchange = has_exchange ? readExchange(h5, gr_group) : solver::ExchangeFactors{};
+  const Eigen::Index nr = has_exchange ? exchange.gr_space.size() : 0;
+  if (nr > n) malformed(h5, gr_group + "gr_space", std::to_string(nr) + " radiative nodes of " + std::to_string(n) + " nodes");
+  std::vector<Eigen::Triplet<double>> coupled;  // the user's couplings, both ways
   if (h5.has("/thermal/coupling_nodes") && h5.vector("/thermal/coupling_gr").size()) {
     const Eigen::MatrixXd pairs = h5.matrix("/thermal/coupling_nodes");
     const Eigen::VectorXd value = finite(h5, "/thermal/coupling_gr", h5.vector("/thermal/coupling_gr"));
     if (pairs.cols() != 2 || pairs.rows() != value.size())
       malformed(h5, "/thermal/coupling_nodes", "shape " + shape(pairs) + " for " + std::to_string(value.size()) + " couplings");
     for (Eigen::Index k = 0; k < pairs.rows(); ++k) {
-      const Eigen::Index i = nodeIndexAt(h5, "/thermal/coupling_nodes", pairs(k, 0), n);
-      const Eigen::Index j = nodeIndexAt(h5, "/thermal/coupling_nodes", pairs(k, 1), n);
-      gr(i, j) += value[k], gr(j, i) += value[k];
+      const int i = nodeIndexAt(h5, "/thermal/coupling_nodes", pairs(k, 0), n);
+      const int j = nodeIndexAt(h5, "/thermal/coupling_nodes", pairs(k, 1), n);
+      coupled.emplace_back(i, j, value[k]), coupled.emplace_back(j, i, value[k]);
     }
   }
-  Eigen::VectorXd total = gr.leftCols(n).rowwise().sum() - gr.leftCols(n).diagonal();
-  total += gr.col(n);
+  Eigen::SparseMatrix<double, Eigen::RowMajor> couplings(n, n);
+  couplings.setFromTriplets(coupled.begin(), coupled.end());
+  // Each node's total: its GR to other nodes and to space.
+  Eigen::VectorXd total = couplings * Eigen::VectorXd::Ones(n) - Eigen::VectorXd(couplings.diagonal());
+  Eigen::VectorXd to_space = Eigen::VectorXd::Zero(n);
+  if (nr > 0) {
+    to_space.head(nr) = exchange.gr_space;
+    Eigen::VectorXd diagonal(nr);
+    for (Eigen::Index i = 0; i < nr; ++i) diagonal[i] = exchange.entry(i, i);
+    total.head(nr) += exchange.apply(Eigen::VectorXd::Ones(nr)) - diagonal;
+  }
+  total += to_space;
   Eigen::VectorXd dropped = Eigen::VectorXd::Zero(n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    for (Eigen::Index j = i + 1; j < n; ++j) {
-      const double g = gr(i, j);
-      if (!(g > 0)) continue;
-      if (g < min_gr * total[i] && g < min_gr * total[j]) {
-        dropped[i] += g, dropped[j] += g;
-        continue;
+  const Eigen::Index block = std::max<Eigen::Index>(1, (Eigen::Index{1} << 22) / std::max<Eigen::Index>(n, 1));
+  for (Eigen::Index first = 0; first < n; first += block) {
+    const Eigen::Index count = std::min(block, n - first);
+    Eigen::MatrixXd rows = Eigen::MatrixXd::Zero(count, n);  // rows first … of GR + couplings
+    if (first < nr) rows.topLeftCorner(std::min(count, nr - first), nr) = exchange.rows(first, std::min(count, nr - first));
+    for (Eigen::Index r = 0; r < count; ++r)
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(couplings, first + r); it; ++it)
+        rows(r, it.col()) += it.value();
+    for (Eigen::Index r = 0; r < count; ++r) {
+      const Eigen::Index i = first + r;
+      for (Eigen::Index j = i + 1; j < n; ++j) {
+        const double g = rows(r, j);
+        if (!(g > 0)) continue;
+        if (g < min_gr * total[i] && g < min_gr * total[j]) {
+          dropped[i] += g, dropped[j] += g;
+          continue;
+        }
+        net.gr.push_back({static_cast<int>(i), static_cast<int>(j), g});
       }
-      net.gr.push_back({static_cast<int>(i), static_cast<int>(j), g});
+      if (to_space[i] > 0) net.gr.push_back({static_cast<int>(i), static_cast<int>(n), to_space[i]});
     }
-    if (gr(i, n) > 0) net.gr.push_back({static_cast<int>(i), static_cast<int>(n), gr(i, n)});
   }
   for (Eigen::Index i = 0; i < n; ++i)
     if (total[i] > 0) net.dropped_gr_share = std::max(net.dropped_gr_share, dropped[i] / total[i]);
@@ -213,7 +228,7 @@ std::string turnedGroup(const Hdf5Reader& h5, const std::string& gr_group, int p
     throw InputError(h5.path(), 0, 0, "position " + std::to_string(position) + " has turned parts (configuration " +
                                           std::to_string(k) + ") and an optical set of its own: the file keeps the "
                                           "turned configurations' GR for the base optics only");
-  if (!h5.has(group + "radiative_exchange"))
+  if (!hasExchange(h5, group))
     throw InputError(h5.path(), 0, 0, "position " + std::to_string(position) + " has turned parts, and " + group +
                                           "radiative_exchange is not in the file (" +
                                           h5.textAttribute("/articulation", "radiative_exchange", "not written") + ")");
@@ -235,8 +250,7 @@ ExportedNetwork readExportedNetwork(const Hdf5Reader& h5, const ExportOptions& o
   const std::string case_group = selectCase(h5, o, net, positions);
   const std::string gr_group = turnedGroup(h5, case_group, net.position);
   const bool imported = !h5.textAttribute("/meta", "imported_from", "").empty();  // no radiative node of radnet's
-  const Eigen::Index radiative = imported && !h5.has("/network/radiative_exchange")
-                                     ? 0 : h5.rows("/network/radiative_exchange");
+  const Eigen::Index radiative = imported && !hasExchange(h5, "/network/") ? 0 : h5.rows("/network/gr_space");
   for (Eigen::Index i = 0; i < n; ++i) net.lumped.push_back(i >= radiative);
   // Every result has one area per node (lumped nodes 0): missing or short is a foreign file,
   // not zeros to write into a deck.
@@ -317,7 +331,8 @@ ExportedHistory readExportedHistory(const Hdf5Reader& h5, const ExportOptions& o
   const ExportedNetwork first = readExportedNetwork(h5, at);
   const char* time_path = h5.has("/orbit/time") ? "/orbit/time" : h5.has("/solution/time") ? "/solution/time" : nullptr;
   const Eigen::VectorXd times = time_path ? finite(h5, time_path, h5.vector(time_path)) : Eigen::VectorXd::Zero(1);
-  if (times.size() < first.case_end) malformed(h5, time_path, "fewer times than positions");
+  if (times.size() < first.case_end)  // no time line at all (one position assumed) included
+    malformed(h5, time_path ? time_path : "/orbit/time", "fewer times than positions");
   for (int p = first.case_first; p < first.case_end; ++p) {
     if (!history.times_s.empty() && !(times[p] > history.times_s.back()))
       throw InputError(h5.path(), 0, 0, std::string(time_path) + ": the times of " +

@@ -1,4 +1,5 @@
 #include "cases/output/hdf5_layout.hpp"
+#include "cases/output/hdf5_matrices.hpp"
 
 #include "cases/pipeline/optical_uncertainty.hpp"
 
@@ -26,14 +27,14 @@ void writeOptics(Hdf5Writer& h5, const GeometryCase& c, const DesignCasesResult&
       h5.writeVector(group + "/solar_transmittance", set.specular_solar.transmittance, "1");
     }
     if (k == 0) {
-      h5.link("/network/radiative_exchange", group + "/radiative_exchange");
+      if (c.output.denseExchange(static_cast<long>(c.node_names.size())))
+        h5.link("/network/radiative_exchange", group + "/radiative_exchange");
       h5.link("/network/gr_space", group + "/gr_space");
+      h5.link("/network/radiative_exchange_factors", group + "/radiative_exchange_factors");
       continue;
     }
     const solver::ExchangeFactors& ex = cases.optics_exchange[k - 1];
-    h5.writeMatrix(group + "/radiative_exchange", ex.gr, "m^2");
-    h5.writeVector(group + "/gr_space", ex.gr_space, "m^2");
-    h5.attribute(group + "/radiative_exchange", "method", ex.method);
+    writeExchange(h5, group + "/", ex, c.output.denseExchange(ex.size()));
   }
 }
 
@@ -156,18 +157,21 @@ void writeArticulation(Hdf5Writer& h5, const GeometryCase& c, const GeometryRunR
   h5.writeIntegers("/articulation/update_rank", integers(a.update_rank), "1");
   // Each configuration's GR as a group of its own (configuration 0's are /network's, linked):
   // what a reader or `radnet export` of one position takes as it takes /network's.
-  const double entries = double(a.exchange.size()) * double(a.exchange.front().gr.size());
-  constexpr double kMaxExchangeEntries = 2e7;  // 160 MB of GR: beyond, rebuild from a run per angle
-  if (entries <= kMaxExchangeEntries) {
+  const double n = double(a.exchange.front().size());
+  const double entries = double(a.exchange.size()) * n * n;
+  constexpr double kMaxExchangeEntries = 2e7;  // 160 MB of dense GR: beyond, the factored forms only
+  const bool factored = std::all_of(a.exchange.begin(), a.exchange.end(), [](const auto& ex) { return ex.factored(); });
+  const bool dense = entries <= kMaxExchangeEntries && c.output.denseExchange(static_cast<long>(n));
+  if (entries <= kMaxExchangeEntries || factored) {
     for (size_t k = 0; k < a.exchange.size(); ++k) {
       const std::string group = "/articulation/configuration_" + std::to_string(k) + "/";
       if (k == 0 && r.radiative.exchange) {
-        h5.link("/network/radiative_exchange", group + "radiative_exchange");
+        if (c.output.denseExchange(static_cast<long>(n))) h5.link("/network/radiative_exchange", group + "radiative_exchange");
         h5.link("/network/gr_space", group + "gr_space");
+        h5.link("/network/radiative_exchange_factors", group + "radiative_exchange_factors");
         continue;
       }
-      h5.writeMatrix(group + "radiative_exchange", a.exchange[k].gr, "m2");
-      h5.writeVector(group + "gr_space", a.exchange[k].gr_space, "m2");
+      writeExchange(h5, group, a.exchange[k], dense);
     }
   } else {
     h5.attribute("/articulation", "radiative_exchange",

@@ -1,6 +1,7 @@
 #include "cases/output/hdf5_layout.hpp"
 
 #include "cases/cluster/cluster.hpp"
+#include "cases/output/hdf5_matrices.hpp"
 
 #include "solver/units.hpp"
 
@@ -48,24 +49,21 @@ void writeNodes(Hdf5Writer& h5, const RadiativeNetwork& radiative, const std::op
   h5.writeBooleans("/nodes/lumped", lumped);
 }
 
-void writeRadiativeNetwork(Hdf5Writer& h5, const RadiativeNetwork& radiative) {
+void writeRadiativeNetwork(Hdf5Writer& h5, const RadiativeNetwork& radiative, const OutputSettings& output) {
   const solver::Network& net = *radiative.network;
+  const bool dense = output.denseMatrices(net.size());
   if (net.isSparse()) {  // F = A⁻¹ G and G written from the sparse G, never formed densely
-    const Eigen::SparseMatrix<double, Eigen::RowMajor> g = net.sparseConductance();
-    h5.writeMatrix("/network/view_factors", g, "1", net.area().cwiseInverse());
-    h5.writeMatrix("/network/conductance", g, "m^2");
+    const SparseRows g = net.sparseConductance();
+    writeNetworkMatrix(h5, "view_factors", g, "1", dense, net.area().cwiseInverse());
+    writeNetworkMatrix(h5, "conductance", g, "m^2", dense);
   } else {
-    h5.writeMatrix("/network/view_factors", net.viewFactors(), "1");
-    h5.writeMatrix("/network/conductance", net.denseConductance(), "m^2");
+    writeNetworkMatrix(h5, "view_factors", net.viewFactors(), "1", dense);
+    writeNetworkMatrix(h5, "conductance", net.denseConductance(), "m^2", dense);
   }
   h5.writeVector("/network/space_view_factor", net.spaceViewFactor(), "1");
   h5.attribute("/network", "reciprocity_max_view_factor_change", net.reciprocity().max_view_factor_change);
   h5.attribute("/network", "closure_max_row_overshoot", net.reciprocity().max_row_overshoot);
-  if (const auto& ex = radiative.exchange) {
-    h5.writeMatrix("/network/radiative_exchange", ex->gr, "m^2");
-    h5.writeVector("/network/gr_space", ex->gr_space, "m^2");
-    h5.attribute("/network/radiative_exchange", "method", ex->method);
-  }
+  if (const auto& ex = radiative.exchange) writeExchange(h5, "/network/", *ex, output.denseExchange(net.size()));
   const solver::EigenPairs& pairs = radiative.pairs;
   h5.writeVector("/eigen/values", pairs.values, "m^2");
   h5.writeMatrix("/eigen/vectors", pairs.vectors, "1");
@@ -93,9 +91,11 @@ void writeGeometry(Hdf5Writer& h5, const geometry::Scene& scene, const geometry:
   h5.attribute("/geometry", "seam_largest_area_change", seams.largest_area_change);
 }
 
-void writeViewFactorEstimate(Hdf5Writer& h5, const GeometryRunResult& r, ViewFactorMethod method) {
-  h5.writeMatrix("/network/view_factor_stderr", r.view_factor_stderr, "1");
-  h5.writeMatrix("/network/view_factors_raw", r.raw_view_factors, "1");
+void writeViewFactorEstimate(Hdf5Writer& h5, const GeometryRunResult& r, ViewFactorMethod method,
+                             const OutputSettings& output) {
+  const bool dense = output.denseMatrices(r.radiative.network->size());
+  writeNetworkMatrix(h5, "view_factor_stderr", r.view_factor_stderr, "1", dense);
+  writeNetworkMatrix(h5, "view_factors_raw", r.raw_view_factors, "1", dense);
   h5.writeVector("/network/blocked_view_factor", r.radiative.network->blockedFraction(), "1");
   h5.attribute("/network", "correction_max_change", r.correction.max_change);
   h5.attribute("/network", "correction_max_change_sigma", r.correction.max_change_sigma);

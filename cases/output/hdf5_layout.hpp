@@ -18,7 +18,9 @@ void writeMeta(Hdf5Writer& h5, const std::string& case_name, const std::string& 
 void writeNodes(Hdf5Writer& h5, const RadiativeNetwork& radiative, const std::optional<ThermalSolution>& thermal);
 /// /network/{view_factors, space_view_factor, conductance}, /network/{radiative_exchange,
 /// gr_space} when known, /eigen/{values, vectors}: the radiative nodes only.
-void writeRadiativeNetwork(Hdf5Writer& h5, const RadiativeNetwork& radiative);
+/// The (n,n) datasets only as `output` says (kDenseOutputMaxNodes); every matrix also in CSR
+/// under /network/sparse and GR as /network/radiative_exchange_factors (hdf5_matrices.hpp).
+void writeRadiativeNetwork(Hdf5Writer& h5, const RadiativeNetwork& radiative, const OutputSettings& output);
 /// The node count of the written file: radiative plus lumped nodes.
 Eigen::Index nodeCount(const RadiativeNetwork& radiative, const std::optional<ThermalSolution>& thermal);
 /// `values` (rows: the radiative nodes) with zero rows for the lumped nodes up to `rows`.
@@ -27,7 +29,8 @@ Eigen::MatrixXd padNodes(const Eigen::MatrixXd& values, Eigen::Index rows);
 void writeGeometry(Hdf5Writer& h5, const geometry::Scene& scene, const geometry::SeamReport& seams,
                    const Eigen::VectorXi& triangle_node);
 /// /network/{view_factor_stderr, view_factors_raw, blocked_view_factor} and how F was made.
-void writeViewFactorEstimate(Hdf5Writer& h5, const GeometryRunResult& r, ViewFactorMethod method);
+void writeViewFactorEstimate(Hdf5Writer& h5, const GeometryRunResult& r, ViewFactorMethod method,
+                             const OutputSettings& output);
 /// /orbit, /loads and /solution/exitance_solar of a sweep (zero for lumped nodes, up to
 /// `nodes` columns), its residuals in /report.
 void writeSweep(Hdf5Writer& h5, const SweepResult& sweep, Eigen::Index nodes);

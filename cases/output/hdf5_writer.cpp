@@ -359,10 +359,22 @@ void Hdf5Writer::attribute(const std::string& object, const std::string& name, l
   writeScalarAttribute(object, name, H5T_STD_I64LE, H5T_NATIVE_LLONG, &value);
 }
 
+void Hdf5Writer::attribute(const std::string& object, const std::string& name, const std::vector<long long>& values) {
+  if (values.empty()) throw OutputError("HDF5: empty attribute " + name + " of " + object);
+  writeScalarAttribute(object, name, H5T_STD_I64LE, H5T_NATIVE_LLONG, values.data(), values.size());
+}
+
+void Hdf5Writer::writeLongs(const std::string& path, const std::vector<long long>& values, const std::string& units) {
+  const unsigned long long dims[1] = {values.size()};
+  writeArray(path, H5T_STD_I64LE, H5T_NATIVE_LLONG, 1, dims, values.data(), units);
+}
+
 void Hdf5Writer::writeScalarAttribute(const std::string& object, const std::string& name, long long file_type,
-                                      long long memory_type, const void* value) {
+                                      long long memory_type, const void* value, size_t count) {
   Handle obj{static_cast<hid_t>(ensureGroup(object)), H5Oclose};
-  Handle space{checkId(H5Screate(H5S_SCALAR), "scalar space"), H5Sclose};
+  const hsize_t dims[1] = {count};
+  Handle space{checkId(count == 0 ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, dims, nullptr), "attribute space"),
+               H5Sclose};
   if (H5Aexists(obj.id, name.c_str()) > 0) H5Adelete(obj.id, name.c_str());
   Handle attr{
       checkId(H5Acreate2(obj.id, name.c_str(), static_cast<hid_t>(file_type), space.id, H5P_DEFAULT, H5P_DEFAULT),

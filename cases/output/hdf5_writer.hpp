@@ -55,6 +55,10 @@ class Hdf5Writer {
   void attribute(const std::string& object, const std::string& name, const std::string& value);
   void attribute(const std::string& object, const std::string& name, double value);
   void attribute(const std::string& object, const std::string& name, long long value);
+  /// A 1-D integer attribute (e.g. a sparse matrix's `shape`).
+  void attribute(const std::string& object, const std::string& name, const std::vector<long long>& values);
+  /// 64-bit integer vector (e.g. a CSR matrix's `indptr`), chunked and deflated as writeVector.
+  void writeLongs(const std::string& path, const std::vector<long long>& values, const std::string& units);
 
   /// Closes the file, writes each (path, text) sidecar to a temporary, then renames them all
   /// to their names together (PendingFiles): a failure or a signal leaves the old set or the
@@ -73,7 +77,7 @@ class Hdf5Writer {
                   const unsigned long long* dims, const void* data, const std::string& units);
   void addUnits(long long dataset, const std::string& units);
   void writeScalarAttribute(const std::string& object, const std::string& name, long long file_type,
-                            long long memory_type, const void* value);
+                            long long memory_type, const void* value, size_t count = 0);
 
   std::string final_path_;
   std::string temp_path_;

@@ -14,7 +14,7 @@ void writeNetworkResult(const NetworkCase& c, const NetworkRunResult& r, const s
   Hdf5Writer h5(path);
   writeMeta(h5, c.name, c.yaml_text);
   writeNodes(h5, r.radiative, r.thermal);
-  writeRadiativeNetwork(h5, r.radiative);
+  writeRadiativeNetwork(h5, r.radiative, c.output);
   const Eigen::Index n = nodeCount(r.radiative, r.thermal);
   h5.writeVector("/nodes/reflectance", padNodes(c.reflectance, n).col(0), "1");
   h5.writeVector("/nodes/initial_exitance", padNodes(c.initial_exitance, n).col(0), "W/m^2");
@@ -54,7 +54,7 @@ void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, cons
   Hdf5Writer h5(path);
   writeMeta(h5, c.name, c.yaml_text, c.included);
   writeNodes(h5, r.radiative, r.thermal);
-  writeRadiativeNetwork(h5, r.radiative);
+  writeRadiativeNetwork(h5, r.radiative, c.output);
   const Eigen::Index n = nodeCount(r.radiative, r.thermal);
   h5.writeVector("/nodes/emissivity", padNodes(c.surface_emissivity, n).col(0), "1");
   h5.writeVector("/nodes/absorptivity", padNodes(c.surface_absorptivity, n).col(0), "1");
@@ -62,7 +62,7 @@ void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, cons
   material.resize(static_cast<size_t>(n));  // lumped nodes: no surface, no material
   h5.writeStrings("/nodes/material", material);
   writeGeometry(h5, c.scene, c.seams, r.triangle_node);
-  writeViewFactorEstimate(h5, r, c.view_factors.method);
+  writeViewFactorEstimate(h5, r, c.view_factors.method, c.output);
   if (r.sweep) writeSweep(h5, *r.sweep, n);
   if (r.thermal) writeTemperatures(h5, *r.thermal, *c.thermal, r.sweep ? &*r.sweep : nullptr);
   writeUncertainty(h5, c, r, n);

@@ -106,7 +106,7 @@ std::shared_ptr<const solver::TemperatureOptics> temperatureOptics(const DesignC
     if (!m.emissivity_curve.warming.temperature_k.empty()) varying.push_back(static_cast<int>(i));
   }
   if (optics->nodes.empty()) return nullptr;
-  auto update = std::make_shared<const solver::EmissivityUpdate>(nominal.gr, set.emissivity, area, varying);
+  auto update = std::make_shared<const solver::EmissivityUpdate>(nominal.dense(), set.emissivity, area, varying);
   // κ = 1 − ρs − τ of the IR band (1 where diffuse): a pure mirror (κ = 0) has ε = 0.
   const Eigen::VectorXd kappa = set.specular_ir.empty() ? Eigen::VectorXd::Ones(nr) : set.specular_ir.kappa();
   optics->exchange = [update, &ts, kappa, varying, network = set.emissivity](const Eigen::VectorXd& emissivity) {

@@ -200,10 +200,11 @@ void temperatureUncertainty(const solver::ThermalNetwork& net, const SweepResult
 }  // namespace
 
 solver::ExchangeUpdate thermalExchange(const ThermalSettings& ts, const solver::ExchangeFactors& exchange) {
-  const Eigen::Index n = ts.nodeCount(), nr = exchange.gr.rows();
+  const Eigen::Index n = ts.nodeCount(), nr = exchange.size();
   solver::ExchangeUpdate u;
+  // The thermal solver works on a dense GR: formed here from the factors when they hold it.
   u.gr = Eigen::MatrixXd::Zero(n, n);
-  u.gr.topLeftCorner(nr, nr) = exchange.gr;
+  exchange.denseInto(u.gr.topLeftCorner(nr, nr));
   for (const auto& c : ts.radiative_couplings) u.gr(c.row(), c.col()) += c.value();
   u.gr_space = Eigen::VectorXd::Zero(n);
   u.gr_space.head(nr) = exchange.gr_space;

@@ -9,7 +9,7 @@ namespace {
 // GR ← (GR + GRᵀ)/2 in place, returning max |GR_ij − GR_ji|. By 64 × 64 tiles: the
 // transposed side of a large matrix is cache-hostile element by element, and an in-place
 // `g = 0.5 * (g + g.transpose())` would read entries it has already overwritten.
-double symmetrize(Eigen::MatrixXd& g) {
+double symmetrize(Eigen::Ref<Eigen::MatrixXd> g) {
   constexpr Eigen::Index kTile = 64;
   const Eigen::Index n = g.rows();
   double worst = 0.0;
@@ -87,13 +87,74 @@ ExchangeFactors exchangeFactorsLowRank(const Network& net, const LowRankBandSolv
   // direct exchange too: on the 1,602-node satellite at k = 200 it moved a node's row of GR
   // by up to 3.9 % of ε A, this by 6.7e-5 (docs/solver.md, "IR band and exchange factors").
   // For black surfaces (ρ = 0, C = Λ) GR = G exactly.
-  Eigen::MatrixXd reflected = ir_band.core();
-  reflected.diagonal() -= ir_band.values();
-  const Eigen::MatrixXd w = emissivity.asDiagonal() * ir_band.vectors();
-  ex.gr.noalias() = (w * reflected) * w.transpose();
-  addDirectExchange(ex.gr, net, emissivity);
-  finishFactors(ex, net, emissivity);
+  ex.core = ir_band.core();
+  ex.core.diagonal() -= ir_band.values();
+  const double core_scale = ex.core.cwiseAbs().maxCoeff();
+  const double core_asymmetry = (ex.core - ex.core.transpose()).cwiseAbs().maxCoeff();
+  ex.core = (0.5 * (ex.core + ex.core.transpose())).eval();  // C is symmetric up to round-off
+  ex.basis = emissivity.asDiagonal() * ir_band.vectors();
+  ex.emissivity = emissivity;
+  if (!net.isSparse()) {  // a dense G: the dense GR costs no more than its own G
+    ex.gr.noalias() = (ex.basis * ex.core) * ex.basis.transpose();
+    addDirectExchange(ex.gr, net, emissivity);
+    finishFactors(ex, net, emissivity);
+    return ex;
+  }
+  ex.direct = Eigen::SparseMatrix<double, Eigen::RowMajor>(net.sparseConductance());
+  for (Eigen::Index i = 0; i < ex.direct.outerSize(); ++i)
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(ex.direct, i); it; ++it)
+      it.valueRef() *= emissivity[it.row()] * emissivity[it.col()];
+  // Row sums without GR: D 1 + W (K (Wᵀ 1)).
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(net.size());
+  const Eigen::VectorXd row_sum = ex.direct * ones + ex.basis * (ex.core * (ex.basis.transpose() * ones));
+  ex.gr_space = emissivity.cwiseProduct(net.area()) - row_sum;
+  // Symmetric by construction (G and the symmetrised K); what K's round-off was, relative.
+  ex.asymmetry = core_scale > 0 ? core_asymmetry / core_scale : 0.0;
+  if (!ex.core.allFinite() || !ex.basis.allFinite() || !row_sum.allFinite()) {
+    ex.status = Status::NonFinite;
+    ex.message = "exchange factors are not finite";
+  }
   return ex;
+}
+
+double ExchangeFactors::entry(Eigen::Index i, Eigen::Index j) const {
+  if (!factored()) return gr(i, j);
+  return direct.coeff(i, j) + basis.row(i).dot(core * basis.row(j).transpose());
+}
+
+void ExchangeFactors::denseInto(Eigen::Ref<Eigen::MatrixXd> out) const {
+  if (!factored()) {
+    out = gr;
+    return;
+  }
+  out.noalias() = (basis * core) * basis.transpose();
+  for (Eigen::Index i = 0; i < direct.outerSize(); ++i)
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(direct, i); it; ++it)
+      out(it.row(), it.col()) += it.value();
+  symmetrize(out);  // the GEMM's round-off, as the dense form is
+}
+
+Eigen::MatrixXd ExchangeFactors::dense() const {
+  if (!factored()) return gr;
+  Eigen::MatrixXd out(size(), size());
+  denseInto(out);
+  return out;
+}
+
+Eigen::MatrixXd ExchangeFactors::rows(Eigen::Index first, Eigen::Index count) const {
+  if (!factored()) return gr.middleRows(first, count);
+  Eigen::MatrixXd out = (basis.middleRows(first, count) * core) * basis.transpose();
+  for (Eigen::Index r = 0; r < count; ++r)
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(direct, first + r); it; ++it)
+      out(r, it.col()) += it.value();
+  return out;
+}
+
+Eigen::MatrixXd ExchangeFactors::apply(const Eigen::Ref<const Eigen::MatrixXd>& x) const {
+  if (!factored()) return gr * x;
+  Eigen::MatrixXd y = direct * x;
+  y.noalias() += basis * (core * (basis.transpose() * x));
+  return y;
 }
 
 BandSolution irNetPower(const Network& net, const LowRankBandSolver& ir_band, const Eigen::VectorXd& emissivity,

@@ -12,23 +12,48 @@
 
 namespace radnet::solver {
 
-/// Radiative exchange factors of an IR band.
+/// Radiative exchange factors of an IR band, dense or factored. Factored (the low-rank
+/// method on a sparse network): GR = D + W K Wᵀ with the direct exchange D = E G E sparse
+/// (exact, nnz(G) entries) and the reflected part from the rank-k pairs, W = E V (n×k),
+/// K = C − Λ (k×k): O(nnz + n k) memory instead of n², and n² only where a consumer asks
+/// for the dense matrix (the thermal solver, a design case's ε update, an output below
+/// kDenseOutputMaxNodes).
 struct ExchangeFactors {
-  Eigen::MatrixXd gr;        ///< GR (n×n), symmetric, m²: Q_ij = σ GR_ij (T_i⁴ − T_j⁴)
+  Eigen::MatrixXd gr;        ///< GR (n×n), symmetric, m²: Q_ij = σ GR_ij (T_i⁴ − T_j⁴); empty when factored
   Eigen::VectorXd gr_space;  ///< GR_i,space = ε_i A_i − Σ_j GR_ij, m²
+  /// The factors (set by exchangeFactorsLowRank, dense or not; `direct` only when factored).
+  Eigen::SparseMatrix<double, Eigen::RowMajor> direct;  ///< D = E G E (n×n, sparse), m²
+  Eigen::VectorXd emissivity;    ///< ε (n) the factors were formed with: D = diag(ε) G diag(ε), –
+  Eigen::MatrixXd basis;         ///< W = E V (n×k), –
+  Eigen::MatrixXd core;          ///< K = C − Λ (k×k), symmetric, m²
   double asymmetry = 0.0;    ///< max |GR_ij − GR_ji| / max|GR| before symmetrising (round-off), –
   std::string method;        ///< "dense LU" or "direct + low-rank reflected (k = <rank>)"
   bool from_pairs = false;   ///< the reflections come from the rank-k pairs (not exact)
   Status status = Status::Converged;
   std::string message;
+
+  /// n, the number of nodes.
+  Eigen::Index size() const { return gr.size() ? gr.rows() : direct.rows(); }
+  /// True when GR is held as the factors only (no n × n matrix in memory).
+  bool factored() const { return gr.size() == 0 && direct.rows() > 0; }
+  /// GR_ij, m² (O(k) when factored).
+  double entry(Eigen::Index i, Eigen::Index j) const;
+  /// GR (n×n) into `out` (n×n), m²: a copy, or formed from the factors (O(n² k)).
+  void denseInto(Eigen::Ref<Eigen::MatrixXd> out) const;
+  /// GR (n×n), m², as denseInto.
+  Eigen::MatrixXd dense() const;
+  /// Rows first … first + count − 1 of GR (count × n), m², without forming the rest.
+  Eigen::MatrixXd rows(Eigen::Index first, Eigen::Index count) const;
+  /// Y = GR X, m² (X: n×m), without forming GR.
+  Eigen::MatrixXd apply(const Eigen::Ref<const Eigen::MatrixXd>& x) const;
 };
 
 /// Exact GR = E G (I − S G)⁻¹ E, E = diag(ε), S = diag((1 − ε)/A), by one dense LU.
 /// @param emissivity ε_i in [0, 1], –
 ExchangeFactors exchangeFactorsDense(const Network& net, const Eigen::VectorXd& emissivity);
 
-/// GR with the direct exchange exact and the reflected part in rank k: E G E + E V (C − Λ) Vᵀ E
-/// (O(n² k) to form the n×n result).
+/// GR with the direct exchange exact and the reflected part in rank k: E G E + E V (C − Λ) Vᵀ E.
+/// Factored on a sparse network (O(nnz + n k)); on a dense one also formed densely (O(n² k)).
 /// @param ir_band solver built with reflectance 1 − ε
 ExchangeFactors exchangeFactorsLowRank(const Network& net, const LowRankBandSolver& ir_band,
                                        const Eigen::VectorXd& emissivity);

@@ -1,0 +1,72 @@
+#include "cases/output/hdf5_matrices.hpp"
+
+#include <vector>
+
+namespace radnet::cases {
+
+void writeCsr(Hdf5Writer& h5, const std::string& group, const SparseRows& m, const std::string& units,
+              const Eigen::VectorXd& row_scale) {
+  const Eigen::Index rows = m.rows();
+  std::vector<long long> indptr(static_cast<size_t>(rows) + 1, 0);
+  for (Eigen::Index r = 0; r < rows; ++r) indptr[static_cast<size_t>(r) + 1] = indptr[static_cast<size_t>(r)] + m.innerVector(r).nonZeros();
+  const Eigen::Index nnz = static_cast<Eigen::Index>(indptr.back());
+  Eigen::VectorXd data(nnz);
+  Eigen::VectorXi indices(nnz);
+  for (Eigen::Index r = 0; r < rows; ++r) {
+    Eigen::Index k = static_cast<Eigen::Index>(indptr[static_cast<size_t>(r)]);
+    const double scale = row_scale.size() ? row_scale[r] : 1.0;
+    for (SparseRows::InnerIterator it(m, r); it; ++it, ++k) {
+      data[k] = it.value() * scale;
+      indices[k] = static_cast<int>(it.col());
+    }
+  }
+  h5.writeVector(group + "/data", data, units);
+  h5.writeIntegers(group + "/indices", indices, "1");
+  h5.writeLongs(group + "/indptr", indptr, "1");
+  h5.attribute(group, "shape", std::vector<long long>{rows, m.cols()});
+  h5.attribute(group, "format", std::string("csr"));
+  h5.attribute(group, "units", units);
+}
+
+void writeCsr(Hdf5Writer& h5, const std::string& group, const Eigen::MatrixXd& m, const std::string& units) {
+  // By columns of the column-major matrix into a column-major sparse one, then to rows.
+  const SparseRows rows = Eigen::SparseMatrix<double>(m.sparseView(0.0, 0.0));
+  writeCsr(h5, group, rows, units);
+}
+
+void writeNetworkMatrix(Hdf5Writer& h5, const std::string& name, const SparseRows& m, const std::string& units,
+                        bool dense, const Eigen::VectorXd& row_scale) {
+  if (dense) h5.writeMatrix("/network/" + name, m, units, row_scale);
+  writeCsr(h5, "/network/sparse/" + name, m, units, row_scale);
+}
+
+void writeNetworkMatrix(Hdf5Writer& h5, const std::string& name, const Eigen::MatrixXd& m, const std::string& units,
+                        bool dense) {
+  if (dense) h5.writeMatrix("/network/" + name, m, units);
+  writeCsr(h5, "/network/sparse/" + name, m, units);
+}
+
+void writeExchange(Hdf5Writer& h5, const std::string& prefix, const solver::ExchangeFactors& ex, bool dense) {
+  if (dense) {
+    if (ex.factored()) h5.writeMatrix(prefix + "radiative_exchange", ex.dense(), "m^2");
+    else h5.writeMatrix(prefix + "radiative_exchange", ex.gr, "m^2");
+    h5.attribute(prefix + "radiative_exchange", "method", ex.method);
+  }
+  h5.writeVector(prefix + "gr_space", ex.gr_space, "m^2");
+  const std::string factors = prefix + "radiative_exchange_factors";
+  const Eigen::Index n = ex.size();
+  if (ex.factored()) {
+    writeCsr(h5, factors + "/direct", ex.direct, "m^2");
+    h5.writeMatrix(factors + "/basis", ex.basis, "1");
+    h5.writeMatrix(factors + "/core", ex.core, "m^2");
+  } else {  // held whole: GR is its own direct part, k = 0
+    writeCsr(h5, factors + "/direct", ex.gr, "m^2");
+    h5.writeMatrix(factors + "/basis", Eigen::MatrixXd(n, 0), "1");
+    h5.writeMatrix(factors + "/core", Eigen::MatrixXd(0, 0), "m^2");
+  }
+  h5.attribute(factors, "formula", std::string("GR = direct + basis @ core @ basis.T"));
+  h5.attribute(factors, "rank", static_cast<long long>(ex.factored() ? ex.core.rows() : 0));
+  h5.attribute(factors, "method", ex.method);
+}
+
+}  // namespace radnet::cases

@@ -1,0 +1,38 @@
+#pragma once
+// The n × n matrices of a result (docs/hdf5-layout.md, "Matrices"): one layout at every
+// size. Each is a group in scipy's compressed-sparse-row convention (`data`, `indices`,
+// `indptr`, attribute `shape`) under /network/sparse, GR as a group of factors
+// (GR = direct + basis · core · basisᵀ, `direct` a CSR group); the (n,n) datasets of
+// /network are written as well up to kDenseOutputMaxNodes or when `output:` asks.
+#include "cases/config/output_settings.hpp"
+#include "cases/output/hdf5_writer.hpp"
+#include "solver/radiative/exchange.hpp"
+
+#include <Eigen/Sparse>
+
+#include <string>
+
+namespace radnet::cases {
+
+using SparseRows = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+
+/// A CSR group at `group`: `data` (nnz, `units`), `indices` (nnz, int32 column of each
+/// entry), `indptr` (n+1, int64: row i is data[indptr[i]:indptr[i+1]]), attributes `shape`
+/// (rows, cols), `format` "csr" and `units`. Row r scaled by row_scale[r] (empty: 1).
+void writeCsr(Hdf5Writer& h5, const std::string& group, const SparseRows& m, const std::string& units,
+              const Eigen::VectorXd& row_scale = {});
+/// The non-zero entries of a dense matrix as a CSR group.
+void writeCsr(Hdf5Writer& h5, const std::string& group, const Eigen::MatrixXd& m, const std::string& units);
+
+/// /network/<name> (n,n) when `dense`, and /network/sparse/<name> always.
+void writeNetworkMatrix(Hdf5Writer& h5, const std::string& name, const SparseRows& m, const std::string& units,
+                        bool dense, const Eigen::VectorXd& row_scale = {});
+void writeNetworkMatrix(Hdf5Writer& h5, const std::string& name, const Eigen::MatrixXd& m, const std::string& units,
+                        bool dense);
+
+/// GR of an optical set or configuration under `prefix` (ending in '/'): `gr_space` (n),
+/// `radiative_exchange_factors/{direct, basis, core}` always (k = 0 and `direct` the whole GR
+/// when GR is held dense), `radiative_exchange` (n,n) when `dense`; `method` attributes.
+void writeExchange(Hdf5Writer& h5, const std::string& prefix, const solver::ExchangeFactors& ex, bool dense);
+
+}  // namespace radnet::cases

@@ -1,0 +1,149 @@
+// GR held as its factors (direct E G E sparse + E V (C − Λ) Vᵀ E) against the dense forms,
+// and the result file's sparse layout (CSR groups, GR factors) written and read back.
+#include "cases/config/errors.hpp"
+#include "cases/output/hdf5_matrix_reader.hpp"
+#include "solver/radiative/eigenpairs.hpp"
+#include "solver/radiative/exchange.hpp"
+#include "temp_dir.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <random>
+
+using namespace radnet;
+
+namespace {
+
+// A network of n nodes in clusters of 20 that see each other (and a few links between
+// clusters): F about 2 % non-zero, so the network stores it sparse, as a satellite's is.
+// Row sums of F at most 0.9 (the rest to space); A F symmetric by construction.
+struct ClusteredNetwork {
+  Eigen::VectorXd area;
+  Eigen::SparseMatrix<double> view_factors;
+};
+
+ClusteredNetwork clusteredNetwork(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  ClusteredNetwork c;
+  c.area = Eigen::VectorXd::NullaryExpr(n, [&] { return 0.5 + 1.5 * u(rng); });
+  std::vector<Eigen::Triplet<double>> g;
+  const auto link = [&](int i, int j) {
+    const double v = u(rng) * std::min(c.area[i], c.area[j]);
+    g.emplace_back(i, j, v), g.emplace_back(j, i, v);
+  };
+  for (int i = 0; i < n; ++i) {
+    for (int j = i + 1; j < std::min(n, (i / 20 + 1) * 20); ++j) link(i, j);
+    if (i + 37 < n) link(i, i + 37);  // across clusters
+  }
+  Eigen::SparseMatrix<double> conductance(n, n);
+  conductance.setFromTriplets(g.begin(), g.end());
+  const Eigen::VectorXd row_share = (conductance * Eigen::VectorXd::Ones(n)).cwiseQuotient(c.area);
+  conductance *= 0.9 / row_share.maxCoeff();
+  c.view_factors = c.area.cwiseInverse().asDiagonal() * conductance;
+  return c;
+}
+
+std::vector<std::string> names(int n) {
+  std::vector<std::string> out;
+  for (int i = 0; i < n; ++i) out.push_back("n" + std::to_string(i));
+  return out;
+}
+
+double largestDifference(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) { return (a - b).cwiseAbs().maxCoeff(); }
+
+}  // namespace
+
+TEST_CASE("factored GR equals the dense forms: same pairs to round-off, all pairs the exact LU") {
+  const int n = 1200;
+  const ClusteredNetwork c = clusteredNetwork(n, 7);
+  const solver::Network sparse(names(n), c.area, c.view_factors);
+  const solver::Network dense(names(n), c.area, Eigen::MatrixXd(c.view_factors));
+  REQUIRE(sparse.isSparse());
+  REQUIRE_FALSE(dense.isSparse());
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0.05, 0.95);
+  const Eigen::VectorXd eps = Eigen::VectorXd::NullaryExpr(n, [&] { return u(rng); });
+  const solver::EigenPairs all = solver::denseEigenPairs(dense.denseConductance());
+  const Eigen::VectorXd rho = Eigen::VectorXd::Ones(n) - eps;
+  const solver::ExchangeFactors exact = solver::exchangeFactorsDense(dense, eps);
+  const double scale = exact.gr.cwiseAbs().maxCoeff();
+
+  for (int k : {150, n}) {
+    INFO("rank " << k);
+    const solver::EigenPairs pairs = solver::truncate(all, k);
+    const solver::ExchangeFactors factored =
+        solver::exchangeFactorsLowRank(sparse, solver::LowRankBandSolver(sparse, pairs, rho), eps);
+    const solver::ExchangeFactors formed =
+        solver::exchangeFactorsLowRank(dense, solver::LowRankBandSolver(dense, pairs, rho), eps);
+    REQUIRE(factored.status == solver::Status::Converged);
+    REQUIRE(factored.factored());
+    REQUIRE_FALSE(formed.factored());
+    const Eigen::MatrixXd gr = factored.dense();
+    // The same arithmetic up to the order of sums: round-off of a k-term product, ~k ε.
+    CHECK(largestDifference(gr, formed.gr) <= 1e-12 * scale);
+    CHECK((factored.gr_space - formed.gr_space).cwiseAbs().maxCoeff() <= 1e-12 * scale);
+    CHECK(largestDifference(gr, gr.transpose()) == 0.0);
+    // Every way of reading the factors agrees with the formed matrix.
+    CHECK(std::abs(factored.entry(17, 18) - gr(17, 18)) <= 1e-14 * scale);
+    CHECK(std::abs(factored.entry(5, 900) - gr(5, 900)) <= 1e-14 * scale);
+    CHECK(largestDifference(factored.rows(100, 50), gr.middleRows(100, 50)) <= 1e-14 * scale);
+    const Eigen::MatrixXd x = Eigen::MatrixXd::Random(n, 3);
+    CHECK(largestDifference(factored.apply(x), gr * x) <= 1e-12 * scale * x.cwiseAbs().colwise().sum().maxCoeff());
+    if (k == n) {  // every pair: the reflections exact, so GR is the LU's to the eigenvectors' round-off
+      CHECK(largestDifference(gr, exact.gr) <= 1e-10 * scale);
+      CHECK((factored.gr_space - exact.gr_space).cwiseAbs().maxCoeff() <= 1e-10 * scale);
+    }
+  }
+}
+
+TEST_CASE("result layout: CSR groups and GR factors read back bit for bit; damaged ones are refused") {
+  const int n = 300;
+  const ClusteredNetwork c = clusteredNetwork(n, 11);
+  const solver::Network net(names(n), c.area, c.view_factors);
+  const Eigen::VectorXd eps = Eigen::VectorXd::Constant(n, 0.8);
+  const solver::EigenPairs pairs = solver::truncate(solver::denseEigenPairs(net.denseConductance()), 40);
+  const solver::ExchangeFactors ex =
+      solver::exchangeFactorsLowRank(net, solver::LowRankBandSolver(net, pairs, Eigen::VectorXd::Ones(n) - eps), eps);
+  REQUIRE(ex.factored());
+  const solver::ExchangeFactors whole = solver::exchangeFactorsDense(net, eps);
+  const cases::SparseRows f = net.sparseConductance();
+  test::TempDir dir;
+  const std::string path = (dir.path / "layout.h5").string();
+  {
+    cases::Hdf5Writer h5(path);
+    h5.attribute("/meta", "program", std::string("radnet"));
+    cases::writeCsr(h5, "/network/sparse/conductance", f, "m^2");
+    cases::writeExchange(h5, "/network/", ex, false);
+    cases::writeExchange(h5, "/optics/whole/", whole, true);
+    // A hand-made CSR group whose row starts go back (row 1 would end before it begins).
+    h5.writeVector("/broken/data", Eigen::Vector2d(1.0, 2.0), "1");
+    h5.writeIntegers("/broken/indices", Eigen::Vector2i(0, 1), "1");
+    h5.writeLongs("/broken/indptr", {0, 2, 1, 2}, "1");
+    h5.commit();
+  }
+  const cases::Hdf5Reader h5(path);
+  const cases::SparseRows back = cases::readCsr(h5, "/network/sparse/conductance", n, n);
+  CHECK(Eigen::MatrixXd(back - f).cwiseAbs().maxCoeff() == 0.0);
+  CHECK(back.nonZeros() == f.nonZeros());
+
+  REQUIRE(cases::hasExchange(h5, "/network/"));
+  CHECK_FALSE(h5.has("/network/radiative_exchange"));  // factors only, as asked
+  const solver::ExchangeFactors read = cases::readExchange(h5, "/network/");
+  REQUIRE(read.factored());
+  CHECK(read.core.rows() == 40);
+  CHECK(largestDifference(read.dense(), ex.dense()) == 0.0);
+  CHECK((read.gr_space - ex.gr_space).cwiseAbs().maxCoeff() == 0.0);
+
+  // Held whole: the dense dataset read, and its factors are the whole GR with k = 0.
+  const solver::ExchangeFactors dense_read = cases::readExchange(h5, "/optics/whole/");
+  CHECK_FALSE(dense_read.factored());
+  CHECK(largestDifference(dense_read.gr, whole.gr) == 0.0);
+  CHECK(h5.attribute("/optics/whole/radiative_exchange_factors", "rank", -1.0) == 0.0);
+  CHECK(cases::readCsr(h5, "/optics/whole/radiative_exchange_factors/direct", n, n).nonZeros() > 0);
+
+  // Shapes that do not fit are refused naming the dataset.
+  CHECK_THROWS_AS(cases::readCsr(h5, "/network/sparse/conductance", n + 1, n), cases::InputError);
+  CHECK_THROWS_WITH(cases::readCsr(h5, "/network/sparse/conductance", n, 10), Catch::Contains("/indices"));
+  CHECK_THROWS_WITH(cases::readCsr(h5, "/broken", 3, 3), Catch::Contains("/broken/indptr"));
+}

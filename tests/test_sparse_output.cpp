@@ -1,0 +1,86 @@
+// The result file's matrices through `radnet run`: the sparse and factored forms are always
+// there and say what the dense ones say; without the dense ones, export and the Python
+// helper (docs/radnet_matrices.py) still read GR.
+#include "cases/output/hdf5_matrix_reader.hpp"
+#include "cli_support.hpp"
+
+using namespace radnet;
+using namespace radnet::test;
+
+namespace {
+
+// The CubeSat (11 radiative nodes, F 8 % non-zero: a sparse network) with GR from the
+// eigenpairs (refine: false), so GR is held as its factors, plus `extra` lines.
+void writeCase(const TempDir& dir, const std::string& name, const std::string& extra) {
+  std::string text = slurp(source("cases/examples/cubesat-3u.yaml"));
+  const std::string rays = "  view_factors: {rays: 50000, seed: 1}\n";
+  const size_t at = text.find(rays);
+  REQUIRE(at != std::string::npos);
+  text.insert(at + rays.size(), "  refine: false\n");
+  std::ofstream(dir.path / name) << text << extra;
+}
+
+int countLines(const std::string& text, const std::string& start) {
+  int count = 0;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) count += line.rfind(start, 0) == 0;
+  return count;
+}
+
+}  // namespace
+
+TEST_CASE("sparse and factored matrices agree with the dense ones; export and the helper read the factors") {
+  TempDir dir;
+  writeCase(dir, "dense.yaml", "");
+  writeCase(dir, "sparse.yaml", "output: {dense_matrices: false, dense_exchange_factors: false}\n");
+  REQUIRE(runRadnet("run dense.yaml -o dense.h5 -q", dir).exit_code == 0);
+  REQUIRE(runRadnet("run sparse.yaml -o sparse.h5 -q", dir).exit_code == 0);
+
+  const cases::Hdf5Reader dense((dir.path / "dense.h5").string()), sparse((dir.path / "sparse.h5").string());
+  CHECK_FALSE(sparse.has("/network/view_factors"));
+  CHECK_FALSE(sparse.has("/network/radiative_exchange"));
+  CHECK(dense.has("/network/view_factors"));  // 11 nodes: below kDenseOutputMaxNodes
+  const Eigen::Index n = sparse.rows("/network/gr_space");
+  REQUIRE(n == 11);
+  // The same rays: F in CSR is the dense F entry for entry.
+  for (const char* name : {"view_factors", "view_factors_raw", "view_factor_stderr", "conductance"}) {
+    INFO(name);
+    const Eigen::MatrixXd from_csr(cases::readCsr(sparse, std::string("/network/sparse/") + name, n, n));
+    CHECK((from_csr - dense.matrix(std::string("/network/") + name)).cwiseAbs().maxCoeff() == 0.0);
+  }
+  const solver::ExchangeFactors factors = cases::readExchange(sparse, "/network/");
+  REQUIRE(factors.factored());
+  CHECK(factors.core.rows() > 0);  // from the pairs
+  const Eigen::MatrixXd gr = dense.matrix("/network/radiative_exchange");
+  // The dense dataset is formed from the same factors: round-off of a k-term sum.
+  CHECK((factors.dense() - gr).cwiseAbs().maxCoeff() <= 1e-13 * gr.cwiseAbs().maxCoeff());
+  // Optical set links: /optics/base/ reads as /network/.
+  CHECK((cases::readExchange(sparse, "/optics/base/").dense() - factors.dense()).cwiseAbs().maxCoeff() == 0.0);
+
+  // Export from the factors gives the deck the dense GR gives (same couplings kept).
+  const Run a = runRadnet("export dense.h5 --format esatan -o dense.d", dir);
+  const Run b = runRadnet("export sparse.h5 --format esatan -o sparse.d", dir);
+  REQUIRE(a.exit_code == 0);
+  REQUIRE(b.exit_code == 0);
+  const std::string deck_a = slurp(dir.path / "dense.d"), deck_b = slurp(dir.path / "sparse.d");
+  CHECK(countLines(deck_a, "  GR(") > 0);
+  CHECK(countLines(deck_a, "  GR(") == countLines(deck_b, "  GR("));
+
+  // The documented Python helper reads both forms and finds them equal (exit 0).
+  const std::string helper = "/usr/bin/python3 '" + source("docs/radnet_matrices.py") + "' '" + (dir.path / "dense.h5").string() +
+                             "' > '" + (dir.path / "helper.txt").string() + "' 2>&1";
+  const int status = std::system(helper.c_str());
+  INFO(slurp(dir.path / "helper.txt"));
+  CHECK((WIFEXITED(status) ? WEXITSTATUS(status) : -1) == 0);
+  CHECK_THAT(slurp(dir.path / "helper.txt"), Catch::Contains("rank"));
+}
+
+TEST_CASE("output: keys are checked at their line") {
+  TempDir dir;
+  writeCase(dir, "bad.yaml", "output: {dense_matrix: true}\n");
+  const Run r = runRadnet("run bad.yaml -o bad.h5 -q", dir);
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.err, Catch::Contains("bad.yaml:") && Catch::Contains("dense_matrix"));
+  writeCase(dir, "worse.yaml", "output: {dense_matrices: maybe}\n");
+  CHECK(runRadnet("run worse.yaml -o worse.h5 -q", dir).exit_code == 2);
+}
