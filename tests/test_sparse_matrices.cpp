@@ -97,7 +97,7 @@ TEST_CASE("factored GR equals the dense forms: same pairs to round-off, all pair
   }
 }
 
-TEST_CASE("result layout: CSR groups and GR factors read back bit for bit; damaged ones are refused") {
+TEST_CASE("result layout: CSR groups and GR factors read back bit for bit, damaged ones refused") {
   const int n = 300;
   const ClusteredNetwork c = clusteredNetwork(n, 11);
   const solver::Network net(names(n), c.area, c.view_factors);

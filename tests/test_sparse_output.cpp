@@ -29,7 +29,7 @@ int countLines(const std::string& text, const std::string& start) {
 
 }  // namespace
 
-TEST_CASE("sparse and factored matrices agree with the dense ones; export and the helper read the factors") {
+TEST_CASE("sparse and factored matrices agree with the dense ones, and export and the helper read the factors") {
   TempDir dir;
   writeCase(dir, "dense.yaml", "");
   writeCase(dir, "sparse.yaml", "output: {dense_matrices: false, dense_exchange_factors: false}\n");

@@ -3,7 +3,7 @@
 #include "cases/config/hdf5_handle.hpp"
 #include "solver/parallel.hpp"
 
-#include <zlib.h>
+#include "cases/output/hdf5_chunks.hpp"
 
 #include <atomic>
 #include <cstdint>
@@ -98,39 +98,27 @@ void Hdf5Writer::addUnits(long long dataset, const std::string& units) {
 
 namespace {
 
-// One chunk (kMatrixChunk² in row-major order, zero-padded past the matrix's edge, as HDF5
-// stores edge chunks) deflated at level 1 (a zlib stream, what H5Z deflate reads); empty on
-// failure. Shuffling the bytes first was tried: the 1,602-node result's matrices grew from
-// 7.6 to 9.1 MB (view factors are mostly zeros, which deflate already packs).
-std::vector<unsigned char> compressChunk(const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& block) {
-  const uLong bytes = 8 * static_cast<uLong>(block.size());
-  uLongf out_size = compressBound(bytes);
-  std::vector<unsigned char> out(out_size);
-  if (compress2(out.data(), &out_size, reinterpret_cast<const Bytef*>(block.data()), bytes, 1) != Z_OK) return {};
-  out.resize(out_size);
-  return out;
-}
-
 }  // namespace
 
 void Hdf5Writer::writeArray(const std::string& path, long long file_type, long long memory_type, int rank,
-                            const unsigned long long* dims, const void* data, const std::string& units) {
+                            const unsigned long long* dims, const void* data, const std::string& units, bool deflate) {
   hsize_t hdims[3] = {0, 0, 0};
   hsize_t count = 1;
   for (int k = 0; k < rank; ++k) count *= (hdims[k] = static_cast<hsize_t>(dims[k]));
   Handle space{checkId(H5Screate_simple(rank, hdims, nullptr), "dataspace"), H5Sclose};
   Handle dcpl{checkId(H5Pcreate(H5P_DATASET_CREATE), "dataset properties"), H5Pclose};
-  // Large matrices: 256 × 256 chunks, deflate level 1 (docs/hdf5-layout.md): level 4 took
-  // a third longer on a 6,402-node run for a file 7 % smaller.
-  if (rank == 2 && count > 4096 && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
-    const hsize_t chunk[2] = {std::min<hsize_t>(hdims[0], 256), std::min<hsize_t>(hdims[1], 256)};
-    check(H5Pset_chunk(dcpl.id, 2, chunk), "chunking");
-    check(H5Pset_deflate(dcpl.id, 1), "deflate");
-  } else if (rank == 1 && count > 512 && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
-    // Long vectors too: /xdmf's per-triangle copies of node values repeat each value over a
-    // node's triangles and shrink about tenfold.
-    const hsize_t chunk[1] = {std::min<hsize_t>(hdims[0], 65536)};
-    check(H5Pset_chunk(dcpl.id, 1, chunk), "chunking");
+  // Large matrices: 256 × 256 chunks, long vectors 65,536 entries (/xdmf's per-triangle
+  // copies of node values repeat each value over a node's triangles and shrink tenfold),
+  // deflate level 1 (docs/hdf5-layout.md).
+  hsize_t chunk[2] = {0, 0};
+  deflate = deflate && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0;
+  if (deflate && rank == 2 && count > 4096) {
+    chunk[0] = std::min<hsize_t>(hdims[0], kMatrixChunk), chunk[1] = std::min<hsize_t>(hdims[1], kMatrixChunk);
+  } else if (deflate && rank == 1 && count > 512) {
+    chunk[0] = std::min<hsize_t>(hdims[0], 65536);
+  }
+  if (chunk[0] > 0) {
+    check(H5Pset_chunk(dcpl.id, rank, chunk), "chunking");
     check(H5Pset_deflate(dcpl.id, 1), "deflate");
   }
   Handle lcpl{createLinkProps(), H5Pclose};
@@ -138,8 +126,29 @@ void Hdf5Writer::writeArray(const std::string& path, long long file_type, long l
                                lcpl.id, dcpl.id, H5P_DEFAULT),
                     "create dataset " + path),
             H5Dclose};
-  if (count > 0)
+  const size_t element = H5Tget_size(static_cast<hid_t>(file_type));
+  // A numeric array of more than 1 MB whose memory layout is the file's: its chunks deflated
+  // on all cores (hdf5_chunks.hpp); HDF5's own filter runs on one.
+  if (chunk[0] > 0 && count * element > (1u << 20) && H5Tequal(static_cast<hid_t>(file_type), static_cast<hid_t>(memory_type)) > 0) {
+    const unsigned long long chunk_dims[2] = {chunk[0], chunk[1]};
+    long long chunks = 1;
+    for (int k = 0; k < rank; ++k) chunks *= static_cast<long long>((hdims[k] + chunk[k] - 1) / chunk[k]);
+    const size_t chunk_bytes = element * chunk[0] * (rank == 2 ? chunk[1] : 1);
+    const long long col_chunks = rank == 2 ? static_cast<long long>((hdims[1] + chunk[1] - 1) / chunk[1]) : 1;
+    deflateChunks(
+        chunks, chunk_bytes,
+        [&](long long k, unsigned char* bytes) {
+          copyChunk(static_cast<const unsigned char*>(data), rank, dims, chunk_dims, element, k, bytes);
+        },
+        [&](long long k, const std::vector<unsigned char>& bytes) {
+          const hsize_t offset[2] = {static_cast<hsize_t>(k / col_chunks) * chunk[0],
+                                     static_cast<hsize_t>(k % col_chunks) * chunk[1]};
+          check(H5Dwrite_chunk(ds.id, H5P_DEFAULT, 0, offset, bytes.size(), bytes.data()), "write " + path);
+        },
+        path);
+  } else if (count > 0) {
     check(H5Dwrite(ds.id, static_cast<hid_t>(memory_type), H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write " + path);
+  }
   addUnits(ds.id, units);
 }
 
@@ -209,33 +218,20 @@ void Hdf5Writer::writeChunkedMatrix(const std::string& path, Eigen::Index rows, 
                                H5P_DEFAULT),
                     "create dataset " + path),
             H5Dclose};
-  const Eigen::Index row_chunks = (rows + kMatrixChunk - 1) / kMatrixChunk;
   const Eigen::Index col_chunks = (cols + kMatrixChunk - 1) / kMatrixChunk;
-  std::vector<std::vector<unsigned char>> compressed(static_cast<size_t>(col_chunks));
-  // A chunk of nothing but +0.0 is not written at all: HDF5 reads a chunk never written as
-  // the dataset's fill value, 0 (the blocks between parts that see nothing of each other:
-  // the 19,202-node satellite's write 30.6 → 21.1 s, its file 4 % smaller).
-  std::vector<char> zero(static_cast<size_t>(col_chunks), 0);
-  for (Eigen::Index ci = 0; ci < row_chunks; ++ci) {  // one row of chunks at a time: bounded memory
-    std::atomic<bool> failed{false};
-    solver::parallelFor(col_chunks, [&](long long cj) {
-      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> block =
-          Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>::Zero(kMatrixChunk, kMatrixChunk);
-      fill(ci * kMatrixChunk, cj * kMatrixChunk, block);
-      const auto* bits = reinterpret_cast<const std::uint64_t*>(block.data());
-      zero[static_cast<size_t>(cj)] = std::all_of(bits, bits + block.size(), [](std::uint64_t b) { return b == 0; });
-      if (zero[static_cast<size_t>(cj)]) return;
-      compressed[static_cast<size_t>(cj)] = compressChunk(block);
-      if (compressed[static_cast<size_t>(cj)].empty()) failed = true;
-    });
-    if (failed) throw OutputError(path + ": compressing a chunk failed (out of memory?)");
-    for (Eigen::Index cj = 0; cj < col_chunks; ++cj) {
-      if (zero[static_cast<size_t>(cj)]) continue;
-      const hsize_t offset[2] = {static_cast<hsize_t>(ci * kMatrixChunk), static_cast<hsize_t>(cj * kMatrixChunk)};
-      const std::vector<unsigned char>& bytes = compressed[static_cast<size_t>(cj)];
-      check(H5Dwrite_chunk(ds.id, H5P_DEFAULT, 0, offset, bytes.size(), bytes.data()), "write " + path);
-    }
-  }
+  const long long chunks = static_cast<long long>((rows + kMatrixChunk - 1) / kMatrixChunk * col_chunks);
+  deflateChunks(
+      chunks, sizeof(double) * kMatrixChunk * kMatrixChunk,
+      [&](long long k, unsigned char* bytes) {
+        ChunkBlock block(reinterpret_cast<double*>(bytes), kMatrixChunk, kMatrixChunk);
+        fill(k / col_chunks * kMatrixChunk, k % col_chunks * kMatrixChunk, block);
+      },
+      [&](long long k, const std::vector<unsigned char>& bytes) {
+        const hsize_t offset[2] = {static_cast<hsize_t>(k / col_chunks * kMatrixChunk),
+                                   static_cast<hsize_t>(k % col_chunks * kMatrixChunk)};
+        check(H5Dwrite_chunk(ds.id, H5P_DEFAULT, 0, offset, bytes.size(), bytes.data()), "write " + path);
+      },
+      path);
   addUnits(ds.id, units);
 }
 
@@ -268,10 +264,10 @@ void Hdf5Writer::writeIntegers(const std::string& path, const Eigen::Ref<const E
 }
 
 void Hdf5Writer::writeVector(const std::string& path, const Eigen::Ref<const Eigen::VectorXd>& v,
-                             const std::string& units) {
+                             const std::string& units, bool deflate) {
   const Eigen::VectorXd data = v;
   const unsigned long long dims[1] = {static_cast<unsigned long long>(v.size())};
-  writeArray(path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, dims, data.data(), units);
+  writeArray(path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, dims, data.data(), units, deflate);
 }
 
 void Hdf5Writer::writeBooleans(const std::string& path, const std::vector<bool>& values) {

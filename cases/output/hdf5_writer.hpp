@@ -33,7 +33,9 @@ class Hdf5Writer {
   /// formed densely (F = A⁻¹ G of a 6,402-node network is 3.7 % non-zero: 330 MB dense).
   void writeMatrix(const std::string& path, const Eigen::SparseMatrix<double, Eigen::RowMajor>& m,
                    const std::string& units, const Eigen::VectorXd& row_scale = {});
-  void writeVector(const std::string& path, const Eigen::Ref<const Eigen::VectorXd>& v, const std::string& units);
+  /// `deflate` false: stored whole (values that do not compress, e.g. a sparse matrix's non-zeros).
+  void writeVector(const std::string& path, const Eigen::Ref<const Eigen::VectorXd>& v, const std::string& units,
+                   bool deflate = true);
   /// (slices, rows, cols) dataset of equally sized matrices.
   void writeStack(const std::string& path, const std::vector<Eigen::MatrixXd>& slices, const std::string& units);
   /// A second name for an existing dataset (an HDF5 hard link: no copy).
@@ -66,15 +68,16 @@ class Hdf5Writer {
   void commit(const std::vector<std::pair<std::string, std::string>>& sidecars = {});
 
  private:
-  /// Fills one kMatrixChunk² row-major block (zeroed, cut at the edge) from (row0, col0).
-  using ChunkFill = std::function<void(Eigen::Index row0, Eigen::Index col0,
-                                       Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& block)>;
+  /// One kMatrixChunk² row-major block of the chunk's bytes (zeroed): filled up to the edge.
+  using ChunkBlock = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
+  /// Fills the block whose top-left entry is (row0, col0).
+  using ChunkFill = std::function<void(Eigen::Index row0, Eigen::Index col0, ChunkBlock& block)>;
   void writeChunkedMatrix(const std::string& path, Eigen::Index rows, Eigen::Index cols, const ChunkFill& fill,
                           const std::string& units);
   long long ensureGroup(const std::string& path);
   // HDF5 ids and sizes passed as plain integers so this header needs no <hdf5.h>.
   void writeArray(const std::string& path, long long file_type, long long memory_type, int rank,
-                  const unsigned long long* dims, const void* data, const std::string& units);
+                  const unsigned long long* dims, const void* data, const std::string& units, bool deflate = true);
   void addUnits(long long dataset, const std::string& units);
   void writeScalarAttribute(const std::string& object, const std::string& name, long long file_type,
                             long long memory_type, const void* value, size_t count = 0);
