@@ -72,9 +72,12 @@ int validateCommand(const std::vector<std::string>& paths, const Guard& guarded)
                        if (thermal)
                          for (const auto& w : thermal->warnings) std::cerr << "radnet: warning: " << w << "\n";
                        std::cout << path << ": valid (" << c.nodeCount() << " nodes";
-                       if (c.geometry)  // cases/config/work_estimate.hpp
-                         std::cout << "; about " << std::setprecision(3) << estimateWork(*c.geometry).total() / 1e9
-                                   << " GB of memory";
+                       if (c.geometry) {  // cases/config/work_estimate.hpp
+                         const WorkEstimate w = estimateWork(*c.geometry);
+                         std::cout << "; about " << std::setprecision(3) << w.total() / 1e9 << " GB of memory, "
+                                   << (w.sparse ? "sparse" : "dense") << " matrices: "
+                                   << std::setprecision(2) << 100.0 * w.facing_share << " % of node pairs face each other";
+                       }
                        std::cout << ")\n";
                        return 0;
                      }));

@@ -159,12 +159,11 @@ std::pair<int, int> parseCounts(const YamlDocument& doc, const YAML::Node& node,
 
 void checkNodeMemory(const YamlDocument& doc, const YAML::Node& where, const std::string& what, double nodes) {
   const MemoryLimit memory = memoryLimit();
-  // 32 n² bytes: above every measured peak per node² (24 n² at most, docs/limits.md).
-  const double need = 32.0 * nodes * nodes;
+  const double need = kMinBytesPerNode * nodes;
   if (memory.bytes > 0 && need > 0.75 * memory.bytes) {
     std::ostringstream s;
-    s << what << ": " << nodes << " thermal nodes need about " << need / 1073741824.0
-      << " GiB for the dense node × node matrices, more than 75 % of " << memory.source
+    s << what << ": " << nodes << " thermal nodes need at least " << need / 1073741824.0
+      << " GiB even with sparse view factors, more than 75 % of " << memory.source
       << ". Use fewer nodes (subdivisions refine the mesh, not the node count)";
     throw doc.error(where, s.str());
   }

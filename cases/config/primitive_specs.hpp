@@ -65,9 +65,10 @@ const PrimitiveSpec* findPrimitive(std::string_view kind);
 std::pair<int, int> parseCounts(const YamlDocument& doc, const YAML::Node& node, const std::string& what,
                                 std::pair<int, int> fallback);
 
-/// Refuses a network of `nodes` thermal nodes whose dense n × n matrices (raw and
-/// corrected F, their errors, G, GR and its LU: about 48 n² bytes) cannot fit in this
-/// machine's memory, before anything is built. @throws InputError at `where`
+/// Refuses `nodes` thermal nodes that could not fit in this machine's memory even as a
+/// sparse network (kMinBytesPerNode each: the eigenvectors, the Lanczos basis, the GR
+/// factors, the per-position series), before anything is built; the dense n × n matrices
+/// are estimated once the scene exists (checkWorkEstimate). @throws InputError at `where`
 void checkNodeMemory(const YamlDocument& doc, const YAML::Node& where, const std::string& what, double nodes);
 
 }  // namespace radnet::cases

@@ -1,12 +1,14 @@
 #include "cases/config/work_estimate.hpp"
 
 #include "geometry/rays/recast_rows.hpp"
+#include "solver/radiative/policy.hpp"
 
 #include <sys/resource.h>
 #include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <random>
 #include <sstream>
 
 namespace radnet::cases {
@@ -68,17 +70,58 @@ void checkSceneMemory(const YamlDocument& doc, const YAML::Node& where, const st
   throw doc.error(where, m.str());
 }
 
+double facingPairShare(const geometry::Scene& scene) {
+  const std::vector<geometry::Node>& nodes = scene.nodes();
+  const auto n = static_cast<std::uint32_t>(nodes.size());
+  if (n < 2) return 1.0;
+  std::mt19937 rng(20261206u);  // fixed: the estimate, and a refusal, do not change run to run
+  std::uniform_int_distribution<std::uint32_t> pick(0, n - 1);
+  // A random face of the node: its centroid and its side's normal.
+  const auto sample = [&](std::uint32_t i, geometry::Vec3& at, geometry::Vec3& normal) {
+    const geometry::Node& node = nodes[i];
+    std::uniform_int_distribution<size_t> face(0, node.faces.size() - 1);
+    const geometry::Face& f = scene.faces()[static_cast<size_t>(node.faces[face(rng)])];
+    at = (f.v[0] + f.v[1] + f.v[2]) / 3.0;
+    normal = f.normal * static_cast<double>(node.side);
+  };
+  constexpr int kPairs = 100000;
+  int facing = 0;
+  for (int k = 0; k < kPairs; ++k) {
+    const std::uint32_t i = pick(rng), j = pick(rng);
+    if (i == j) continue;  // a node facing itself (concave) is one entry of n
+    geometry::Vec3 ci, ni, cj, nj;
+    sample(i, ci, ni);
+    sample(j, cj, nj);
+    facing += (cj - ci).dot(ni) > 0 && (ci - cj).dot(nj) > 0;
+  }
+  return static_cast<double>(facing) / kPairs;
+}
+
 WorkEstimate estimateWork(const GeometryCase& c) {
   WorkEstimate w;
   const double n = static_cast<double>(c.scene.nodes().size());
   const double triangles = static_cast<double>(c.scene.faces().size());
   w.scene_bytes = kSceneBytesPerTriangle * triangles;
   const double thermal_nodes = c.thermal ? static_cast<double>(c.thermal->nodeCount()) : n;
-  // Three dense n × n matrices of 8 bytes: GR and its working copy, and F/G when the network
-  // is dense (F, its raw estimate and σ are sparse for most spacecraft: 3.7 % non-zero at
-  // 6,402 nodes); one more GR per further optical set. Measured peaks: 24 n² bytes for a
-  // 3,872-node enclosure of 12 % density, 18 n² at 6,402 nodes, 11 n² at 19,202 (docs/limits.md).
-  w.dense_bytes = 8.0 * n * n * (3.0 + static_cast<double>(c.optical_sets.size() - 1));
+  // A dense network (or any with temperatures: the thermal solver holds GR and its Jacobian
+  // densely): three n × n matrices of 8 bytes, GR and its working copy, and F/G; one more GR
+  // per further optical set. Measured peaks: 24 n² bytes for a 3,872-node enclosure of 12 %
+  // density, 18 n² at 6,402 nodes. A sparse one: F, its raw estimate and σ, G and GR's
+  // direct part at 12 B a non-zero, twice over while the correction builds them, and n × k
+  // vectors (the 19,202-node satellite, F 1.3 % non-zero: 1.2 GB peak, 63 kB a node).
+  const double extra_sets = static_cast<double>(c.optical_sets.size() - 1);
+  w.facing_share = n > 1 ? facingPairShare(c.scene) : 1.0;
+  w.sparse = !c.thermal && w.facing_share < solver::policy::kSparseStorageMaxDensity;
+  if (w.sparse) {
+    double nonzeros = std::max(w.facing_share * n * n, n);
+    // Every row by rays (method: monte_carlo): a row has at most as many non-zeros as rays.
+    if (c.view_factors.method == ViewFactorMethod::MonteCarlo)
+      nonzeros = std::min(nonzeros, n * static_cast<double>(c.view_factors.monte_carlo.rays_per_node));
+    w.sparse_floor_bytes = kMinBytesPerNode * n * (1.0 + extra_sets);
+    w.dense_bytes = nonzeros * 12.0 * (10.0 + extra_sets) + w.sparse_floor_bytes;
+  } else {
+    w.dense_bytes = 8.0 * n * n * (3.0 + extra_sets);
+  }
   for (const DesignCase& d : c.design_cases) {
     if (!d.orbit) continue;
     const orbits::SweepOptions& s = d.orbit->sweep;
@@ -113,13 +156,21 @@ WorkEstimate estimateWork(const GeometryCase& c) {
   return w;
 }
 
-void checkWorkEstimate(const YamlDocument& doc, const GeometryCase& c, double memory_bytes) {
+void checkWorkEstimate(const YamlDocument& doc, GeometryCase& c, double memory_bytes) {
   MemoryLimit memory = memoryLimit();
   if (memory_bytes > 0) memory = {memory_bytes, "the given " + gigabytes(memory_bytes)};
   memory_bytes = memory.bytes;
   if (memory_bytes <= 0) return;  // unknown: nothing to compare with
   const WorkEstimate w = estimateWork(c);
   if (w.total() <= memory_bytes) return;
+  if (w.sparse && w.total() - w.dense_bytes + w.sparse_floor_bytes <= memory_bytes) {
+    std::ostringstream m;
+    m << "geometry: the " << c.scene.nodes().size() << "-node sparse network may need up to " << gigabytes(w.total())
+      << " (" << 100.0 * w.facing_share << " % of node pairs face each other: F's non-zeros are bounded, not "
+      << "known, before the view factors), more than " << memory.source << "; a run that runs out stops with exit 2";
+    c.warnings.push_back(m.str());
+    return;
+  }
   const YAML::Node& root = doc.root();
   std::string where = "geometry";
   YAML::Node at = root["geometry"];

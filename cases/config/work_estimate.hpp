@@ -12,6 +12,18 @@ namespace radnet::cases {
 /// sphere, docs/limits.md).
 inline constexpr double kSceneBytesPerTriangle = 600.0;
 
+/// The least memory a node takes in any run: 8 vectors of the rank cap's 200 (eigenvectors,
+/// the Lanczos basis of up to 320, GR's basis, the uncertainty stage's products) and its
+/// per-position series, about 20 kB (the 19,202-node satellite peaked at 63 kB a node with
+/// its scene and F). Beyond it checkNodeMemory refuses before anything is built.
+inline constexpr double kMinBytesPerNode = 20e3;
+
+/// Share of node pairs that face each other (each one's centroid in front of the other's
+/// plane, on a random face of each), from 100,000 random pairs with a fixed seed: about the
+/// density of F before occlusion, an upper bound for it. Below the sparse-storage density
+/// and without temperatures the network, its GR and its result file are sparse.
+double facingPairShare(const geometry::Scene& scene);
+
 /// The memory this process may use, bytes (0 when unknown): the least of the machine's
 /// physical memory, the process's address-space and data limits (`ulimit -v`, `ulimit -d`:
 /// RLIMIT_AS, RLIMIT_DATA) and its cgroup's `memory.max`, with the words that say which.
@@ -31,7 +43,12 @@ void checkSceneMemory(const YamlDocument& doc, const YAML::Node& where, const st
 
 struct WorkEstimate {
   double scene_bytes = 0;     ///< triangles: mesh, faces, AABB tree
-  double dense_bytes = 0;     ///< n×n matrices: F, its raw estimate and σ, G, GR per optical set
+  double dense_bytes = 0;     ///< node × node matrices: F, its raw estimate and σ, G, GR per optical set
+  double facing_share = 1.0;  ///< facingPairShare: F's density before occlusion
+  bool sparse = false;        ///< the matrices counted sparse (no thermal, facing share < 0.25)
+  /// Sparse: the part of dense_bytes that does not depend on F's non-zeros (n × k vectors);
+  /// the rest is an upper bound (pairs that face each other, or rays), not an expectation.
+  double sparse_floor_bytes = 0;
   double planet_bytes = 0;    ///< planet-ray hit points kept for the reuse over positions (24 B each)
   double position_bytes = 0;  ///< per-position results: loads, heat flows, temperatures, ParaView copies
   long long positions = 0;    ///< over every design and orbit case
@@ -42,7 +59,9 @@ WorkEstimate estimateWork(const GeometryCase& c);
 
 /// @throws InputError, located at `geometry`, `environment.planet_rays` or `orbit.positions`
 ///         (whichever dominates), when the estimate exceeds `memory_bytes` (default:
-///         memoryLimit(), the least of the machine's memory and the process's limits)
-void checkWorkEstimate(const YamlDocument& doc, const GeometryCase& c, double memory_bytes = 0);
+///         memoryLimit(), the least of the machine's memory and the process's limits). A
+///         sparse network is refused only when its floor does not fit; when only its upper
+///         bound does not, the case gets a warning.
+void checkWorkEstimate(const YamlDocument& doc, GeometryCase& c, double memory_bytes = 0);
 
 }  // namespace radnet::cases
