@@ -5,9 +5,10 @@ Every matrix of /network is stored in compressed sparse rows (scipy's CSR conven
 (n + 1: row i is data[indptr[i]:indptr[i+1]]) and the attribute `shape`. GR is stored as
 its factors, GR = direct + basis @ core @ basis.T (`direct` a CSR group; `basis` n × k and
 `core` k × k the reflected part from the rank-k eigenpairs; k = 0 when GR was formed whole).
-Up to 5,000 radiative nodes (or with `output: {dense_matrices: true}` /
-`{dense_exchange_factors: true}`) the (n, n) datasets /network/view_factors, …,
-/network/radiative_exchange are there as well. docs/hdf5-layout.md, "Matrices".
+Up to 5,000 radiative nodes, for matrices radnet holds densely (a dense network, a GR not
+factored), or with `output: {dense_matrices: true}` / `{dense_exchange_factors: true}`, the
+(n, n) datasets /network/view_factors, …, /network/radiative_exchange are there as well.
+docs/hdf5-layout.md, "Matrices".
 
     import h5py, radnet_matrices as rm
     with h5py.File("out.h5") as f:

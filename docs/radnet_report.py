@@ -156,6 +156,17 @@ def check_result(f, path):
         g = dataset("/network/conductance", "text")
         if len(g.shape) != 2 or g.shape[0] != g.shape[1] or g.shape[0] > n or g.dtype.kind != "f":
             raise Malformed("/network/conductance", f"shape {g.shape} of {g.dtype}, expected square, at most {n} nodes")
+    if "/eigen/values" in f and "/network/sparse/conductance/data" in f:
+        dataset("/eigen/values", (None,))
+        data = dataset("/network/sparse/conductance/data", (None,))
+        shape = f["/network/sparse/conductance"].attrs.get("shape")
+        try:
+            rows = int(shape[0]) if shape is not None and len(shape) == 2 else -1
+        except (TypeError, ValueError):
+            rows = -1
+        if data.dtype.kind != "f" or not 0 <= rows <= n:
+            raise Malformed("/network/sparse/conductance", f"data {data.shape} of {data.dtype} with shape attribute "
+                            f"{shape}: expected a CSR group of at most {n} rows")
     if "/report/warnings" in f and len(dataset("/report/warnings", "text").shape) != 1:
         raise Malformed("/report/warnings", "expected one text per warning")
     if "/report" in f:
@@ -518,13 +529,20 @@ def modes_figure(result, out):
     """The radiative network's exchange modes: the eigenvalues of G = A F the run kept, and
     how much of G they hold (Σ kept λ² / ‖G‖²_F: 1 means the truncation dropped nothing)."""
     f = result.f
-    if "/eigen/values" not in f or "/network/conductance" not in f:
+    sparse = "/network/sparse/conductance/data" in f  # every size (docs/hdf5-layout.md, "Matrices")
+    if "/eigen/values" not in f or not (sparse or "/network/conductance" in f):
         return None
     values = np.sort(np.abs(f["/eigen/values"][()]))[::-1]
     if not np.any(values > 0):  # a single plate: G = 0, no exchange to show
         return None
-    g = f["/network/conductance"]
-    frobenius = sum(float(np.sum(g[r:r + 512] ** 2)) for r in range(0, g.shape[0], 512))
+    if sparse:
+        data = f["/network/sparse/conductance/data"]
+        frobenius = sum(float(np.sum(data[r:r + (1 << 20)] ** 2)) for r in range(0, data.shape[0], 1 << 20))
+        nodes = int(f["/network/sparse/conductance"].attrs["shape"][0])
+    else:
+        g = f["/network/conductance"]
+        frobenius = sum(float(np.sum(g[r:r + 512] ** 2)) for r in range(0, g.shape[0], 512))
+        nodes = g.shape[0]
     held = np.cumsum(values ** 2) / frobenius
     bound = float(f["/eigen"].attrs.get("largest_dropped_eigenvalue_bound", 0.0))
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4))
@@ -534,7 +552,7 @@ def modes_figure(result, out):
         left.axhline(bound, color="tab:red", ls="--", label="largest dropped mode (bound)")
     left.set_xlabel("exchange mode k (strongest first)")
     left.set_ylabel("|λ_k| of G = A F [m²]")
-    left.set_title(f"{len(values)} of {g.shape[0]} modes kept ({f['/eigen'].attrs['method']})", fontsize=9)
+    left.set_title(f"{len(values)} of {nodes} modes kept ({f['/eigen'].attrs['method']})", fontsize=9)
     left.grid(alpha=0.3, which="both")
     left.legend(fontsize=8)
     right.semilogy(k, np.maximum(1 - held, 1e-16), color="tab:green")

@@ -27,14 +27,13 @@ void writeOptics(Hdf5Writer& h5, const GeometryCase& c, const DesignCasesResult&
       h5.writeVector(group + "/solar_transmittance", set.specular_solar.transmittance, "1");
     }
     if (k == 0) {
-      if (c.output.denseExchange(static_cast<long>(c.node_names.size())))
-        h5.link("/network/radiative_exchange", group + "/radiative_exchange");
+      if (h5.has("/network/radiative_exchange")) h5.link("/network/radiative_exchange", group + "/radiative_exchange");
       h5.link("/network/gr_space", group + "/gr_space");
       h5.link("/network/radiative_exchange_factors", group + "/radiative_exchange_factors");
       continue;
     }
     const solver::ExchangeFactors& ex = cases.optics_exchange[k - 1];
-    writeExchange(h5, group + "/", ex, c.output.denseExchange(ex.size()));
+    writeExchange(h5, group + "/", ex, c.output.denseExchange(ex.size(), !ex.factored()));
   }
 }
 
@@ -161,12 +160,12 @@ void writeArticulation(Hdf5Writer& h5, const GeometryCase& c, const GeometryRunR
   const double entries = double(a.exchange.size()) * n * n;
   constexpr double kMaxExchangeEntries = 2e7;  // 160 MB of dense GR: beyond, the factored forms only
   const bool factored = std::all_of(a.exchange.begin(), a.exchange.end(), [](const auto& ex) { return ex.factored(); });
-  const bool dense = entries <= kMaxExchangeEntries && c.output.denseExchange(static_cast<long>(n));
+  const bool dense = entries <= kMaxExchangeEntries && c.output.denseExchange(static_cast<long>(n), !factored);
   if (entries <= kMaxExchangeEntries || factored) {
     for (size_t k = 0; k < a.exchange.size(); ++k) {
       const std::string group = "/articulation/configuration_" + std::to_string(k) + "/";
       if (k == 0 && r.radiative.exchange) {
-        if (c.output.denseExchange(static_cast<long>(n))) h5.link("/network/radiative_exchange", group + "radiative_exchange");
+        if (h5.has("/network/radiative_exchange")) h5.link("/network/radiative_exchange", group + "radiative_exchange");
         h5.link("/network/gr_space", group + "gr_space");
         h5.link("/network/radiative_exchange_factors", group + "radiative_exchange_factors");
         continue;

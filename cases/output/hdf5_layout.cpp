@@ -51,7 +51,7 @@ void writeNodes(Hdf5Writer& h5, const RadiativeNetwork& radiative, const std::op
 
 void writeRadiativeNetwork(Hdf5Writer& h5, const RadiativeNetwork& radiative, const OutputSettings& output) {
   const solver::Network& net = *radiative.network;
-  const bool dense = output.denseMatrices(net.size());
+  const bool dense = output.denseMatrices(net.size(), !net.isSparse());
   if (net.isSparse()) {  // F = A⁻¹ G and G written from the sparse G, never formed densely
     const SparseRows g = net.sparseConductance();
     writeNetworkMatrix(h5, "view_factors", g, "1", dense, net.area().cwiseInverse());
@@ -63,7 +63,7 @@ void writeRadiativeNetwork(Hdf5Writer& h5, const RadiativeNetwork& radiative, co
   h5.writeVector("/network/space_view_factor", net.spaceViewFactor(), "1");
   h5.attribute("/network", "reciprocity_max_view_factor_change", net.reciprocity().max_view_factor_change);
   h5.attribute("/network", "closure_max_row_overshoot", net.reciprocity().max_row_overshoot);
-  if (const auto& ex = radiative.exchange) writeExchange(h5, "/network/", *ex, output.denseExchange(net.size()));
+  if (const auto& ex = radiative.exchange) writeExchange(h5, "/network/", *ex, output.denseExchange(net.size(), !ex->factored()));
   const solver::EigenPairs& pairs = radiative.pairs;
   h5.writeVector("/eigen/values", pairs.values, "m^2");
   h5.writeMatrix("/eigen/vectors", pairs.vectors, "1");
@@ -93,7 +93,7 @@ void writeGeometry(Hdf5Writer& h5, const geometry::Scene& scene, const geometry:
 
 void writeViewFactorEstimate(Hdf5Writer& h5, const GeometryRunResult& r, ViewFactorMethod method,
                              const OutputSettings& output) {
-  const bool dense = output.denseMatrices(r.radiative.network->size());
+  const bool dense = output.denseMatrices(r.radiative.network->size(), !r.radiative.network->isSparse());
   writeNetworkMatrix(h5, "view_factor_stderr", r.view_factor_stderr, "1", dense);
   writeNetworkMatrix(h5, "view_factors_raw", r.raw_view_factors, "1", dense);
   h5.writeVector("/network/blocked_view_factor", r.radiative.network->blockedFraction(), "1");

@@ -4,6 +4,23 @@
 
 namespace radnet::cases {
 
+namespace {
+
+// data, indices and indptr as one CSR group (scipy's convention).
+void writeCsrParts(Hdf5Writer& h5, const std::string& group, const Eigen::VectorXd& data, const Eigen::VectorXi& indices,
+                   const std::vector<long long>& indptr, long long cols, const std::string& units) {
+  // Stored whole: the non-zeros of F, G or GR deflate by 6 % (19,202-node satellite) for a
+  // second of compression; the indices, sorted within rows, shrink threefold and are deflated.
+  h5.writeVector(group + "/data", data, units, false);
+  h5.writeIntegers(group + "/indices", indices, "1");
+  h5.writeLongs(group + "/indptr", indptr, "1");
+  h5.attribute(group, "shape", std::vector<long long>{static_cast<long long>(indptr.size()) - 1, cols});
+  h5.attribute(group, "format", std::string("csr"));
+  h5.attribute(group, "units", units);
+}
+
+}  // namespace
+
 void writeCsr(Hdf5Writer& h5, const std::string& group, const SparseRows& m, const std::string& units,
               const Eigen::VectorXd& row_scale) {
   const Eigen::Index rows = m.rows();
@@ -20,20 +37,34 @@ void writeCsr(Hdf5Writer& h5, const std::string& group, const SparseRows& m, con
       indices[k] = static_cast<int>(it.col());
     }
   }
-  // Stored whole: the non-zeros of F, G or GR deflate by 6 % (19,202-node satellite) for a
-  // second of compression; the indices, sorted within rows, shrink threefold and are deflated.
-  h5.writeVector(group + "/data", data, units, false);
-  h5.writeIntegers(group + "/indices", indices, "1");
-  h5.writeLongs(group + "/indptr", indptr, "1");
-  h5.attribute(group, "shape", std::vector<long long>{rows, m.cols()});
-  h5.attribute(group, "format", std::string("csr"));
-  h5.attribute(group, "units", units);
+  writeCsrParts(h5, group, data, indices, indptr, m.cols(), units);
 }
 
 void writeCsr(Hdf5Writer& h5, const std::string& group, const Eigen::MatrixXd& m, const std::string& units) {
-  // By columns of the column-major matrix into a column-major sparse one, then to rows.
-  const SparseRows rows = Eigen::SparseMatrix<double>(m.sparseView(0.0, 0.0));
-  writeCsr(h5, group, rows, units);
+  // Two passes over blocks of rows copied row-major (a row of the column-major matrix is
+  // strided): count, then fill; no sparse copy of a matrix that may be 80 % non-zero.
+  constexpr Eigen::Index kBlock = 256;
+  const Eigen::Index rows = m.rows(), cols = m.cols();
+  std::vector<long long> indptr(static_cast<size_t>(rows) + 1, 0);
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> block;
+  for (int pass = 0; pass < 2; ++pass) {
+    Eigen::VectorXd data(pass ? indptr.back() : 0);
+    Eigen::VectorXi indices(pass ? indptr.back() : 0);
+    for (Eigen::Index r0 = 0; r0 < rows; r0 += kBlock) {
+      block = m.middleRows(r0, std::min(kBlock, rows - r0));
+      for (Eigen::Index r = 0; r < block.rows(); ++r) {
+        auto k = static_cast<Eigen::Index>(indptr[static_cast<size_t>(r0 + r)]);
+        Eigen::Index count = 0;
+        for (Eigen::Index c = 0; c < cols; ++c) {
+          if (block(r, c) == 0.0) continue;
+          if (pass) data[k + count] = block(r, c), indices[k + count] = static_cast<int>(c);
+          ++count;
+        }
+        if (!pass) indptr[static_cast<size_t>(r0 + r) + 1] = indptr[static_cast<size_t>(r0 + r)] + count;
+      }
+    }
+    if (pass) writeCsrParts(h5, group, data, indices, indptr, cols, units);
+  }
 }
 
 void writeNetworkMatrix(Hdf5Writer& h5, const std::string& name, const SparseRows& m, const std::string& units,

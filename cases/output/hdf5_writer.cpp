@@ -248,6 +248,10 @@ void Hdf5Writer::writeStack(const std::string& path, const std::vector<Eigen::Ma
   writeArray(path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 3, dims, data.data(), units);
 }
 
+bool Hdf5Writer::has(const std::string& path) const {
+  return H5Lexists(static_cast<hid_t>(file_), path.c_str(), H5P_DEFAULT) > 0;
+}
+
 void Hdf5Writer::link(const std::string& existing, const std::string& path) {
   Handle lcpl{createLinkProps(), H5Pclose};
   check(H5Lcreate_hard(static_cast<hid_t>(file_), existing.c_str(), static_cast<hid_t>(file_), path.c_str(), lcpl.id,

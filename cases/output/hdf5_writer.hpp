@@ -38,6 +38,8 @@ class Hdf5Writer {
                    bool deflate = true);
   /// (slices, rows, cols) dataset of equally sized matrices.
   void writeStack(const std::string& path, const std::vector<Eigen::MatrixXd>& slices, const std::string& units);
+  /// True when `path` exists (its parent groups must: "/a/b" with "/a" written).
+  bool has(const std::string& path) const;
   /// A second name for an existing dataset (an HDF5 hard link: no copy).
   void link(const std::string& existing, const std::string& path);
   /// Integer (row-major) dataset, e.g. triangle corner indices.
