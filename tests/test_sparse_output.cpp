@@ -75,6 +75,26 @@ TEST_CASE("sparse and factored matrices agree with the dense ones, and export an
   CHECK_THAT(slurp(dir.path / "helper.txt"), Catch::Contains("rank"));
 }
 
+TEST_CASE("temperatures from the factored GR (all pairs) equal those from the dense LU's GR") {
+  TempDir dir;
+  writeCase(dir, "factored.yaml", "");  // refine: false: GR from the pairs, held as factors
+  std::ofstream(dir.path / "lu.yaml") << slurp(source("cases/examples/cubesat-3u.yaml"));  // refined: dense LU
+  REQUIRE(runRadnet("run factored.yaml -o factored.h5 -q", dir).exit_code == 0);
+  REQUIRE(runRadnet("run lu.yaml -o lu.h5 -q", dir).exit_code == 0);
+  const cases::Hdf5Reader factored((dir.path / "factored.h5").string()), lu((dir.path / "lu.h5").string());
+  REQUIRE(factored.attribute("/network/radiative_exchange_factors", "rank", 0.0) == 11.0);  // every pair: exact
+  REQUIRE(lu.textAttribute("/network/radiative_exchange", "method", "") == "dense LU");
+  const Eigen::MatrixXd gr_lu = lu.matrix("/network/radiative_exchange");
+  const Eigen::MatrixXd gr_factored = cases::readExchange(factored, "/network/").dense();
+  // All 11 pairs kept: the two GR differ by the eigenvectors' round-off only.
+  CHECK((gr_factored - gr_lu).cwiseAbs().maxCoeff() <= 1e-10 * gr_lu.cwiseAbs().maxCoeff());
+  // The band solves differ (refined to 1e-10 against the rank-11 answer), so the loads do by
+  // that much: temperatures within 1e-6 K (δT ≈ δQ / (4 ε σ T³ A) with δQ ~ 1e-10 of the loads).
+  const Eigen::MatrixXd t_factored = factored.matrix("/solution/temperature"), t_lu = lu.matrix("/solution/temperature");
+  REQUIRE(t_factored.rows() == t_lu.rows());
+  CHECK((t_factored - t_lu).cwiseAbs().maxCoeff() <= 1e-6);
+}
+
 TEST_CASE("output: keys are checked at their line") {
   TempDir dir;
   writeCase(dir, "bad.yaml", "output: {dense_matrix: true}\n");
