@@ -7,7 +7,8 @@ its factors, GR = direct + basis @ core @ basis.T (`direct` a CSR group; `basis`
 `core` k × k the reflected part from the rank-k eigenpairs; k = 0 when GR was formed whole).
 Up to 5,000 radiative nodes, for matrices radnet holds densely (a dense network, a GR not
 factored), or with `output: {dense_matrices: true}` / `{dense_exchange_factors: true}`, the
-(n, n) datasets /network/view_factors, …, /network/radiative_exchange are there as well.
+(n, n) datasets /network/view_factors, …, /network/radiative_exchange are there as well;
+without them those names are links to the CSR group and to GR's factors.
 docs/hdf5-layout.md, "Matrices".
 
     import h5py, radnet_matrices as rm
@@ -93,7 +94,7 @@ def main(path):
             g = f["/network/sparse/" + name]
             nnz, shape = len(g["data"]), tuple(g.attrs["shape"])
             print(f"{name}: {shape[0]} × {shape[1]}, {nnz} non-zero ({nnz / max(1, shape[0] * shape[1]):.2%})")
-            if "/network/" + name in f:
+            if isinstance(f.get("/network/" + name), h5py.Dataset):  # else a link to the CSR group
                 dense = f["/network/" + name][()]
                 stored = csr(f, name)
                 stored = stored.toarray() if hasattr(stored, "toarray") else stored
@@ -101,7 +102,7 @@ def main(path):
         if n is not None and "/network/radiative_exchange_factors" in f:
             k = f["/network/radiative_exchange_factors/basis"].shape[1]
             print(f"GR: {n} nodes, direct part {len(f['/network/radiative_exchange_factors/direct/data'])} non-zero, rank {k}")
-            if "/network/radiative_exchange" in f:
+            if isinstance(f.get("/network/radiative_exchange"), h5py.Dataset):
                 scale = float(np.max(np.abs(f["/network/radiative_exchange"][()]))) or 1.0
                 worst = max(worst, float(np.max(np.abs(exchange_dense(f) - f["/network/radiative_exchange"][()]))) / scale)
         print(f"largest difference between the dense and the sparse/factored forms: {worst:.3g}")

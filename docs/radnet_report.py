@@ -151,7 +151,7 @@ def check_result(f, path):
         count = dataset("/limits/node", "text").shape[0]
         dataset("/limits/min", (count,))
         dataset("/limits/max", (count,))
-    if "/eigen/values" in f and "/network/conductance" in f:
+    if "/eigen/values" in f and isinstance(f.get("/network/conductance"), h5py.Dataset):
         dataset("/eigen/values", (None,))
         g = dataset("/network/conductance", "text")
         if len(g.shape) != 2 or g.shape[0] != g.shape[1] or g.shape[0] > n or g.dtype.kind != "f":
@@ -529,7 +529,9 @@ def modes_figure(result, out):
     """The radiative network's exchange modes: the eigenvalues of G = A F the run kept, and
     how much of G they hold (Σ kept λ² / ‖G‖²_F: 1 means the truncation dropped nothing)."""
     f = result.f
-    sparse = "/network/sparse/conductance/data" in f  # every size (docs/hdf5-layout.md, "Matrices")
+    # The CSR group is there at every size (docs/hdf5-layout.md, "Matrices"); /network/conductance
+    # is the (n, n) dataset up to 5,000 nodes and a link to that group beyond.
+    sparse = "/network/sparse/conductance/data" in f
     if "/eigen/values" not in f or not (sparse or "/network/conductance" in f):
         return None
     values = np.sort(np.abs(f["/eigen/values"][()]))[::-1]

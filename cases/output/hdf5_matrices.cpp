@@ -67,16 +67,21 @@ void writeCsr(Hdf5Writer& h5, const std::string& group, const Eigen::MatrixXd& m
   }
 }
 
+// Without the (n,n) dataset, /network/<name> names the CSR group itself (a hard link, no
+// copy): a reader that opens /network/view_factors finds the matrix at every size, as a
+// dataset or as a group of the CSR convention.
 void writeNetworkMatrix(Hdf5Writer& h5, const std::string& name, const SparseRows& m, const std::string& units,
                         bool dense, const Eigen::VectorXd& row_scale) {
   if (dense) h5.writeMatrix("/network/" + name, m, units, row_scale);
   writeCsr(h5, "/network/sparse/" + name, m, units, row_scale);
+  if (!dense) h5.link("/network/sparse/" + name, "/network/" + name);
 }
 
 void writeNetworkMatrix(Hdf5Writer& h5, const std::string& name, const Eigen::MatrixXd& m, const std::string& units,
                         bool dense) {
   if (dense) h5.writeMatrix("/network/" + name, m, units);
   writeCsr(h5, "/network/sparse/" + name, m, units);
+  if (!dense) h5.link("/network/sparse/" + name, "/network/" + name);
 }
 
 void writeExchange(Hdf5Writer& h5, const std::string& prefix, const solver::ExchangeFactors& ex, bool dense) {
@@ -100,6 +105,7 @@ void writeExchange(Hdf5Writer& h5, const std::string& prefix, const solver::Exch
   h5.attribute(factors, "formula", std::string("GR = direct + basis @ core @ basis.T"));
   h5.attribute(factors, "rank", static_cast<long long>(ex.factored() ? ex.core.rows() : 0));
   h5.attribute(factors, "method", ex.method);
+  if (!dense) h5.link(factors, prefix + "radiative_exchange");  // the name finds GR at every size
 }
 
 }  // namespace radnet::cases

@@ -53,11 +53,18 @@ bool hasExchange(const Hdf5Reader& h5, const std::string& prefix) {
          (h5.has(prefix + "radiative_exchange") || h5.has(prefix + "radiative_exchange_factors/direct/data"));
 }
 
+namespace {
+// The (n,n) dataset, not the factors' group that the name links to without one.
+bool hasDenseExchange(const Hdf5Reader& h5, const std::string& prefix) {
+  return h5.has(prefix + "radiative_exchange") && !h5.has(prefix + "radiative_exchange/direct");
+}
+}  // namespace
+
 solver::ExchangeFactors readExchange(const Hdf5Reader& h5, const std::string& prefix) {
   solver::ExchangeFactors ex;
   ex.gr_space = finiteMatrix(h5, prefix + "gr_space").reshaped();
   const Eigen::Index n = ex.gr_space.size();
-  if (h5.has(prefix + "radiative_exchange")) {
+  if (hasDenseExchange(h5, prefix)) {
     ex.gr = finiteMatrix(h5, prefix + "radiative_exchange");
     if (ex.gr.rows() != n || ex.gr.cols() != n)
       malformed(h5, prefix + "radiative_exchange", "shape " + shapeOf(ex.gr.rows(), ex.gr.cols()) + " for " + std::to_string(n) + " values of " + prefix + "gr_space");
