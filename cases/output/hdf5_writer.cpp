@@ -1,14 +1,8 @@
 #include "cases/output/hdf5_writer.hpp"
 
-#include "cases/config/hdf5_handle.hpp"
-#include "solver/parallel.hpp"
-
-#include "cases/output/hdf5_chunks.hpp"
-
-#include <atomic>
-#include <cstdint>
-
 #include "cases/config/errors.hpp"
+#include "cases/config/hdf5_handle.hpp"
+#include "cases/output/hdf5_chunks.hpp"
 #include "cases/output/output_guard.hpp"
 
 #include <algorithm>
@@ -95,10 +89,6 @@ long long Hdf5Writer::ensureGroup(const std::string& path) {
 void Hdf5Writer::addUnits(long long dataset, const std::string& units) {
   writeStringAttribute(static_cast<hid_t>(dataset), "units", units);
 }
-
-namespace {
-
-}  // namespace
 
 void Hdf5Writer::writeArray(const std::string& path, long long file_type, long long memory_type, int rank,
                             const unsigned long long* dims, const void* data, const std::string& units, bool deflate) {

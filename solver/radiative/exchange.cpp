@@ -93,7 +93,6 @@ ExchangeFactors exchangeFactorsLowRank(const Network& net, const LowRankBandSolv
   const double core_asymmetry = (ex.core - ex.core.transpose()).cwiseAbs().maxCoeff();
   ex.core = (0.5 * (ex.core + ex.core.transpose())).eval();  // C is symmetric up to round-off
   ex.basis = emissivity.asDiagonal() * ir_band.vectors();
-  ex.emissivity = emissivity;
   if (!net.isSparse()) {  // a dense G: the dense GR costs no more than its own G
     ex.gr.noalias() = (ex.basis * ex.core) * ex.basis.transpose();
     addDirectExchange(ex.gr, net, emissivity);

@@ -23,7 +23,6 @@ struct ExchangeFactors {
   Eigen::VectorXd gr_space;  ///< GR_i,space = ε_i A_i − Σ_j GR_ij, m²
   /// The factors (set by exchangeFactorsLowRank, dense or not; `direct` only when factored).
   Eigen::SparseMatrix<double, Eigen::RowMajor> direct;  ///< D = E G E (n×n, sparse), m²
-  Eigen::VectorXd emissivity;    ///< ε (n) the factors were formed with: D = diag(ε) G diag(ε), –
   Eigen::MatrixXd basis;         ///< W = E V (n×k), –
   Eigen::MatrixXd core;          ///< K = C − Λ (k×k), symmetric, m²
   double asymmetry = 0.0;    ///< max |GR_ij − GR_ji| / max|GR| before symmetrising (round-off), –
