@@ -96,6 +96,32 @@ TEST_CASE("temperatures from the factored GR (all pairs) equal those from the de
   CHECK((t_factored - t_lu).cwiseAbs().maxCoeff() <= 1e-6);
 }
 
+TEST_CASE("past 5,000 nodes a sparse network writes no (n,n) dataset: the names link to CSR and factors") {
+  // 5,400 coplanar nodes: F = 0, G = 0, no eigenpair (k = 0: the factored GR's empty core was
+  // once a segfault), GR = diag(ε A) to space only.
+  TempDir dir;
+  std::ofstream(dir.path / "plate.yaml")
+      << "name: plate-5400\nmaterials:\n  white: {emissivity: 0.8, absorptivity: 0.2}\ngeometry:\n"
+         "  - rectangle: {name: plate, origin: [0, 0, 0], u: [1, 0, 0], v: [0, 1, 0], front: white, nodes: [75, 72]}\n";
+  const Run run = runRadnet("run plate.yaml -o plate.h5 -q", dir);
+  INFO(run.err);
+  REQUIRE(run.exit_code == 0);
+  const cases::Hdf5Reader h5((dir.path / "plate.h5").string());
+  const Eigen::Index n = h5.rows("/network/gr_space");
+  REQUIRE(n == 5400);
+  for (const char* name : {"view_factors", "view_factors_raw", "view_factor_stderr", "conductance"}) {
+    INFO(name);
+    CHECK(h5.has(std::string("/network/") + name + "/indptr"));  // the link to the CSR group
+    CHECK(cases::readCsr(h5, std::string("/network/sparse/") + name, n, n).nonZeros() == 0);
+  }
+  const solver::ExchangeFactors gr = cases::readExchange(h5, "/network/");
+  REQUIRE(gr.factored());
+  CHECK(gr.core.rows() == 0);
+  const double area = 1.0 / 5400.0;  // m²
+  CHECK((gr.gr_space.array() - 0.8 * area).abs().maxCoeff() <= 1e-15);
+  CHECK(gr.rows(0, 10).cwiseAbs().maxCoeff() == 0.0);
+}
+
 TEST_CASE("output: keys are checked at their line") {
   TempDir dir;
   writeCase(dir, "bad.yaml", "output: {dense_matrix: true}\n");

@@ -89,8 +89,9 @@ ExchangeFactors exchangeFactorsLowRank(const Network& net, const LowRankBandSolv
   // For black surfaces (ρ = 0, C = Λ) GR = G exactly.
   ex.core = ir_band.core();
   ex.core.diagonal() -= ir_band.values();
-  const double core_scale = ex.core.cwiseAbs().maxCoeff();
-  const double core_asymmetry = (ex.core - ex.core.transpose()).cwiseAbs().maxCoeff();
+  // (k = 0 when G = 0: nothing sees anything; maxCoeff of an empty matrix is undefined.)
+  const double core_scale = ex.core.size() ? ex.core.cwiseAbs().maxCoeff() : 0.0;
+  const double core_asymmetry = ex.core.size() ? (ex.core - ex.core.transpose()).cwiseAbs().maxCoeff() : 0.0;
   ex.core = (0.5 * (ex.core + ex.core.transpose())).eval();  // C is symmetric up to round-off
   ex.basis = emissivity.asDiagonal() * ir_band.vectors();
   if (!net.isSparse()) {  // a dense G: the dense GR costs no more than its own G
