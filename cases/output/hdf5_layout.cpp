@@ -52,10 +52,11 @@ void writeNodes(Hdf5Writer& h5, const RadiativeNetwork& radiative, const std::op
 void writeRadiativeNetwork(Hdf5Writer& h5, const RadiativeNetwork& radiative, const OutputSettings& output) {
   const solver::Network& net = *radiative.network;
   const bool dense = output.denseMatrices(net.size(), !net.isSparse());
-  if (net.isSparse()) {  // F = A⁻¹ G and G written from the sparse G, never formed densely
-    const SparseRows g = net.sparseConductance();
-    writeNetworkMatrix(h5, "view_factors", g, "1", dense, net.area().cwiseInverse());
+  SparseRows g;
+  if (net.isSparse()) {  // F = A⁻¹ G and G written from the sparse G, never formed densely; one pattern
+    g = net.sparseConductance();
     writeNetworkMatrix(h5, "conductance", g, "m^2", dense);
+    writeNetworkMatrix(h5, "view_factors", g, "1", dense, net.area().cwiseInverse(), {"/network/sparse/conductance", &g});
   } else {
     writeNetworkMatrix(h5, "view_factors", net.viewFactors(), "1", dense);
     writeNetworkMatrix(h5, "conductance", net.denseConductance(), "m^2", dense);
@@ -63,7 +64,9 @@ void writeRadiativeNetwork(Hdf5Writer& h5, const RadiativeNetwork& radiative, co
   h5.writeVector("/network/space_view_factor", net.spaceViewFactor(), "1");
   h5.attribute("/network", "reciprocity_max_view_factor_change", net.reciprocity().max_view_factor_change);
   h5.attribute("/network", "closure_max_row_overshoot", net.reciprocity().max_row_overshoot);
-  if (const auto& ex = radiative.exchange) writeExchange(h5, "/network/", *ex, output.denseExchange(net.size(), !ex->factored()));
+  if (const auto& ex = radiative.exchange)  // GR's direct part E G E has G's pattern (checked)
+    writeExchange(h5, "/network/", *ex, output.denseExchange(net.size(), !ex->factored()),
+                  {"/network/sparse/conductance", net.isSparse() ? &g : nullptr});
   const solver::EigenPairs& pairs = radiative.pairs;
   h5.writeVector("/eigen/values", pairs.values, "m^2");
   h5.writeMatrix("/eigen/vectors", pairs.vectors, "1");
@@ -94,8 +97,10 @@ void writeGeometry(Hdf5Writer& h5, const geometry::Scene& scene, const geometry:
 void writeViewFactorEstimate(Hdf5Writer& h5, const GeometryRunResult& r, ViewFactorMethod method,
                              const OutputSettings& output) {
   const bool dense = output.denseMatrices(r.radiative.network->size(), !r.radiative.network->isSparse());
-  writeNetworkMatrix(h5, "view_factor_stderr", r.view_factor_stderr, "1", dense);
   writeNetworkMatrix(h5, "view_factors_raw", r.raw_view_factors, "1", dense);
+  // σ is estimated entry by entry with the raw F: the same pattern (checked).
+  writeNetworkMatrix(h5, "view_factor_stderr", r.view_factor_stderr, "1", dense, {},
+                     {"/network/sparse/view_factors_raw", &r.raw_view_factors});
   h5.writeVector("/network/blocked_view_factor", r.radiative.network->blockedFraction(), "1");
   h5.attribute("/network", "correction_max_change", r.correction.max_change);
   h5.attribute("/network", "correction_max_change_sigma", r.correction.max_change_sigma);

@@ -1,28 +1,45 @@
 #include "cases/output/hdf5_matrices.hpp"
 
+#include <algorithm>
 #include <vector>
 
 namespace radnet::cases {
 
 namespace {
 
-// data, indices and indptr as one CSR group (scipy's convention).
+// data, indices and indptr as one CSR group (scipy's convention); `pattern_from` non-empty:
+// indices and indptr are links to that group's (the same pattern, checked by the caller).
 void writeCsrParts(Hdf5Writer& h5, const std::string& group, const Eigen::VectorXd& data, const Eigen::VectorXi& indices,
-                   const std::vector<long long>& indptr, long long cols, const std::string& units) {
+                   const std::vector<long long>& indptr, long long cols, const std::string& units,
+                   const std::string& pattern_from = "") {
   // Stored whole: the non-zeros of F, G or GR deflate by 6 % (19,202-node satellite) for a
   // second of compression; the indices, sorted within rows, shrink threefold and are deflated.
   h5.writeVector(group + "/data", data, units, false);
-  h5.writeIntegers(group + "/indices", indices, "1");
-  h5.writeLongs(group + "/indptr", indptr, "1");
+  if (pattern_from.empty()) {
+    h5.writeIntegers(group + "/indices", indices, "1");
+    h5.writeLongs(group + "/indptr", indptr, "1");
+  } else {
+    h5.link(pattern_from + "/indices", group + "/indices");
+    h5.link(pattern_from + "/indptr", group + "/indptr");
+  }
   h5.attribute(group, "shape", std::vector<long long>{static_cast<long long>(indptr.size()) - 1, cols});
   h5.attribute(group, "format", std::string("csr"));
   h5.attribute(group, "units", units);
 }
 
+// Equal sparsity patterns, entry for entry (both compressed, as Eigen's products leave them).
+bool samePattern(const SparseRows& a, const SparseRows& b) {
+  if (a.rows() != b.rows() || a.cols() != b.cols() || a.nonZeros() != b.nonZeros() || !a.isCompressed() ||
+      !b.isCompressed())
+    return false;
+  return std::equal(a.outerIndexPtr(), a.outerIndexPtr() + a.rows() + 1, b.outerIndexPtr()) &&
+         std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.innerIndexPtr());
+}
+
 }  // namespace
 
 void writeCsr(Hdf5Writer& h5, const std::string& group, const SparseRows& m, const std::string& units,
-              const Eigen::VectorXd& row_scale) {
+              const Eigen::VectorXd& row_scale, const CsrPattern& shared) {
   const Eigen::Index rows = m.rows();
   std::vector<long long> indptr(static_cast<size_t>(rows) + 1, 0);
   for (Eigen::Index r = 0; r < rows; ++r) indptr[static_cast<size_t>(r) + 1] = indptr[static_cast<size_t>(r)] + m.innerVector(r).nonZeros();
@@ -37,7 +54,8 @@ void writeCsr(Hdf5Writer& h5, const std::string& group, const SparseRows& m, con
       indices[k] = static_cast<int>(it.col());
     }
   }
-  writeCsrParts(h5, group, data, indices, indptr, m.cols(), units);
+  const bool linked = shared.matrix && samePattern(m, *shared.matrix);
+  writeCsrParts(h5, group, data, indices, indptr, m.cols(), units, linked ? shared.group : "");
 }
 
 void writeCsr(Hdf5Writer& h5, const std::string& group, const Eigen::MatrixXd& m, const std::string& units) {
@@ -71,9 +89,9 @@ void writeCsr(Hdf5Writer& h5, const std::string& group, const Eigen::MatrixXd& m
 // copy): a reader that opens /network/view_factors finds the matrix at every size, as a
 // dataset or as a group of the CSR convention.
 void writeNetworkMatrix(Hdf5Writer& h5, const std::string& name, const SparseRows& m, const std::string& units,
-                        bool dense, const Eigen::VectorXd& row_scale) {
+                        bool dense, const Eigen::VectorXd& row_scale, const CsrPattern& shared) {
   if (dense) h5.writeMatrix("/network/" + name, m, units, row_scale);
-  writeCsr(h5, "/network/sparse/" + name, m, units, row_scale);
+  writeCsr(h5, "/network/sparse/" + name, m, units, row_scale, shared);
   if (!dense) h5.link("/network/sparse/" + name, "/network/" + name);
 }
 
@@ -84,7 +102,8 @@ void writeNetworkMatrix(Hdf5Writer& h5, const std::string& name, const Eigen::Ma
   if (!dense) h5.link("/network/sparse/" + name, "/network/" + name);
 }
 
-void writeExchange(Hdf5Writer& h5, const std::string& prefix, const solver::ExchangeFactors& ex, bool dense) {
+void writeExchange(Hdf5Writer& h5, const std::string& prefix, const solver::ExchangeFactors& ex, bool dense,
+                   const CsrPattern& shared) {
   if (dense) {
     if (ex.factored()) h5.writeMatrix(prefix + "radiative_exchange", ex.dense(), "m^2");
     else h5.writeMatrix(prefix + "radiative_exchange", ex.gr, "m^2");
@@ -94,7 +113,7 @@ void writeExchange(Hdf5Writer& h5, const std::string& prefix, const solver::Exch
   const std::string factors = prefix + "radiative_exchange_factors";
   const Eigen::Index n = ex.size();
   if (ex.factored()) {
-    writeCsr(h5, factors + "/direct", ex.direct, "m^2");
+    writeCsr(h5, factors + "/direct", ex.direct, "m^2", {}, shared);
     h5.writeMatrix(factors + "/basis", ex.basis, "1");
     h5.writeMatrix(factors + "/core", ex.core, "m^2");
   } else {  // held whole: GR is its own direct part, k = 0

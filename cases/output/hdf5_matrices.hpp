@@ -16,23 +16,32 @@ namespace radnet::cases {
 
 using SparseRows = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
+/// A CSR group already written whose sparsity pattern another may share: when a matrix's
+/// pattern equals `matrix`'s (compared entry for entry), its `indices` and `indptr` are hard
+/// links to `group`'s (F, G and GR's direct part of one network share one pattern).
+struct CsrPattern {
+  std::string group;
+  const SparseRows* matrix = nullptr;
+};
+
 /// A CSR group at `group`: `data` (nnz, `units`), `indices` (nnz, int32 column of each
 /// entry), `indptr` (n+1, int64: row i is data[indptr[i]:indptr[i+1]]), attributes `shape`
 /// (rows, cols), `format` "csr" and `units`. Row r scaled by row_scale[r] (empty: 1).
 void writeCsr(Hdf5Writer& h5, const std::string& group, const SparseRows& m, const std::string& units,
-              const Eigen::VectorXd& row_scale = {});
+              const Eigen::VectorXd& row_scale = {}, const CsrPattern& shared = {});
 /// The non-zero entries of a dense matrix as a CSR group.
 void writeCsr(Hdf5Writer& h5, const std::string& group, const Eigen::MatrixXd& m, const std::string& units);
 
 /// /network/<name> (n,n) when `dense`, and /network/sparse/<name> always.
 void writeNetworkMatrix(Hdf5Writer& h5, const std::string& name, const SparseRows& m, const std::string& units,
-                        bool dense, const Eigen::VectorXd& row_scale = {});
+                        bool dense, const Eigen::VectorXd& row_scale = {}, const CsrPattern& shared = {});
 void writeNetworkMatrix(Hdf5Writer& h5, const std::string& name, const Eigen::MatrixXd& m, const std::string& units,
                         bool dense);
 
 /// GR of an optical set or configuration under `prefix` (ending in '/'): `gr_space` (n),
 /// `radiative_exchange_factors/{direct, basis, core}` always (k = 0 and `direct` the whole GR
 /// when GR is held dense), `radiative_exchange` (n,n) when `dense`; `method` attributes.
-void writeExchange(Hdf5Writer& h5, const std::string& prefix, const solver::ExchangeFactors& ex, bool dense);
+void writeExchange(Hdf5Writer& h5, const std::string& prefix, const solver::ExchangeFactors& ex, bool dense,
+                   const CsrPattern& shared = {});
 
 }  // namespace radnet::cases
