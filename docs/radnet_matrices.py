@@ -8,7 +8,9 @@ its factors, GR = direct + basis @ core @ basis.T (`direct` a CSR group; `basis`
 Up to 5,000 radiative nodes, for matrices radnet holds densely (a dense network, a GR not
 factored), or with `output: {dense_matrices: true}` / `{dense_exchange_factors: true}`, the
 (n, n) datasets /network/view_factors, …, /network/radiative_exchange are there as well;
-without them those names are links to the CSR group and to GR's factors.
+without them those names are links to the CSR group and to GR's factors. Past 5,000 nodes a
+matrix 25 % or more non-zero that has its (n, n) dataset (a closed room's) is not also in
+CSR: the functions below then return the dense form.
 docs/hdf5-layout.md, "Matrices".
 
     import h5py, radnet_matrices as rm
@@ -47,7 +49,11 @@ def csr_group(f, path):
 
 
 def csr(f, name):
-    """/network/sparse/<name>: view_factors, view_factors_raw, view_factor_stderr, conductance."""
+    """/network/sparse/<name>: view_factors, view_factors_raw, view_factor_stderr, conductance.
+    A matrix more than 25 % non-zero past 5,000 nodes (a closed room's) has only its (n, n)
+    dataset: it is returned as the dense numpy array."""
+    if "/network/sparse/" + name not in f:
+        return f["/network/" + name][()]
     return csr_group(f, "/network/sparse/" + name)
 
 
@@ -63,6 +69,8 @@ def csr_row(f, path, i):
 def exchange_row(f, i, prefix="/network/"):
     """GR[i, :] (m²) of `prefix` ("/network/", "/optics/<set>/", "/articulation/configuration_<k>/"):
     direct row + basis[i] @ core @ basis.T, O(n k)."""
+    if prefix + "radiative_exchange_factors" not in f:  # held whole past 5,000 nodes: the (n, n) GR
+        return f[prefix + "radiative_exchange"][i, :]
     factors = f[prefix + "radiative_exchange_factors"]
     row = csr_row(f, prefix + "radiative_exchange_factors/direct", i)
     basis = factors["basis"]
@@ -72,7 +80,9 @@ def exchange_row(f, i, prefix="/network/"):
 
 
 def exchange_dense(f, prefix="/network/"):
-    """The whole GR (n × n, m²) from its factors."""
+    """The whole GR (n × n, m²) from its factors (or its (n, n) dataset when it has no factors)."""
+    if prefix + "radiative_exchange_factors" not in f:
+        return f[prefix + "radiative_exchange"][()]
     factors = f[prefix + "radiative_exchange_factors"]
     data, indices, indptr = _parts(factors["direct"])
     n = len(indptr) - 1

@@ -29,7 +29,8 @@ void writeOptics(Hdf5Writer& h5, const GeometryCase& c, const DesignCasesResult&
     if (k == 0) {
       if (h5.has("/network/radiative_exchange")) h5.link("/network/radiative_exchange", group + "/radiative_exchange");
       h5.link("/network/gr_space", group + "/gr_space");
-      h5.link("/network/radiative_exchange_factors", group + "/radiative_exchange_factors");
+      if (h5.has("/network/radiative_exchange_factors"))
+        h5.link("/network/radiative_exchange_factors", group + "/radiative_exchange_factors");
       continue;
     }
     const solver::ExchangeFactors& ex = cases.optics_exchange[k - 1];
@@ -167,7 +168,8 @@ void writeArticulation(Hdf5Writer& h5, const GeometryCase& c, const GeometryRunR
       if (k == 0 && r.radiative.exchange) {
         if (h5.has("/network/radiative_exchange")) h5.link("/network/radiative_exchange", group + "radiative_exchange");
         h5.link("/network/gr_space", group + "gr_space");
-        h5.link("/network/radiative_exchange_factors", group + "radiative_exchange_factors");
+        if (h5.has("/network/radiative_exchange_factors"))
+          h5.link("/network/radiative_exchange_factors", group + "radiative_exchange_factors");
         continue;
       }
       writeExchange(h5, group, a.exchange[k], dense);

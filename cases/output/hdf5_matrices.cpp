@@ -1,5 +1,7 @@
 #include "cases/output/hdf5_matrices.hpp"
 
+#include "solver/radiative/policy.hpp"
+
 #include <algorithm>
 #include <vector>
 
@@ -88,17 +90,27 @@ void writeCsr(Hdf5Writer& h5, const std::string& group, const Eigen::MatrixXd& m
 // Without the (n,n) dataset, /network/<name> names the CSR group itself (a hard link, no
 // copy): a reader that opens /network/view_factors finds the matrix at every size, as a
 // dataset or as a group of the CSR convention.
+namespace {
+// The CSR copy beside an (n,n) dataset, except past kDenseOutputMaxNodes for a matrix 25 % or
+// more non-zero: there CSR (12 B an entry) is larger than the dense form (8 B) and only
+// duplicates it (the 6,144-node closed room: 2.4 GB file and 23 s of writing with the copies).
+bool csrAlso(Eigen::Index n, double nonzeros, bool dense) {
+  return !dense || n <= kDenseOutputMaxNodes || nonzeros < solver::policy::kSparseStorageMaxDensity * double(n) * double(n);
+}
+}  // namespace
+
 void writeNetworkMatrix(Hdf5Writer& h5, const std::string& name, const SparseRows& m, const std::string& units,
                         bool dense, const Eigen::VectorXd& row_scale, const CsrPattern& shared) {
   if (dense) h5.writeMatrix("/network/" + name, m, units, row_scale);
-  writeCsr(h5, "/network/sparse/" + name, m, units, row_scale, shared);
+  if (csrAlso(m.rows(), double(m.nonZeros()), dense)) writeCsr(h5, "/network/sparse/" + name, m, units, row_scale, shared);
   if (!dense) h5.link("/network/sparse/" + name, "/network/" + name);
 }
 
 void writeNetworkMatrix(Hdf5Writer& h5, const std::string& name, const Eigen::MatrixXd& m, const std::string& units,
                         bool dense) {
   if (dense) h5.writeMatrix("/network/" + name, m, units);
-  writeCsr(h5, "/network/sparse/" + name, m, units);
+  // Held dense: a network with 25 % or more of F non-zero (policy::storeSparse).
+  if (csrAlso(m.rows(), double(m.size()), dense)) writeCsr(h5, "/network/sparse/" + name, m, units);
   if (!dense) h5.link("/network/sparse/" + name, "/network/" + name);
 }
 
@@ -112,6 +124,7 @@ void writeExchange(Hdf5Writer& h5, const std::string& prefix, const solver::Exch
   h5.writeVector(prefix + "gr_space", ex.gr_space, "m^2");
   const std::string factors = prefix + "radiative_exchange_factors";
   const Eigen::Index n = ex.size();
+  if (!ex.factored() && !csrAlso(n, double(n) * double(n), dense)) return;  // the (n,n) GR is its compact form
   if (ex.factored()) {
     writeCsr(h5, factors + "/direct", ex.direct, "m^2", {}, shared);
     h5.writeMatrix(factors + "/basis", ex.basis, "1");
