@@ -12,7 +12,7 @@ namespace radnet::cases {
 /// Up to this many radiative nodes the (n,n) datasets (/network/view_factors, …,
 /// /network/radiative_exchange) are written too: 200 MB a matrix before compression. Past
 /// it, for a sparse network, a dense GR would cost n² of memory and most of the write (on
-/// the 19,202-node satellite 753 of the file's 941 MB and ~10 of its 12.6 s), F is 1–4 %
+/// the 19,202-node satellite 753 of the file's 941 MB and 6.6 of its 12.6 s), F is 1–4 %
 /// non-zero, and readers take the sparse and factored forms.
 inline constexpr long kDenseOutputMaxNodes = 5000;
 
