@@ -14,7 +14,7 @@ VIEW_PACKAGES = paraview python3-paraview xvfb xauth libgl1-mesa-dri
 SUDO = $(shell [ "$$(id -u)" -eq 0 ] || echo sudo)
 EXAMPLE ?= cases/examples/cubesat-3u.yaml
 
-.PHONY: deps build run test sanitize bench bench-scale clean
+.PHONY: deps build run test sanitize bench bench-scale bench-factored-thermal clean
 
 deps:
 	@missing=$$(for p in $(PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'install ok installed' || echo $$p; done); \
@@ -44,6 +44,10 @@ sanitize: deps
 	cd build-sanitize && UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
 
 # radnet against n up to 100,002 nodes (about 9 minutes on 2 cores): docs/scale-benchmark.md
+# Temperatures on a factored GR against the dense LU, 1,000–6,000 nodes (issue 32), ~10 min.
+bench-factored-thermal: build
+	./$(BUILD_DIR)/bench/bench_factored_thermal docs/factored-thermal-benchmark.md
+
 bench-scale: build
 	/usr/bin/python3 bench/bench_scale.py $(BUILD_DIR)/radnet docs/scale-benchmark.md \
 	  bench/cases/satellite-1602.yaml bench/cases/satellite-6402.yaml bench/cases/satellite-19202.yaml \

@@ -4,6 +4,7 @@
 #include "cases/output/hdf5_matrix_reader.hpp"
 #include "solver/radiative/eigenpairs.hpp"
 #include "solver/radiative/exchange.hpp"
+#include "clustered_network.hpp"
 #include "temp_dir.hpp"
 
 #include <catch2/catch.hpp>
@@ -11,44 +12,11 @@
 #include <random>
 
 using namespace radnet;
+using radnet::test::clusteredNetwork;
+using radnet::test::ClusteredNetwork;
+using radnet::test::names;
 
 namespace {
-
-// A network of n nodes in clusters of 20 that see each other (and a few links between
-// clusters): F about 2 % non-zero, so the network stores it sparse, as a satellite's is.
-// Row sums of F at most 0.9 (the rest to space); A F symmetric by construction.
-struct ClusteredNetwork {
-  Eigen::VectorXd area;
-  Eigen::SparseMatrix<double> view_factors;
-};
-
-ClusteredNetwork clusteredNetwork(int n, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  ClusteredNetwork c;
-  c.area = Eigen::VectorXd::NullaryExpr(n, [&] { return 0.5 + 1.5 * u(rng); });
-  std::vector<Eigen::Triplet<double>> g;
-  const auto link = [&](int i, int j) {
-    const double v = u(rng) * std::min(c.area[i], c.area[j]);
-    g.emplace_back(i, j, v), g.emplace_back(j, i, v);
-  };
-  for (int i = 0; i < n; ++i) {
-    for (int j = i + 1; j < std::min(n, (i / 20 + 1) * 20); ++j) link(i, j);
-    if (i + 37 < n) link(i, i + 37);  // across clusters
-  }
-  Eigen::SparseMatrix<double> conductance(n, n);
-  conductance.setFromTriplets(g.begin(), g.end());
-  const Eigen::VectorXd row_share = (conductance * Eigen::VectorXd::Ones(n)).cwiseQuotient(c.area);
-  conductance *= 0.9 / row_share.maxCoeff();
-  c.view_factors = c.area.cwiseInverse().asDiagonal() * conductance;
-  return c;
-}
-
-std::vector<std::string> names(int n) {
-  std::vector<std::string> out;
-  for (int i = 0; i < n; ++i) out.push_back("n" + std::to_string(i));
-  return out;
-}
 
 double largestDifference(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) { return (a - b).cwiseAbs().maxCoeff(); }
 

@@ -103,22 +103,28 @@ WorkEstimate estimateWork(const GeometryCase& c) {
   const double triangles = static_cast<double>(c.scene.faces().size());
   w.scene_bytes = kSceneBytesPerTriangle * triangles;
   const double thermal_nodes = c.thermal ? static_cast<double>(c.thermal->nodeCount()) : n;
-  // A dense network (or any with temperatures: the thermal solver holds GR and its Jacobian
-  // densely): three n × n matrices of 8 bytes, GR and its working copy, and F/G; one more GR
+  // A dense network (or temperatures with a dense GR: the thermal solver then holds GR and
+  // its Jacobian densely): three n × n matrices of 8 bytes, GR and its working copy, and F/G; one more GR
   // per further optical set. Measured peaks: 24 n² bytes for a 3,872-node enclosure of 12 %
   // density, 18 n² at 6,402 nodes. A sparse one: F, its raw estimate and σ, G and GR's
   // direct part at 12 B a non-zero, twice over while the correction builds them, and n × k
   // vectors (the 19,202-node satellite, F 1.3 % non-zero: 1.2 GB peak, 63 kB a node).
   const double extra_sets = static_cast<double>(c.optical_sets.size() - 1);
   w.facing_share = n > 1 ? facingPairShare(c.scene) : 1.0;
-  w.sparse = !c.thermal && w.facing_share < solver::policy::kSparseStorageMaxDensity;
+  // Temperatures keep GR factored (solver/thermal/jacobian.hpp) unless optics follow
+  // temperature or parts turn: those re-form GR densely.
+  bool curves = false;
+  for (const auto& [name, m] : c.materials) curves = curves || m.hasCurves();
+  const bool dense_thermal = c.thermal && (curves || !c.articulation.drives.empty());
+  w.sparse = !dense_thermal && w.facing_share < solver::policy::kSparseStorageMaxDensity;
   if (w.sparse) {
     double nonzeros = std::max(w.facing_share * n * n, n);
     // Every row by rays (method: monte_carlo): a row has at most as many non-zeros as rays.
     if (c.view_factors.method == ViewFactorMethod::MonteCarlo)
       nonzeros = std::min(nonzeros, n * static_cast<double>(c.view_factors.monte_carlo.rays_per_node));
     w.sparse_floor_bytes = kMinBytesPerNode * n * (1.0 + extra_sets);
-    w.dense_bytes = nonzeros * 12.0 * (10.0 + extra_sets) + w.sparse_floor_bytes;
+    // Temperatures: the thermal network's copy of GR's direct part and the Jacobian's sparse part.
+    w.dense_bytes = nonzeros * 12.0 * (10.0 + extra_sets + (c.thermal ? 2.0 : 0.0)) + w.sparse_floor_bytes;
   } else {
     w.dense_bytes = 8.0 * n * n * (3.0 + extra_sets);
   }

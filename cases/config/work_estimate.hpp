@@ -45,7 +45,7 @@ struct WorkEstimate {
   double scene_bytes = 0;     ///< triangles: mesh, faces, AABB tree
   double dense_bytes = 0;     ///< node × node matrices: F, its raw estimate and σ, G, GR per optical set
   double facing_share = 1.0;  ///< facingPairShare: F's density before occlusion
-  bool sparse = false;        ///< the matrices counted sparse (no thermal, facing share < 0.25)
+  bool sparse = false;        ///< the matrices counted sparse (facing share < 0.25, GR kept factored)
   /// Sparse: the part of dense_bytes that does not depend on F's non-zeros (n × k vectors);
   /// the rest is an upper bound (pairs that face each other, or rays), not an expectation.
   double sparse_floor_bytes = 0;

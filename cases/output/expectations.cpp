@@ -81,7 +81,7 @@ std::optional<double> lookupResult(const GeometryRunResult& r, const Expectation
     if (k > 0 && static_cast<size_t>(k) <= c.optics_exchange.size()) {
       const solver::ExchangeFactors& ex = c.optics_exchange[static_cast<size_t>(k) - 1];
       const int j = x.to.empty() ? -1 : r.radiative.network->indexOf(x.to);
-      return x.quantity == Q::GrSpace ? ex.gr_space[i] : ex.gr(i, j);
+      return x.quantity == Q::GrSpace ? ex.gr_space[i] : ex.entry(i, j);
     }
   }
   if (x.quantity == Q::Temperature && x.case_given && spans) {  // index: the position within the design case

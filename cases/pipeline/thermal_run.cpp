@@ -197,12 +197,32 @@ void temperatureUncertainty(const solver::ThermalNetwork& net, const SweepResult
             "underestimate";
 }
 
+// GR kept as D + W K Wᵀ over the whole thermal network: D padded with the lumped nodes and
+// the couplings given added to it, W padded with zero rows.
+std::shared_ptr<const solver::FactoredExchange> factoredExchange(const ThermalSettings& ts,
+                                                                 const solver::ExchangeFactors& exchange) {
+  const Eigen::Index n = ts.nodeCount(), nr = exchange.size();
+  auto f = std::make_shared<solver::FactoredExchange>();
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(static_cast<size_t>(exchange.direct.nonZeros()) + ts.radiative_couplings.size());
+  for (Eigen::Index i = 0; i < exchange.direct.outerSize(); ++i)
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(exchange.direct, i); it; ++it)
+      entries.emplace_back(static_cast<int>(i), static_cast<int>(it.col()), it.value());
+  entries.insert(entries.end(), ts.radiative_couplings.begin(), ts.radiative_couplings.end());
+  f->direct.resize(n, n);
+  f->direct.setFromTriplets(entries.begin(), entries.end());  // duplicates summed, as the dense form adds them
+  f->basis = Eigen::MatrixXd::Zero(n, exchange.basis.cols());
+  f->basis.topRows(nr) = exchange.basis;
+  f->core = exchange.core;
+  return f;
+}
+
 }  // namespace
 
 solver::ExchangeUpdate thermalExchange(const ThermalSettings& ts, const solver::ExchangeFactors& exchange) {
   const Eigen::Index n = ts.nodeCount(), nr = exchange.size();
   solver::ExchangeUpdate u;
-  // The thermal solver works on a dense GR: formed here from the factors when they hold it.
+  // The dense form (optics that follow temperature, turning parts): formed from the factors.
   u.gr = Eigen::MatrixXd::Zero(n, n);
   exchange.denseInto(u.gr.topLeftCorner(nr, nr));
   for (const auto& c : ts.radiative_couplings) u.gr(c.row(), c.col()) += c.value();
@@ -211,11 +231,19 @@ solver::ExchangeUpdate thermalExchange(const ThermalSettings& ts, const solver::
   return u;
 }
 
-solver::ThermalNetwork thermalNetwork(const ThermalSettings& ts, const solver::ExchangeFactors& exchange) {
+
+solver::ThermalNetwork thermalNetwork(const ThermalSettings& ts, const solver::ExchangeFactors& exchange,
+                                      bool keep_factored) {
   solver::ThermalNetwork net;
-  solver::ExchangeUpdate u = thermalExchange(ts, exchange);
-  net.gr = std::move(u.gr);
-  net.gr_space = std::move(u.gr_space);
+  if (keep_factored && exchange.factored()) {
+    net.gr_factored = factoredExchange(ts, exchange);
+    net.gr_space = Eigen::VectorXd::Zero(ts.nodeCount());
+    net.gr_space.head(exchange.size()) = exchange.gr_space;
+  } else {
+    solver::ExchangeUpdate u = thermalExchange(ts, exchange);
+    net.gr = std::move(u.gr);
+    net.gr_space = std::move(u.gr_space);
+  }
   net.conductors.resize(ts.nodeCount(), ts.nodeCount());
   net.conductors.setFromTriplets(ts.conductors.begin(), ts.conductors.end());
   net.tabled_conductors = ts.tabled_conductors;
@@ -312,7 +340,9 @@ ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFact
                            const std::vector<const solver::ExchangeFactors*>& turned) {
   for (const std::string& w : ts.warnings) progress << "radnet: warning: " << w << "\n";
   const TurnedExchange states = turnedExchange(ts, turned, sweep);
-  solver::ThermalNetwork net = thermalNetwork(ts, exchange);
+  // Optics that follow temperature and turning parts re-form GR densely; otherwise a
+  // factored GR stays factored.
+  solver::ThermalNetwork net = thermalNetwork(ts, exchange, !optics && turned.empty());
   net.optics = std::move(optics);
   checkDetermined(ts, net);
   StageTimer timer(timings, Stage::Thermal);

@@ -17,7 +17,10 @@ solver::ExchangeUpdate thermalExchange(const ThermalSettings& settings, const so
 
 /// The solver's thermal network from the settings and a run's exchange factors (m²): the
 /// radiative nodes' GR, padded with the lumped nodes, plus the user couplings and MLI.
-solver::ThermalNetwork thermalNetwork(const ThermalSettings& settings, const solver::ExchangeFactors& exchange);
+/// With `keep_factored` and factored exchange factors, GR stays factored (the direct part
+/// sparse, with the couplings; the basis padded with zero rows): no n × n matrix at all.
+solver::ThermalNetwork thermalNetwork(const ThermalSettings& settings, const solver::ExchangeFactors& exchange,
+                                      bool keep_factored = false);
 
 /// What the temperatures' uncertainty needs of a geometry case beyond the sweep.
 struct ThermalErrorInputs {

@@ -29,24 +29,27 @@ HeatFlows heatFlows(const ThermalNetwork& net, const ThermalResult& solution, co
   f.radiative.resize(n, P);
   // With optics that follow temperature, each position's exchange is its own ε's GR.
   const bool per_position = net.optics && solution.emissivity.cols() == P;
-  ExchangeUpdate gr{net.gr, net.gr_space};
-  Eigen::VectorXd gr_emissivity, gr_row = net.gr.rowwise().sum();
-  const ExchangeUpdate* turned = nullptr;
+  // The network's own GR (dense or factored) until a position brings another (always dense).
+  ExchangeUpdate other;
+  const ExchangeUpdate *gr = nullptr, *turned = nullptr;
+  Eigen::VectorXd gr_emissivity, gr_row = net.exchangeRowSum();
   for (Eigen::Index p = 0; p < P; ++p) {
     const ExchangeUpdate* at = static_cast<Eigen::Index>(exchange_per_position.size()) == P
                                    ? exchange_per_position[static_cast<size_t>(p)] : nullptr;
     if (at && at != turned) {  // this position's arrangement of turning parts
-      turned = at;
-      gr = *at;
-      gr_row = gr.gr.rowwise().sum();
+      gr = turned = at;
+      gr_row = gr->gr.rowwise().sum();
     }
     if (per_position && (gr_emissivity.size() == 0 || gr_emissivity != solution.emissivity.col(p))) {
       gr_emissivity = solution.emissivity.col(p);
-      gr = net.optics->exchange(gr_emissivity);
-      gr_row = gr.gr.rowwise().sum();
+      other = net.optics->exchange(gr_emissivity);
+      gr = &other;
+      gr_row = gr->gr.rowwise().sum();
     }
-    f.emitted.col(p) = -kStefanBoltzmann * gr.gr_space.cwiseProduct((t4.col(p).array() - std::pow(net.space_temperature, 4)).matrix());
-    f.radiative.col(p) = kStefanBoltzmann * (gr.gr * t4.col(p) - gr_row.cwiseProduct(t4.col(p)));
+    const Eigen::VectorXd& gr_space = gr ? gr->gr_space : net.gr_space;
+    const Eigen::VectorXd exchanged = gr ? Eigen::VectorXd(gr->gr * t4.col(p)) : net.exchangeTimes(t4.col(p));
+    f.emitted.col(p) = -kStefanBoltzmann * gr_space.cwiseProduct((t4.col(p).array() - std::pow(net.space_temperature, 4)).matrix());
+    f.radiative.col(p) = kStefanBoltzmann * (exchanged - gr_row.cwiseProduct(t4.col(p)));
   }
   f.conducted.resize(n, P);
   f.stored.resize(n, P);

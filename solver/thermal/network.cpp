@@ -55,6 +55,33 @@ struct Groups {
   void join(int i, int j) { parent[static_cast<size_t>(find(i))] = find(j); }
 };
 
+using Direct = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+
+// A factored GR's reflected part R = W K Wᵀ joins nodes that see each other only by way of
+// a reflector (one of ε = 0 has no direct exchange to carry the link). Pairwise that is n²;
+// by groups it is one product: R d, d the indicator of the nodes already determined, summed
+// over an undetermined group, is the group's reflected exchange with them (R ≥ 0, so the sum
+// is significant exactly when some link is). Below 1e-9 of the strongest node coupling it is
+// the factors' round-off (blocks of a network that never meet leave R_AB at round-off).
+void determineThroughReflections(const FactoredExchange& f, double w_gr, const Eigen::VectorXd& coupling,
+                                 Groups& groups, std::vector<char>& determined) {
+  const Eigen::Index n = f.size();
+  if (f.rank() == 0 || n == 0) return;
+  const double floor = 1e-9 * coupling.maxCoeff();
+  for (bool changed = true; changed;) {
+    changed = false;
+    Eigen::VectorXd d(n);
+    for (Eigen::Index i = 0; i < n; ++i) d[i] = determined[static_cast<size_t>(groups.find(static_cast<int>(i)))];
+    if (d.sum() == 0 || d.sum() == n) return;
+    const Eigen::VectorXd to_determined = f.reflectedTimes(d);
+    std::vector<double> group_sum(static_cast<size_t>(n), 0.0);
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (d[i] == 0) group_sum[static_cast<size_t>(groups.find(static_cast<int>(i)))] += to_determined[i];
+    for (Eigen::Index g = 0; g < n; ++g)
+      if (w_gr * group_sum[static_cast<size_t>(g)] > floor) determined[static_cast<size_t>(g)] = 1, changed = true;
+  }
+}
+
 }  // namespace
 
 double TemperatureTable::at(double t) const {
@@ -105,16 +132,37 @@ double BoundarySchedule::at(double t_s) const { return interpolateHeld(times_s, 
 
 bool ThermalNetwork::isFixed(Eigen::Index i) const { return !std::isnan(fixed_temperature[i]); }
 
+Eigen::VectorXd ThermalNetwork::exchangeTimes(const Eigen::VectorXd& x) const {
+  return gr_factored ? gr_factored->times(x) : Eigen::VectorXd(gr * x);
+}
+
+Eigen::VectorXd ThermalNetwork::exchangeRowSum() const {
+  return gr_factored ? gr_factored->rowSum() : Eigen::VectorXd(gr.rowwise().sum());
+}
+
+Eigen::MatrixXd ThermalNetwork::exchangeDense() const { return gr_factored ? gr_factored->dense() : gr; }
+
 void ThermalNetwork::validate() const {
-  const Eigen::Index n = gr.rows();
-  if (gr.cols() != n || gr_space.size() != n || capacitance.size() != n || dissipation.size() != n ||
+  const Eigen::Index n = size();
+  if (gr_factored) {
+    const FactoredExchange& f = *gr_factored;
+    if (gr.size() != 0 || f.direct.cols() != n || f.basis.rows() != n || f.core.rows() != f.rank() ||
+        f.core.cols() != f.rank())
+      throw std::invalid_argument("thermal network: a factored GR needs D (n×n), W (n×k) and K (k×k), and no dense GR");
+    if (!f.basis.allFinite() || !f.core.allFinite() ||
+        !Eigen::Map<const Eigen::VectorXd>(f.direct.valuePtr(), f.direct.nonZeros()).allFinite())
+      throw std::invalid_argument("exchange factors and dissipations must be finite");
+  } else if (gr.cols() != n || !gr.allFinite()) {
+    throw std::invalid_argument("thermal network: GR must be square (n×n) and finite");
+  }
+  if (gr_space.size() != n || capacitance.size() != n || dissipation.size() != n ||
       fixed_temperature.size() != n || conductors.rows() != n || conductors.cols() != n)
     throw std::invalid_argument("thermal network: every per-node array needs " + std::to_string(n) + " entries");
   if (!(std::isfinite(space_temperature) && space_temperature >= 0))
     throw std::invalid_argument("space temperature must be finite and >= 0 K");
   if ((capacitance.array() < 0).any() || !capacitance.allFinite())
     throw std::invalid_argument("capacitances must be finite and >= 0 J/K");
-  if (!gr.allFinite() || !gr_space.allFinite() || !dissipation.allFinite())
+  if (!gr_space.allFinite() || !dissipation.allFinite())
     throw std::invalid_argument("exchange factors and dissipations must be finite");
   for (Eigen::Index i = 0; i < n; ++i)
     if (isFixed(i) && !finitePositive(fixed_temperature[i]))
@@ -184,14 +232,15 @@ Eigen::VectorXd conductedHeat(const ThermalNetwork& net, const Eigen::VectorXd& 
 Eigen::VectorXd netHeat(const ThermalNetwork& net, const Eigen::VectorXd& t, const Eigen::VectorXd& q,
                         const Eigen::VectorXd* gr_row_sum) {
   const Eigen::VectorXd t4 = t.array().square().square();
-  const Eigen::VectorXd gr_row = gr_row_sum ? *gr_row_sum : Eigen::VectorXd(net.gr.rowwise().sum());
-  return q + conductedHeat(net, t) + kStefanBoltzmann * (net.gr * t4 - gr_row.cwiseProduct(t4)) -
+  const Eigen::VectorXd gr_row = gr_row_sum ? *gr_row_sum : net.exchangeRowSum();
+  return q + conductedHeat(net, t) + kStefanBoltzmann * (net.exchangeTimes(t4) - gr_row.cwiseProduct(t4)) -
          kStefanBoltzmann * net.gr_space.cwiseProduct((t4.array() - std::pow(net.space_temperature, 4)).matrix());
 }
 
 Eigen::MatrixXd netHeatJacobian(const ThermalNetwork& net, const Eigen::VectorXd& t) {
-  Eigen::MatrixXd j = net.gr;
-  j.diagonal() -= net.gr.rowwise().sum() + net.gr_space;
+  Eigen::MatrixXd j = net.exchangeDense();
+  const Eigen::VectorXd gr_row = j.rowwise().sum();
+  j.diagonal() -= gr_row + net.gr_space;
   j = kStefanBoltzmann * j * (4.0 * t.array().cube()).matrix().asDiagonal();
   for (int k = 0; k < net.conductors.outerSize(); ++k)
     for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it) {
@@ -210,6 +259,22 @@ Eigen::MatrixXd netHeatJacobian(const ThermalNetwork& net, const Eigen::VectorXd
   return j;
 }
 
+Eigen::VectorXd netHeatJacobianDiagonal(const ThermalNetwork& net, const Eigen::VectorXd& t) {
+  const Eigen::VectorXd gr_diagonal = net.gr_factored ? net.gr_factored->diagonal() : Eigen::VectorXd(net.gr.diagonal());
+  Eigen::VectorXd d = kStefanBoltzmann * (gr_diagonal - net.exchangeRowSum() - net.gr_space)
+                                             .cwiseProduct((4.0 * t.array().cube()).matrix());
+  for (int k = 0; k < net.conductors.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it)
+      if (it.row() != it.col()) d[it.row()] -= it.value();
+  for (const TabledConductor& c : net.tabled_conductors) {  // as in netHeatJacobian
+    const double mean = 0.5 * (t[c.i] + t[c.j]), k = c.conductance.at(mean);
+    const double slope = 0.5 * c.conductance.slope(mean) * (t[c.j] - t[c.i]);
+    d[c.i] += -k + slope;
+    d[c.j] -= k + slope;
+  }
+  return d;
+}
+
 Eigen::VectorXd balanceScale(const ThermalNetwork& net, const Eigen::VectorXd& t, const Eigen::VectorXd& q) {
   // What flows, term by term as the heat flows report it: applied powers, the net exchange
   // with space σ GR_space |T⁴ − T_space⁴| and with each node σ GR_ij |T_j⁴ − T_i⁴|, and each
@@ -219,7 +284,8 @@ Eigen::VectorXd balanceScale(const ThermalNetwork& net, const Eigen::VectorXd& t
   Eigen::VectorXd s = q.cwiseAbs() + kStefanBoltzmann * net.gr_space.cwiseProduct(
                                                             (t4 - std::pow(net.space_temperature, 4)).abs().matrix());
   const Eigen::Index n = t.size();
-  for (Eigen::Index j = 0; j < n; ++j)  // column by column (GR is symmetric)
+  if (net.gr_factored) s += kStefanBoltzmann * net.gr_factored->spread(t4.matrix());
+  for (Eigen::Index j = 0; j < n && !net.gr_factored; ++j)  // column by column (GR is symmetric)
     s += kStefanBoltzmann * net.gr.col(j).cwiseProduct((t4 - t4[j]).abs().matrix());
   for (int k = 0; k < net.conductors.outerSize(); ++k)
     for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it)
@@ -238,10 +304,9 @@ Eigen::VectorXd balanceRoundOff(const ThermalNetwork& net, const Eigen::VectorXd
   // the exchange with space to ε (T⁴ + T_space⁴). 16 ε allows for the sums.
   constexpr double kRoundOff = 16 * std::numeric_limits<double>::epsilon();
   const Eigen::VectorXd t4 = t.array().square().square();
-  const Eigen::VectorXd gr_row = net.gr.rowwise().sum();
   Eigen::VectorXd noise =
       kRoundOff * kStefanBoltzmann *
-      (gr_row.cwiseProduct(t4) + net.gr * t4 +
+      (net.exchangeRowSum().cwiseProduct(t4) + net.exchangeTimes(t4) +
        net.gr_space.cwiseProduct((t4.array() + std::pow(net.space_temperature, 4)).matrix()));
   for (int k = 0; k < net.conductors.outerSize(); ++k)
     for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it)
@@ -260,7 +325,11 @@ std::vector<int> undeterminedNodes(const ThermalNetwork& net, bool transient) {
   // of the network's strongest node coupling is round-off (a 1e-6 W/K strap beside a 1e6 W/K
   // joint is 1e-12 of it, and counts).
   const double w_gr = 4 * kStefanBoltzmann * std::pow(300.0, 3);
-  Eigen::VectorXd coupling = w_gr * (net.gr.cwiseAbs().rowwise().sum() + net.gr_space.cwiseAbs());
+  const Eigen::VectorXd gr_abs_row =
+      net.gr_factored ? Eigen::VectorXd(net.gr_factored->direct.cwiseAbs() * Eigen::VectorXd::Ones(n) +
+                                        net.gr_factored->reflectedTimes(Eigen::VectorXd::Ones(n)).cwiseAbs())
+                      : Eigen::VectorXd(net.gr.cwiseAbs().rowwise().sum());
+  Eigen::VectorXd coupling = w_gr * (gr_abs_row + net.gr_space.cwiseAbs());
   coupling += net.conductors.cwiseAbs() * Eigen::VectorXd::Ones(n);
   for (const TabledConductor& c : net.tabled_conductors) {
     const double k = *std::max_element(c.conductance.value.begin(), c.conductance.value.end());
@@ -269,7 +338,13 @@ std::vector<int> undeterminedNodes(const ThermalNetwork& net, bool transient) {
   }
   const double floor = 1e-14 * (n > 0 ? coupling.maxCoeff() : 0.0);
   Groups groups(n);
-  for (Eigen::Index i = 0; i < n; ++i)
+  if (net.gr_factored) {  // the direct part here; the reflected part once the sinks are known
+    const Direct& d = net.gr_factored->direct;
+    for (Eigen::Index i = 0; i < d.outerSize(); ++i)
+      for (Direct::InnerIterator it(d, i); it; ++it)
+        if (w_gr * std::abs(it.value()) > floor) groups.join(static_cast<int>(i), static_cast<int>(it.col()));
+  }
+  for (Eigen::Index i = 0; i < n && !net.gr_factored; ++i)
     for (Eigen::Index j = i + 1; j < n; ++j)
       if (w_gr * std::abs(net.gr(i, j)) > floor) groups.join(static_cast<int>(i), static_cast<int>(j));
   for (int k = 0; k < net.conductors.outerSize(); ++k)
@@ -284,6 +359,7 @@ std::vector<int> undeterminedNodes(const ThermalNetwork& net, bool transient) {
   for (Eigen::Index i = 0; i < n; ++i)
     if (w_gr * net.gr_space[i] > floor || net.isFixed(i) || (transient && c[i] > 0))
       determined[static_cast<size_t>(groups.find(static_cast<int>(i)))] = 1;
+  if (net.gr_factored) determineThroughReflections(*net.gr_factored, w_gr, coupling, groups, determined);
   std::vector<int> out;
   for (Eigen::Index i = 0; i < n; ++i)
     if (!determined[static_cast<size_t>(groups.find(static_cast<int>(i)))]) out.push_back(static_cast<int>(i));

@@ -5,6 +5,8 @@
 // thermostat heaters and boundary nodes. Heat balance of node i (W):
 //   G_i(T, t) = Q_env,i(t) + Q_int,i(t) + Q_heater,i(t) + Σ_j K_ij(T̄_ij) (T_j − T_i)
 //             + σ Σ_j GR_ij (T_j⁴ − T_i⁴) − σ GR_i,space (T_i⁴ − T_space⁴),   T̄_ij = (T_i + T_j)/2.
+#include "solver/thermal/factored_exchange.hpp"
+
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 
@@ -84,7 +86,11 @@ struct ExchangeUpdate {
 };
 
 struct ThermalNetwork {
-  Eigen::MatrixXd gr;                      ///< radiative exchange factors GR (n×n), m²
+  Eigen::MatrixXd gr;                      ///< radiative exchange factors GR (n×n), m²; empty when factored
+  /// GR held factored instead of `gr` (a large sparse network: D + W K Wᵀ): never formed n × n,
+  /// applied as products and solved with by a Krylov method (solver/thermal/jacobian.hpp).
+  /// Optics that follow temperature and turning parts need `gr` dense.
+  std::shared_ptr<const FactoredExchange> gr_factored;
   Eigen::VectorXd gr_space;                ///< GR to space, m²
   Eigen::SparseMatrix<double> conductors;  ///< constant K_ij (symmetric, zero diagonal), W/K
   std::vector<TabledConductor> tabled_conductors;
@@ -100,8 +106,14 @@ struct ThermalNetwork {
   /// nominal ε's, and the solvers form new ones as the optics move.
   std::shared_ptr<const TemperatureOptics> optics;
 
-  Eigen::Index size() const { return gr.rows(); }
+  Eigen::Index size() const { return gr_factored ? gr_factored->size() : gr.rows(); }
   bool isFixed(Eigen::Index i) const;
+  /// GR x (n), m² × [x], from whichever form GR is held in.
+  Eigen::VectorXd exchangeTimes(const Eigen::VectorXd& x) const;
+  /// Σ_j GR_ij (n), m².
+  Eigen::VectorXd exchangeRowSum() const;
+  /// GR (n×n), m²: `gr`, or formed from the factors (where n² fits).
+  Eigen::MatrixXd exchangeDense() const;
   /// @throws std::invalid_argument on inconsistent sizes, indices or non-physical values
   void validate() const;
 };
@@ -124,8 +136,10 @@ Eigen::VectorXd netHeat(const ThermalNetwork& net, const Eigen::VectorXd& t, con
                         const Eigen::VectorXd* gr_row_sum = nullptr);
 /// Net conduction into every node, Σ_j K_ij(T̄) (T_j − T_i), W.
 Eigen::VectorXd conductedHeat(const ThermalNetwork& net, const Eigen::VectorXd& t);
-/// ∂G/∂T (n×n), W/K.
+/// ∂G/∂T (n×n), W/K (a factored GR formed: where n² fits).
 Eigen::MatrixXd netHeatJacobian(const ThermalNetwork& net, const Eigen::VectorXd& t);
+/// The diagonal of ∂G/∂T (n), W/K, without forming the rest.
+Eigen::VectorXd netHeatJacobianDiagonal(const ThermalNetwork& net, const Eigen::VectorXd& t);
 /// The size of what flows through each node at t (sum of |net terms|: powers, exchange with
 /// each node and with space, conduction), W: the scale of its balance, so that a tolerance
 /// means the same for a 1e-6 W/K strap, a 1e6 W/K joint and a node near the space temperature.

@@ -52,27 +52,6 @@ Residual residual(const ImplicitSystem& s, const Eigen::VectorXd& t, const Eigen
   return out;
 }
 
-Eigen::MatrixXd jacobian(const ImplicitSystem& s, const Eigen::VectorXd& t, Eigen::Index a) {
-  const ThermalNetwork& net = s.net;
-  const Eigen::Index n = t.size();
-  Eigen::MatrixXd j = Eigen::MatrixXd::Zero(n + a, n + a);
-  j.topLeftCorner(n, n) = -s.hb * netHeatJacobian(net, t);
-  if (s.transient)
-    j.topLeftCorner(n, n).diagonal() +=
-        capacitanceAt(net, t) + capacitanceSlope(net, t).cwiseProduct(t - s.history);
-  for (Eigen::Index k = 0; k < a; ++k) {
-    const Heater& h = net.heaters[static_cast<size_t>(s.controlled[static_cast<size_t>(k)])];
-    j(h.node, n + k) = -s.hb;
-    j(n + k, h.sensor) = 1.0;
-  }
-  for (Eigen::Index i = 0; i < n; ++i)
-    if (net.isFixed(i)) {
-      j.row(i).setZero();
-      j(i, i) = 1.0;
-    }
-  return j;
-}
-
 // Each row's residual in units of its tolerance: converged when every one is ≤ 1, i.e.
 // |r_i| ≤ tol · (what flows through i) + (the round-off of evaluating it).
 Eigen::VectorXd weights(const Residual& res, double tol) { return (tol * res.scale + res.noise).cwiseInverse(); }
@@ -131,7 +110,7 @@ NewtonOutcome solveImplicit(const ImplicitSystem& s, Eigen::VectorXd& t, Eigen::
   const Eigen::Index n = t.size(), a = u.size();
   for (Eigen::Index i = 0; i < n; ++i)
     if (s.net.isFixed(i)) t[i] = s.net.fixed_temperature[i];
-  if (s.cache && s.cache->gr_row_sum.size() != n) s.cache->gr_row_sum = s.net.gr.rowwise().sum();
+  if (s.cache && s.cache->gr_row_sum.size() != n) s.cache->gr_row_sum = s.net.exchangeRowSum();
   JacobianCache* cache = a == 0 && opt.reuse_jacobian ? s.cache : nullptr;
   NewtonOutcome out;
   Residual res = residual(s, t, u);
@@ -146,7 +125,7 @@ NewtonOutcome solveImplicit(const ImplicitSystem& s, Eigen::VectorXd& t, Eigen::
     if (cache && cache->valid && std::abs(s.hb / cache->hb - 1.0) < 0.5 && chordStep(s, res, opt.tolerance_w, t))
       continue;
     // A full Newton step at this iterate (its factorisation kept for the chord steps after).
-    Eigen::PartialPivLU<Eigen::MatrixXd> lu(jacobian(s, t, a));
+    JacobianSolver lu(s, t, a);
     ++out.factorisations;
     const Eigen::VectorXd step = lu.solve(-res.r);
     if (!step.allFinite()) {

@@ -6,6 +6,7 @@
 // by Newton's method. Each node's row is divided by the size of what flows through it
 // (balanceScale), so that the tolerance and the line search mean the same for a 1e-6 W/K
 // strap and a 1e6 W/K bolted joint.
+#include "solver/thermal/jacobian.hpp"
 #include "solver/thermal/temperatures.hpp"
 
 #include <Eigen/Dense>
@@ -17,9 +18,10 @@ namespace radnet::solver::detail {
 
 /// A factorised Jacobian kept between solves (the chord method): it serves while Newton
 /// still converges fast with it, and is refactorised at the current iterate when it does
-/// not. For a dense n-node network a factorisation costs O(n³), a solve with it O(n²).
+/// not. For a dense n-node network a factorisation costs O(n³), a solve with it O(n²); for a
+/// factored GR a preconditioner's sparse LU, a solve some GMRES iterations (jacobian.hpp).
 struct JacobianCache {
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+  JacobianSolver lu;
   Eigen::VectorXd gr_row_sum;  ///< Σ_j GR_ij of the network, kept with it (O(n²) to form)
   double hb = 0.0;     ///< the h β it was factorised for (a BDF2 step of another length needs another)
   bool valid = false;  ///< only for systems without controlled heaters

@@ -19,7 +19,7 @@ enum class HeaterMode { Off, Controlled, Saturated };
 
 // Each node alone in radiative equilibrium with what it receives (floored at space).
 Eigen::VectorXd startingGuess(const ThermalNetwork& net, const Eigen::VectorXd& q) {
-  const Eigen::VectorXd emit = net.gr.rowwise().sum() + net.gr_space;
+  const Eigen::VectorXd emit = net.exchangeRowSum() + net.gr_space;
   Eigen::VectorXd t(q.size());
   for (Eigen::Index i = 0; i < t.size(); ++i) {
     t[i] = emit[i] > 0 ? std::pow(std::max(0.0, q[i]) / (kStefanBoltzmann * emit[i]) + std::pow(net.space_temperature, 4), 0.25)

@@ -9,16 +9,17 @@ namespace {
 // (J_ff⁻¹ ∘ J_ff⁻¹) var_q over the free nodes at temperatures t, for columns of var_q.
 Eigen::MatrixXd propagate(const ThermalNetwork& net, const Eigen::VectorXd& t, const Eigen::MatrixXd& var_q,
                           const std::vector<Eigen::Index>& free, bool diagonal) {
-  const Eigen::MatrixXd j = netHeatJacobian(net, t);
   const Eigen::Index f = static_cast<Eigen::Index>(free.size());
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(net.size(), var_q.cols());
   if (diagonal) {
+    const Eigen::VectorXd jd = netHeatJacobianDiagonal(net, t);
     for (Eigen::Index a = 0; a < f; ++a) {
-      const double d = j(free[static_cast<size_t>(a)], free[static_cast<size_t>(a)]);
+      const double d = jd[free[static_cast<size_t>(a)]];
       out.row(free[static_cast<size_t>(a)]) = var_q.row(free[static_cast<size_t>(a)]) / (d * d);
     }
     return out;
   }
+  const Eigen::MatrixXd j = netHeatJacobian(net, t);
   Eigen::MatrixXd jf(f, f), vq(f, var_q.cols());
   for (Eigen::Index a = 0; a < f; ++a) {
     vq.row(a) = var_q.row(free[static_cast<size_t>(a)]);

@@ -1,0 +1,44 @@
+#pragma once
+// GR of a thermal network held as the radiative solver factors it on a sparse network
+// (solver/radiative/exchange.hpp): GR = D + W K Wᵀ, the direct exchange D sparse and exact,
+// the reflected part in rank k. The thermal solver applies it as products, O(nnz(D) + n k)
+// a product instead of n², so temperatures of a 100,000-node network never form GR
+// (docs/solver.md, "Temperatures on a factored GR").
+#include <Eigen/Dense>
+#include <Eigen/SparseCore>
+
+namespace radnet::solver {
+
+/// y = S x + U (C (Vᵀ x)) (C empty: the identity), on the cores by fixed blocks of rows: Vᵀ x
+/// summed block by block in order, so y is bit-identical for any thread count. S (n×n), U, V
+/// (n×k), C (k×k).
+Eigen::VectorXd sparsePlusLowRankTimes(const Eigen::SparseMatrix<double, Eigen::RowMajor>& s, const Eigen::MatrixXd& u,
+                                       const Eigen::MatrixXd& c, const Eigen::MatrixXd& v, const Eigen::VectorXd& x);
+
+struct FactoredExchange {
+  Eigen::SparseMatrix<double, Eigen::RowMajor> direct;  ///< D (n×n), symmetric, ≥ 0, m²: the direct exchange and couplings given
+  Eigen::MatrixXd basis;  ///< W (n×k), –: zero rows for nodes without geometry
+  Eigen::MatrixXd core;   ///< K (k×k), symmetric, m²
+
+  Eigen::Index size() const { return direct.rows(); }
+  Eigen::Index rank() const { return basis.cols(); }
+  /// GR x (n), m² × [x].
+  Eigen::VectorXd times(const Eigen::VectorXd& x) const;
+  /// Σ_j GR_ij (n), m².
+  Eigen::VectorXd rowSum() const;
+  /// GR_ii (n), m².
+  Eigen::VectorXd diagonal() const;
+  /// GR (n×n), m²: only where n² fits (small networks, the uncertainty's dense Jacobian).
+  Eigen::MatrixXd dense() const;
+  /// Σ_j GR_ij |x_j − x_i| (n): exact over D; over the reflected part R = W K Wᵀ (entries ≥ 0
+  /// up to the rank's truncation) bounded by Cauchy–Schwarz,
+  ///   Σ_j R_ij |x_j − x_i| ≤ √(Σ_j R_ij) · √(Σ_j R_ij (x_j − x_i)²),
+  /// whose second sum is (R x²)_i − 2 x_i (R x)_i + x_i² (R 1)_i: three rank-k products. The
+  /// bound is exact when every |x_j − x_i| is equal, and 0 where they all vanish (an
+  /// isothermal enclosure), as the sum is.
+  Eigen::VectorXd spread(const Eigen::VectorXd& x) const;
+  /// R X for the reflected part alone (n×m), m² × [X].
+  Eigen::MatrixXd reflectedTimes(const Eigen::Ref<const Eigen::MatrixXd>& x) const;
+};
+
+}  // namespace radnet::solver
