@@ -9,6 +9,12 @@
 
 namespace radnet::solver {
 
+/// Below this many thermal nodes a factored GR is formed n × n for the thermal solver: the
+/// dense LU is then as fast or faster (docs/factored-thermal-benchmark.md: a one-orbit
+/// transient at 1,024 nodes 0.56 s dense against 0.74 s factored; at 2,025 nodes 3.4 s against
+/// 1.6 s; steady states 1.3× and 2.1× faster factored).
+inline constexpr long kFactoredThermalMinNodes = 1500;
+
 /// y = S x + U (C (Vᵀ x)) (C empty: the identity), on the cores by fixed blocks of rows: Vᵀ x
 /// summed block by block in order, so y is bit-identical for any thread count. S (n×n), U, V
 /// (n×k), C (k×k).

@@ -298,7 +298,7 @@ Eigen::VectorXd balanceScale(const ThermalNetwork& net, const Eigen::VectorXd& t
   return s;
 }
 
-Eigen::VectorXd balanceRoundOff(const ThermalNetwork& net, const Eigen::VectorXd& t) {
+Eigen::VectorXd balanceRoundOff(const ThermalNetwork& net, const Eigen::VectorXd& t, const Eigen::VectorXd* gr_row_sum) {
   // A difference of nearly equal numbers is known to ε of the numbers: each conductor's
   // T_j − T_i to ε (|T_i| + |T_j|), each radiative exchange T_j⁴ − T_i⁴ to ε (T_i⁴ + T_j⁴),
   // the exchange with space to ε (T⁴ + T_space⁴). 16 ε allows for the sums.
@@ -306,7 +306,7 @@ Eigen::VectorXd balanceRoundOff(const ThermalNetwork& net, const Eigen::VectorXd
   const Eigen::VectorXd t4 = t.array().square().square();
   Eigen::VectorXd noise =
       kRoundOff * kStefanBoltzmann *
-      (net.exchangeRowSum().cwiseProduct(t4) + net.exchangeTimes(t4) +
+      ((gr_row_sum ? *gr_row_sum : net.exchangeRowSum()).cwiseProduct(t4) + net.exchangeTimes(t4) +
        net.gr_space.cwiseProduct((t4.array() + std::pow(net.space_temperature, 4)).matrix()));
   for (int k = 0; k < net.conductors.outerSize(); ++k)
     for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it)

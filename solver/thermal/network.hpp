@@ -146,7 +146,9 @@ Eigen::VectorXd netHeatJacobianDiagonal(const ThermalNetwork& net, const Eigen::
 Eigen::VectorXd balanceScale(const ThermalNetwork& net, const Eigen::VectorXd& t, const Eigen::VectorXd& q);
 /// The round-off of evaluating each node's balance at t, W (differences of nearly equal
 /// temperatures and of their fourth powers): a balance within it is as solved as it can be.
-Eigen::VectorXd balanceRoundOff(const ThermalNetwork& net, const Eigen::VectorXd& t);
+/// @param gr_row_sum  Σ_j GR_ij when the caller keeps it (as netHeat)
+Eigen::VectorXd balanceRoundOff(const ThermalNetwork& net, const Eigen::VectorXd& t,
+                                const Eigen::VectorXd* gr_row_sum = nullptr);
 
 /// Nodes whose temperature the network does not determine: those of a connected group
 /// (through GR, conductors and couplings) with no path to space or to a boundary node and,

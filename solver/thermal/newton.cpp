@@ -29,7 +29,7 @@ Residual residual(const ImplicitSystem& s, const Eigen::VectorXd& t, const Eigen
     out.noise = frozen->noise;
   } else {
     out.scale.head(n) = s.hb * balanceScale(net, t, q);
-    out.noise.head(n) = s.hb * balanceRoundOff(net, t);
+    out.noise.head(n) = s.hb * balanceRoundOff(net, t, gr_row);
   }
   if (s.transient) {
     // Stored heat C (T − history), and its round-off (the difference of two temperatures).
