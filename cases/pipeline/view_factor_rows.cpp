@@ -1,6 +1,7 @@
 #include "cases/pipeline/view_factor_rows.hpp"
 
 #include "cases/cluster/cluster.hpp"
+#include "cases/config/work_estimate.hpp"
 #include "cases/pipeline/distributed.hpp"
 #include "cases/pipeline/progress.hpp"
 #include "solver/radiative/policy.hpp"
@@ -66,6 +67,25 @@ double rowRays(const GeometryCase& c) {
   return std::clamp(geometry::kRaysPerRowUnderTarget, double(mc.min_rays_per_node), double(mc.rays_per_node));
 }
 
+// Auto's cap on F's entries from integrated pairs: what kPairEntriesMemoryShare of the memory
+// this process may use holds at kBytesPerEntry (F, its raw estimate and σ, G, GR's direct part
+// and their copies while the correction builds them: 110 B an entry measured on the
+// 100,002-node satellite), after the n × k vectors' floor. Rows beyond it are cast: their
+// entries are the distinct nodes their rays hit (0.47 % of n² at 4,000 rays a row there,
+// against 5.5 % from every facing pair). −1: memory unknown, no cap.
+constexpr double kPairEntriesMemoryShare = 0.4, kBytesPerEntry = 120.0;
+
+std::int64_t pairEntriesCap(const GeometryCase& c) {
+  double memory = memoryLimit().bytes;
+  if (cluster::distributed()) {  // every rank must plan the same rows: the least memory of any
+    const std::vector<double> all = cluster::gatherAll(std::vector<double>{memory > 0 ? memory : -1.0});
+    for (double m : all) memory = m > 0 && (memory <= 0 || m < memory) ? m : memory;
+  }
+  if (!(memory > 0)) return -1;
+  const double floor = kMinBytesPerNode * double(c.scene.nodes().size()) * double(c.optical_sets.size());
+  return static_cast<std::int64_t>(std::max(0.0, kPairEntriesMemoryShare * memory - floor) / kBytesPerEntry);
+}
+
 // F by the exact method into `estimate`, with the rows it leaves to sampling (auto) cast as rays.
 void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, GeometryRunResult& r,
                 Eigen::VectorXd& rays, bool show_progress, std::ostream& progress,
@@ -75,6 +95,7 @@ void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, Geomet
   opt.max_blockers = !automatic ? -1 : (opt.max_blockers >= 0 ? opt.max_blockers : geometry::kAutoMaxBlockers);
   opt.max_patches = automatic ? geometry::kAutoMaxPatches : -1;
   opt.row_sampling_seconds = automatic ? rowRays(c) * geometry::kSecondsPerRay : 0.0;
+  opt.max_entries = automatic ? pairEntriesCap(c) : -1;
   if (show_progress) opt.progress = progressBar(progress, "view factors", "patches");
   if (cluster::distributed()) {  // the pair integrals shared out over the ranks by emitting patch
     opt.part = cluster::rank();
@@ -111,6 +132,10 @@ void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, Geomet
   rays.setConstant(1.0 / opt.tolerance);
   moveEstimate(ex, estimate);
   for (char row : ex.sampled_rows) r.exact->sampled_rows += row;
+  if (ex.rows_for_memory > 0)
+    progress << "radnet: view factors: " << ex.rows_for_memory << " row(s) cast as rays instead of integrated: "
+             << "their pairs' " << ex.entries_for_memory << " entries of F would not fit in "
+             << kPairEntriesMemoryShare * 100 << " % of " << memoryLimit().source << "\n";
   if (r.exact->sampled_rows == 0) return;
   const geometry::ViewFactorResult vf = castRays(c, caster, ex.sampled_rows, show_progress, progress);
   for (Eigen::Index i = 0; i < rays.size(); ++i)

@@ -9,6 +9,7 @@
 #include "geometry/exact/polygon_factor.hpp"
 #include "geometry/exact/shaft.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 
@@ -227,12 +228,35 @@ std::int64_t planNanoseconds(size_t candidates) { return 50 * static_cast<std::i
 // (planned and predicted) cost more than casting its whole row: the row is cast then, and
 // each patch's planning stays bounded by that cost. Returns the pairs planned; `predicted`
 // gets the predicted cost of the pairs integrated (s, one thread).
+// The cap on F's entries from pairs (ExactOptions::max_entries): the exact rows with the
+// most entries go to rays first (each leaves its entries, the pairs' values for its row; a
+// pair to an exact row still gives that row its entry). Ties by node index: deterministic.
+void capEntries(const ExactOptions& opt, const std::vector<std::int64_t>& entries, std::vector<char>& rows,
+                ExactResult& res) {
+  if (opt.max_entries < 0) return;
+  std::int64_t total = 0;
+  std::vector<int> order;
+  for (size_t i = 0; i < rows.size(); ++i)
+    if (!rows[i]) total += entries[i], order.push_back(static_cast<int>(i));
+  if (total <= opt.max_entries) return;
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return entries[size_t(a)] != entries[size_t(b)] ? entries[size_t(a)] > entries[size_t(b)] : a < b;
+  });
+  for (size_t k = 0; k < order.size() && total > opt.max_entries; ++k) {
+    const size_t i = size_t(order[k]);
+    rows[i] = 1;
+    total -= entries[i];
+    res.entries_for_memory += entries[i];
+    ++res.rows_for_memory;
+  }
+}
+
 std::int64_t planRows(ExactScene& scene, const ExactOptions& opt, std::vector<char>& rows, int threads,
-                      double& predicted, std::int64_t& stored) {
+                      double& predicted, std::int64_t& stored, ExactResult& res) {
   const std::vector<int> exact = exactPatches(scene);
   const size_t n = rows.size();
   const double limit_ns = opt.row_sampling_seconds * 1e9;
-  std::vector<std::int64_t> cost(n, 0);
+  std::vector<std::int64_t> cost(n, 0), entries(n, 0);
   std::vector<char> crowded(n, 0);
   std::int64_t planned = 0, culled = 0, valued = 0;
 #ifdef _OPENMP
@@ -240,7 +264,7 @@ std::int64_t planRows(ExactScene& scene, const ExactOptions& opt, std::vector<ch
 #endif
   {
     PairSolver solver(scene, opt);
-    std::vector<std::int64_t> my_cost(n, 0);
+    std::vector<std::int64_t> my_cost(n, 0), my_entries(n, 0);
     std::vector<char> my_crowded(n, 0);
 #ifdef _OPENMP
 #pragma omp for schedule(dynamic, 16)
@@ -252,12 +276,14 @@ std::int64_t planRows(ExactScene& scene, const ExactOptions& opt, std::vector<ch
       forPairs(scene, a, culled, [&](int b, bool free) {
         const PairKind kind = free ? PairKind::Free : solver.classify(static_cast<size_t>(a), static_cast<size_t>(b));
         ++planned;
-        valued += kind == PairKind::Free || kind == PairKind::Unoccluded || kind == PairKind::Occluded;
+        const bool value = kind == PairKind::Free || kind == PairKind::Unoccluded || kind == PairKind::Occluded;
+        valued += value;
         const std::int64_t ns = pairNanoseconds(kind, free ? 0 : solver.blockers());
         patch_ns += ns + (free ? 0 : planNanoseconds(solver.candidates()));
         for (int node : {node_a, scene.patches[static_cast<size_t>(b)].node}) {
           if (node < 0) continue;
           my_cost[static_cast<size_t>(node)] += ns;
+          my_entries[static_cast<size_t>(node)] += value;
           if (kind == PairKind::Sampled) my_crowded[static_cast<size_t>(node)] = 1;
         }
         if (node_a >= 0 && limit_ns > 0 && double(patch_ns) > limit_ns) {
@@ -272,12 +298,15 @@ std::int64_t planRows(ExactScene& scene, const ExactOptions& opt, std::vector<ch
 #endif
     for (size_t i = 0; i < n; ++i) {
       cost[i] += my_cost[i];
+      entries[i] += my_entries[i];
       crowded[i] = crowded[i] || my_crowded[i];
     }
   }
+  for (size_t i = 0; i < n; ++i)
+    rows[i] = rows[i] || crowded[i] || (opt.row_sampling_seconds > 0 && double(cost[i]) > limit_ns);
+  capEntries(opt, entries, rows, res);
   predicted = 0.0;
   for (size_t i = 0; i < n; ++i) {
-    rows[i] = rows[i] || crowded[i] || (opt.row_sampling_seconds > 0 && double(cost[i]) > limit_ns);
     // Each pair's cost was counted on both its rows: half per exact row (a pair with a row
     // left to rays is thus counted at half, which the cast rows' cost more than covers).
     if (!rows[i]) predicted += 0.5e-9 * double(cost[i]);
@@ -358,8 +387,8 @@ ExactResult exactViewFactors(const Scene& scene, const ExactOptions& opt) {
   ExactResult res;
   res.sampled_rows = shared.presample(n, opt.max_patches);
   std::int64_t stored = 0;  // pairs the plan expects a value of
-  if (opt.max_blockers >= 0 || opt.row_sampling_seconds > 0)
-    res.pairs_planned = planRows(shared, opt, res.sampled_rows, threads, res.predicted_seconds, stored);
+  if (opt.max_blockers >= 0 || opt.row_sampling_seconds > 0 || opt.max_entries >= 0)
+    res.pairs_planned = planRows(shared, opt, res.sampled_rows, threads, res.predicted_seconds, stored, res);
   std::vector<std::vector<PairValue>> values(shared.patches.size());
   const PairCounts counts = integratePairs(shared, opt, threads, values);
   Eigen::VectorXd area(static_cast<Eigen::Index>(n));

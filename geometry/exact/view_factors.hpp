@@ -49,6 +49,10 @@ struct ExactOptions {
   /// What casting one row costs, s (auto): rows whose pairs are predicted to cost more
   /// are cast instead. 0: never for cost.
   double row_sampling_seconds = 0.0;
+  /// At most this many entries of F from integrated pairs (auto, set from the memory the
+  /// process may use): beyond it the rows with the most entries are cast instead, whose
+  /// rows hold at most one entry per distinct node hit. −1: no limit.
+  std::int64_t max_entries = -1;
   int threads = 0;    ///< 0: OpenMP's default
   /// Called as emitting patches finish (one thread at a time): (done, total).
   std::function<void(int, int)> progress;
@@ -80,6 +84,8 @@ struct ExactResult : ViewFactorEstimate {
   int threads = 1;  ///< threads the pairs were integrated on
   /// Per node: 1 when its row is left to ray casting (empty here, space and blocked 0).
   std::vector<char> sampled_rows;
+  int rows_for_memory = 0;            ///< of those, left to rays by max_entries
+  std::int64_t entries_for_memory = 0;  ///< the entries their pairs would have made
   long long evaluations = 0;          ///< integrand evaluations (outer contour points, visibility points)
   double seconds = 0.0;
 };
