@@ -97,6 +97,16 @@ double facingPairShare(const geometry::Scene& scene) {
   return static_cast<double>(facing) / kPairs;
 }
 
+namespace {
+// Temperatures keep GR factored (solver/thermal/jacobian.hpp) unless optics follow
+// temperature or parts turn: those re-form GR densely.
+bool denseThermal(const GeometryCase& c) {
+  bool curves = false;
+  for (const auto& [name, m] : c.materials) curves = curves || m.hasCurves();
+  return c.thermal && (curves || !c.articulation.drives.empty());
+}
+}  // namespace
+
 WorkEstimate estimateWork(const GeometryCase& c) {
   WorkEstimate w;
   const double n = static_cast<double>(c.scene.nodes().size());
@@ -111,12 +121,7 @@ WorkEstimate estimateWork(const GeometryCase& c) {
   // vectors (the 19,202-node satellite, F 1.3 % non-zero: 1.2 GB peak, 63 kB a node).
   const double extra_sets = static_cast<double>(c.optical_sets.size() - 1);
   w.facing_share = n > 1 ? facingPairShare(c.scene) : 1.0;
-  // Temperatures keep GR factored (solver/thermal/jacobian.hpp) unless optics follow
-  // temperature or parts turn: those re-form GR densely.
-  bool curves = false;
-  for (const auto& [name, m] : c.materials) curves = curves || m.hasCurves();
-  const bool dense_thermal = c.thermal && (curves || !c.articulation.drives.empty());
-  w.sparse = !dense_thermal && w.facing_share < solver::policy::kSparseStorageMaxDensity;
+  w.sparse = !denseThermal(c) && w.facing_share < solver::policy::kSparseStorageMaxDensity;
   if (w.sparse) {
     double nonzeros = std::max(w.facing_share * n * n, n);
     // Every row by rays (method: monte_carlo): a row has at most as many non-zeros as rays.

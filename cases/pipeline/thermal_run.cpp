@@ -273,6 +273,28 @@ TurnedExchange turnedExchange(const ThermalSettings& ts, const std::vector<const
   return out;
 }
 
+// The run's line on the temperatures: mode, orbits, heaters, the Newton's work and the balance.
+void reportThermal(const ThermalSettings& ts, const solver::ThermalNetwork& net, const ThermalSolution& out,
+                   std::ostream& progress) {
+  const solver::ThermalResult& result = out.solve;
+  progress << "radnet: temperatures (" << out.mode;
+  if (ts.periodic && result.notOneOrbitPeriodic())
+    progress << ", " << result.orbits << " orbits, a change of " << result.periodic_residual_k
+             << " K left by a thermostat cycle " << (result.heater_cycle_unlocked ? "not locked to the orbit"
+                                                   : "repeating over several orbits");
+  else if (ts.periodic)
+    progress << ", " << result.orbits << " orbits to a change below " << ts.periodic->tolerance_k << " K";
+  if (!ts.heaters.empty()) progress << ", " << result.heater_switches << " heater switchings";
+  if (net.optics) progress << ", " << result.exchange_updates << " GRs for ε(T) on the one eigendecomposition";
+  progress << "), " << result.newton_iterations << " Newton iterations (" << result.factorisations
+           << (net.gr_factored ? " Jacobians; GR factored, rank " + std::to_string(net.gr_factored->rank()) +
+                                     ", steps by GMRES"
+                               : std::string(" Jacobian factorisations"))
+           << "), largest heat-balance residual "
+           << result.max_residual_w << " W; heat flows balance to " << out.heat.max_relative_imbalance
+           << " of the largest term\n";
+}
+
 }  // namespace
 
 ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFactors& exchange, const SweepResult* sweep,
@@ -321,22 +343,7 @@ ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFact
       progress << "radnet: warning: temperature uncertainty " << out.temperature_stderr_method
                << "; /uncertainty/temperature is not written\n";
   }
-  progress << "radnet: temperatures (" << out.mode;
-  if (ts.periodic && result.notOneOrbitPeriodic())
-    progress << ", " << result.orbits << " orbits, a change of " << result.periodic_residual_k
-             << " K left by a thermostat cycle " << (result.heater_cycle_unlocked ? "not locked to the orbit"
-                                                   : "repeating over several orbits");
-  else if (ts.periodic)
-    progress << ", " << result.orbits << " orbits to a change below " << ts.periodic->tolerance_k << " K";
-  if (!ts.heaters.empty()) progress << ", " << result.heater_switches << " heater switchings";
-  if (net.optics) progress << ", " << result.exchange_updates << " GRs for ε(T) on the one eigendecomposition";
-  progress << "), " << result.newton_iterations << " Newton iterations (" << result.factorisations
-           << (net.gr_factored ? " Jacobians; GR factored, rank " + std::to_string(net.gr_factored->rank()) +
-                                     ", steps by GMRES"
-                               : std::string(" Jacobian factorisations"))
-           << "), largest heat-balance residual "
-           << result.max_residual_w << " W; heat flows balance to " << out.heat.max_relative_imbalance
-           << " of the largest term\n";
+  reportThermal(ts, net, out, progress);
   return out;
 }
 

@@ -7,9 +7,9 @@
 #include "geometry/exact/pair_values.hpp"
 #include "geometry/exact/patches.hpp"
 #include "geometry/exact/polygon_factor.hpp"
+#include "geometry/exact/row_plan.hpp"
 #include "geometry/exact/shaft.hpp"
 
-#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 
@@ -228,29 +228,6 @@ std::int64_t planNanoseconds(size_t candidates) { return 50 * static_cast<std::i
 // (planned and predicted) cost more than casting its whole row: the row is cast then, and
 // each patch's planning stays bounded by that cost. Returns the pairs planned; `predicted`
 // gets the predicted cost of the pairs integrated (s, one thread).
-// The cap on F's entries from pairs (ExactOptions::max_entries): the exact rows with the
-// most entries go to rays first (each leaves its entries, the pairs' values for its row; a
-// pair to an exact row still gives that row its entry). Ties by node index: deterministic.
-void capEntries(const ExactOptions& opt, const std::vector<std::int64_t>& entries, std::vector<char>& rows,
-                ExactResult& res) {
-  if (opt.max_entries < 0) return;
-  std::int64_t total = 0;
-  std::vector<int> order;
-  for (size_t i = 0; i < rows.size(); ++i)
-    if (!rows[i]) total += entries[i], order.push_back(static_cast<int>(i));
-  if (total <= opt.max_entries) return;
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    return entries[size_t(a)] != entries[size_t(b)] ? entries[size_t(a)] > entries[size_t(b)] : a < b;
-  });
-  for (size_t k = 0; k < order.size() && total > opt.max_entries; ++k) {
-    const size_t i = size_t(order[k]);
-    rows[i] = 1;
-    total -= entries[i];
-    res.entries_for_memory += entries[i];
-    ++res.rows_for_memory;
-  }
-}
-
 std::int64_t planRows(ExactScene& scene, const ExactOptions& opt, std::vector<char>& rows, int threads,
                       double& predicted, std::int64_t& stored, ExactResult& res) {
   const std::vector<int> exact = exactPatches(scene);
@@ -302,15 +279,7 @@ std::int64_t planRows(ExactScene& scene, const ExactOptions& opt, std::vector<ch
       crowded[i] = crowded[i] || my_crowded[i];
     }
   }
-  for (size_t i = 0; i < n; ++i)
-    rows[i] = rows[i] || crowded[i] || (opt.row_sampling_seconds > 0 && double(cost[i]) > limit_ns);
-  capEntries(opt, entries, rows, res);
-  predicted = 0.0;
-  for (size_t i = 0; i < n; ++i) {
-    // Each pair's cost was counted on both its rows: half per exact row (a pair with a row
-    // left to rays is thus counted at half, which the cast rows' cost more than covers).
-    if (!rows[i]) predicted += 0.5e-9 * double(cost[i]);
-  }
+  predicted = detail::concludePlan(opt, cost, crowded, entries, rows, res);
   scene.markSampled(rows);
   stored = valued;
   return planned;

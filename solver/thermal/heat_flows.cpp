@@ -13,23 +13,16 @@ Eigen::VectorXd heatBalance(const ThermalNetwork& net, const Eigen::VectorXd& t,
   return netHeat(net, t, q_env + net.dissipation);
 }
 
-HeatFlows heatFlows(const ThermalNetwork& net, const ThermalResult& solution, const Eigen::MatrixXd& q_env,
-                    const std::vector<const ExchangeUpdate*>& exchange_per_position) {
+namespace {
+
+// Exchange with space and with the other nodes at each position: the network's own GR (dense
+// or factored) until a position brings another (optics that follow temperature, turning
+// parts: always dense).
+void radiativeFlows(const ThermalNetwork& net, const ThermalResult& solution, const Eigen::MatrixXd& t4,
+                    const std::vector<const ExchangeUpdate*>& exchange_per_position, HeatFlows& f) {
   using units::kStefanBoltzmann;
-  const Eigen::MatrixXd& t = solution.temperature;
-  const Eigen::Index n = t.rows(), P = t.cols(), H = static_cast<Eigen::Index>(net.heaters.size());
-  if (q_env.rows() != n || q_env.cols() != P || solution.temperature_rate.rows() != n ||
-      solution.temperature_rate.cols() != P || solution.rate_roundoff.rows() != n ||
-      solution.rate_roundoff.cols() != P || net.size() != n || solution.dissipation.rows() != n ||
-      solution.dissipation.cols() != P || solution.heater_power.rows() != H || solution.heater_power.cols() != P)
-    throw std::invalid_argument("heat flows: temperatures, rates, dissipations and loads need (n × P) entries");
-  const Eigen::MatrixXd t4 = t.array().square().square().matrix();
-  HeatFlows f;
-  f.emitted.resize(n, P);
-  f.radiative.resize(n, P);
-  // With optics that follow temperature, each position's exchange is its own ε's GR.
+  const Eigen::Index P = t4.cols();
   const bool per_position = net.optics && solution.emissivity.cols() == P;
-  // The network's own GR (dense or factored) until a position brings another (always dense).
   ExchangeUpdate other;
   const ExchangeUpdate *gr = nullptr, *turned = nullptr;
   Eigen::VectorXd gr_emissivity, gr_row = net.exchangeRowSum();
@@ -51,6 +44,25 @@ HeatFlows heatFlows(const ThermalNetwork& net, const ThermalResult& solution, co
     f.emitted.col(p) = -kStefanBoltzmann * gr_space.cwiseProduct((t4.col(p).array() - std::pow(net.space_temperature, 4)).matrix());
     f.radiative.col(p) = kStefanBoltzmann * (exchanged - gr_row.cwiseProduct(t4.col(p)));
   }
+}
+
+}  // namespace
+
+HeatFlows heatFlows(const ThermalNetwork& net, const ThermalResult& solution, const Eigen::MatrixXd& q_env,
+                    const std::vector<const ExchangeUpdate*>& exchange_per_position) {
+  using units::kStefanBoltzmann;
+  const Eigen::MatrixXd& t = solution.temperature;
+  const Eigen::Index n = t.rows(), P = t.cols(), H = static_cast<Eigen::Index>(net.heaters.size());
+  if (q_env.rows() != n || q_env.cols() != P || solution.temperature_rate.rows() != n ||
+      solution.temperature_rate.cols() != P || solution.rate_roundoff.rows() != n ||
+      solution.rate_roundoff.cols() != P || net.size() != n || solution.dissipation.rows() != n ||
+      solution.dissipation.cols() != P || solution.heater_power.rows() != H || solution.heater_power.cols() != P)
+    throw std::invalid_argument("heat flows: temperatures, rates, dissipations and loads need (n × P) entries");
+  const Eigen::MatrixXd t4 = t.array().square().square().matrix();
+  HeatFlows f;
+  f.emitted.resize(n, P);
+  f.radiative.resize(n, P);
+  radiativeFlows(net, solution, t4, exchange_per_position, f);
   f.conducted.resize(n, P);
   f.stored.resize(n, P);
   f.roundoff.resize(n, P);

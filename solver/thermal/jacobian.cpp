@@ -40,6 +40,33 @@ Eigen::MatrixXd denseJacobian(const ImplicitSystem& s, const Eigen::VectorXd& t,
   return j;
 }
 
+// The conductive skeleton's entries of J (conductors and their tables as netHeatJacobian,
+// times −hβ; the controlled heaters' columns and rows) as add(row, column, value).
+template <class Add>
+void skeletonEntries(const ImplicitSystem& s, const Eigen::VectorXd& t, Eigen::Index a, const Add& add) {
+  const ThermalNetwork& net = s.net;
+  const Eigen::Index n = t.size();
+  for (int k = 0; k < net.conductors.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it) {
+      if (it.row() == it.col()) continue;
+      add(it.row(), it.col(), -s.hb * it.value());
+      add(it.row(), it.row(), s.hb * it.value());
+    }
+  for (const TabledConductor& c : net.tabled_conductors) {
+    const double mean = 0.5 * (t[c.i] + t[c.j]), k = c.conductance.at(mean);
+    const double d = 0.5 * c.conductance.slope(mean) * (t[c.j] - t[c.i]);
+    add(c.i, c.i, -s.hb * (-k + d));
+    add(c.i, c.j, -s.hb * (k + d));
+    add(c.j, c.i, s.hb * (-k + d));
+    add(c.j, c.j, s.hb * (k + d));
+  }
+  for (Eigen::Index k = 0; k < a; ++k) {
+    const Heater& h = net.heaters[static_cast<size_t>(s.controlled[static_cast<size_t>(k)])];
+    add(h.node, n + k, -s.hb);
+    add(n + k, h.sensor, 1.0);
+  }
+}
+
 }  // namespace
 
 // J = S + U Vᵀ of a network whose GR is factored (jacobian.hpp).
@@ -82,25 +109,7 @@ FactoredJacobian::FactoredJacobian(const ImplicitSystem& s, const Eigen::VectorX
   for (Eigen::Index i = 0; i < gr.direct.outerSize(); ++i)
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(gr.direct, i); it; ++it)
       add(radiative, i, it.col(), w * it.value() * t3[it.col()]);
-  for (int k = 0; k < net.conductors.outerSize(); ++k)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it) {
-      if (it.row() == it.col()) continue;
-      add(skeleton, it.row(), it.col(), -s.hb * it.value());
-      add(skeleton, it.row(), it.row(), s.hb * it.value());
-    }
-  for (const TabledConductor& c : net.tabled_conductors) {  // as netHeatJacobian, times −hβ
-    const double mean = 0.5 * (t[c.i] + t[c.j]), k = c.conductance.at(mean);
-    const double d = 0.5 * c.conductance.slope(mean) * (t[c.j] - t[c.i]);
-    add(skeleton, c.i, c.i, -s.hb * (-k + d));
-    add(skeleton, c.i, c.j, -s.hb * (k + d));
-    add(skeleton, c.j, c.i, s.hb * (-k + d));
-    add(skeleton, c.j, c.j, s.hb * (k + d));
-  }
-  for (Eigen::Index k = 0; k < a; ++k) {
-    const Heater& h = net.heaters[static_cast<size_t>(s.controlled[static_cast<size_t>(k)])];
-    add(skeleton, h.node, n + k, -s.hb);
-    add(skeleton, n + k, h.sensor, 1.0);
-  }
+  skeletonEntries(s, t, a, [&](Eigen::Index r, Eigen::Index c, double v) { add(skeleton, r, c, v); });
   // The reflected part U Vᵀ: U = −hβ 4σ W K (boundary and heater rows 0), Vᵀ = Wᵀ diag(T³).
   const Eigen::Index k = gr.rank();
   low_u_ = Eigen::MatrixXd::Zero(N, k);
