@@ -170,8 +170,11 @@ TEST_CASE("exact method: bit-identical for any thread count, auto leaves crowded
   CHECK(merged.view_factors.coeff(1, 0) == 2.0 * a.view_factors.coeff(1, 0));
 }
 
-TEST_CASE("auto: a patch whose pairs cost more than casting its row stops planning there (bounded on clutter)") {
-  // Two walls of 12 × 12 separate cells facing each other: each cell a node, each its own patch.
+namespace {
+
+// Two walls of 12 × 12 separate 1 m cells, 3 m apart, facing each other: each cell a node
+// (a0, b0, a1, b1, …), each its own patch.
+Scene facingWalls() {
   Scene s;
   for (int i = 0; i < 12; ++i)
     for (int j = 0; j < 12; ++j) {
@@ -179,6 +182,14 @@ TEST_CASE("auto: a patch whose pairs cost more than casting its row stops planni
       s.addSurface(a, a, rectangle(Vec3(i, j, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 1, 1), a, "");
       s.addSurface(b, b, rectangle(Vec3(i, j, 3), Vec3(0, 1, 0), Vec3(1, 0, 0), 1, 1), b, "");
     }
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("auto: a patch whose pairs cost more than casting its row stops planning there (bounded on clutter)") {
+  // Two walls of 12 × 12 separate cells facing each other: each cell a node, each its own patch.
+  const Scene s = facingWalls();
   ExactOptions plenty = ExactOptions::withTolerance(1e-6);
   plenty.max_blockers = 8;
   plenty.row_sampling_seconds = 10.0;  // casting a row dear: every pair is planned, every row exact
@@ -193,15 +204,8 @@ TEST_CASE("auto: a patch whose pairs cost more than casting its row stops planni
 }
 
 TEST_CASE("auto: past max_entries the rows with the most entries are cast, and the exact rows hold at most the cap") {
-  // Two walls of 12 × 12 cells facing each other: every cell sees all 144 of the other wall,
-  // so each row would hold 144 entries from pairs, 288 × 144 in all.
-  Scene s;
-  for (int i = 0; i < 12; ++i)
-    for (int j = 0; j < 12; ++j) {
-      const std::string a = "a" + std::to_string(i * 12 + j), b = "b" + std::to_string(i * 12 + j);
-      s.addSurface(a, a, rectangle(Vec3(i, j, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 1, 1), a, "");
-      s.addSurface(b, b, rectangle(Vec3(i, j, 3), Vec3(0, 1, 0), Vec3(1, 0, 0), 1, 1), b, "");
-    }
+  // Every cell sees all 144 of the other wall: each row would hold 144 entries from pairs.
+  const Scene s = facingWalls();
   ExactOptions opt = ExactOptions::withTolerance(1e-6);
   opt.max_blockers = 8;
   opt.row_sampling_seconds = 10.0;  // cost never sends a row to rays here: only the cap does

@@ -127,6 +127,12 @@ TEST_CASE("factored GR: products, row sums, diagonal and the balance's spread ag
   CHECK((spread.array() <= gross.array()).all());
   // A uniform x: nothing flows, and the bound says so.
   CHECK(largest(f.spread(Eigen::VectorXd::Constant(gr.rows(), 300.0))) <= 1e-9 * scale);
+  // The Jacobian's diagonal (the uncertainty's past 3,000 nodes) without the matrix, both forms,
+  // against the formed Jacobian's (conductors, the tabulated one's slope and 4σT³ GR).
+  const Eigen::VectorXd t = 250.0 + 100.0 * (x.array() - 1.0);
+  const Eigen::VectorXd reference = solver::netHeatJacobian(two.dense, t).diagonal();
+  CHECK(largest(solver::netHeatJacobianDiagonal(two.dense, t) - reference) <= 1e-12 * largest(reference));
+  CHECK(largest(solver::netHeatJacobianDiagonal(two.factored, t) - reference) <= 1e-10 * largest(reference));
 }
 
 TEST_CASE("steady states on the factored GR equal the dense LU's, with a controlled heater, a boundary node and tables") {
