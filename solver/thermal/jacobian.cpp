@@ -40,26 +40,13 @@ Eigen::MatrixXd denseJacobian(const ImplicitSystem& s, const Eigen::VectorXd& t,
   return j;
 }
 
-// The conductive skeleton's entries of J (conductors and their tables as netHeatJacobian,
-// times −hβ; the controlled heaters' columns and rows) as add(row, column, value).
+// The conductive skeleton's entries of J (the conduction Jacobian times −hβ; the controlled
+// heaters' columns and rows) as add(row, column, value).
 template <class Add>
 void skeletonEntries(const ImplicitSystem& s, const Eigen::VectorXd& t, Eigen::Index a, const Add& add) {
   const ThermalNetwork& net = s.net;
   const Eigen::Index n = t.size();
-  for (int k = 0; k < net.conductors.outerSize(); ++k)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it) {
-      if (it.row() == it.col()) continue;
-      add(it.row(), it.col(), -s.hb * it.value());
-      add(it.row(), it.row(), s.hb * it.value());
-    }
-  for (const TabledConductor& c : net.tabled_conductors) {
-    const double mean = 0.5 * (t[c.i] + t[c.j]), k = c.conductance.at(mean);
-    const double d = 0.5 * c.conductance.slope(mean) * (t[c.j] - t[c.i]);
-    add(c.i, c.i, -s.hb * (-k + d));
-    add(c.i, c.j, -s.hb * (k + d));
-    add(c.j, c.i, s.hb * (-k + d));
-    add(c.j, c.j, s.hb * (k + d));
-  }
+  conductionJacobianEntries(net, t, [&](Eigen::Index r, Eigen::Index c, double v) { add(r, c, -s.hb * v); });
   for (Eigen::Index k = 0; k < a; ++k) {
     const Heater& h = net.heaters[static_cast<size_t>(s.controlled[static_cast<size_t>(k)])];
     add(h.node, n + k, -s.hb);

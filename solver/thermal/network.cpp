@@ -242,20 +242,7 @@ Eigen::MatrixXd netHeatJacobian(const ThermalNetwork& net, const Eigen::VectorXd
   const Eigen::VectorXd gr_row = j.rowwise().sum();
   j.diagonal() -= gr_row + net.gr_space;
   j = kStefanBoltzmann * j * (4.0 * t.array().cube()).matrix().asDiagonal();
-  for (int k = 0; k < net.conductors.outerSize(); ++k)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it) {
-      j(it.row(), it.col()) += it.value();
-      j(it.row(), it.row()) -= it.value();
-    }
-  for (const TabledConductor& c : net.tabled_conductors) {
-    // q = K(T̄)(T_j − T_i) into i: ∂q/∂T_i = −K + ½ K' (T_j − T_i), ∂q/∂T_j = K + ½ K' (T_j − T_i).
-    const double mean = 0.5 * (t[c.i] + t[c.j]), k = c.conductance.at(mean);
-    const double d = 0.5 * c.conductance.slope(mean) * (t[c.j] - t[c.i]);
-    j(c.i, c.i) += -k + d;
-    j(c.i, c.j) += k + d;
-    j(c.j, c.i) -= -k + d;
-    j(c.j, c.j) -= k + d;
-  }
+  conductionJacobianEntries(net, t, [&](Eigen::Index r, Eigen::Index c, double v) { j(r, c) += v; });
   return j;
 }
 
@@ -263,15 +250,9 @@ Eigen::VectorXd netHeatJacobianDiagonal(const ThermalNetwork& net, const Eigen::
   const Eigen::VectorXd gr_diagonal = net.gr_factored ? net.gr_factored->diagonal() : Eigen::VectorXd(net.gr.diagonal());
   Eigen::VectorXd d = kStefanBoltzmann * (gr_diagonal - net.exchangeRowSum() - net.gr_space)
                                              .cwiseProduct((4.0 * t.array().cube()).matrix());
-  for (int k = 0; k < net.conductors.outerSize(); ++k)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it)
-      if (it.row() != it.col()) d[it.row()] -= it.value();
-  for (const TabledConductor& c : net.tabled_conductors) {  // as in netHeatJacobian
-    const double mean = 0.5 * (t[c.i] + t[c.j]), k = c.conductance.at(mean);
-    const double slope = 0.5 * c.conductance.slope(mean) * (t[c.j] - t[c.i]);
-    d[c.i] += -k + slope;
-    d[c.j] -= k + slope;
-  }
+  conductionJacobianEntries(net, t, [&](Eigen::Index r, Eigen::Index c, double v) {
+    if (r == c) d[r] += v;
+  });
   return d;
 }
 

@@ -138,6 +138,27 @@ Eigen::VectorXd netHeat(const ThermalNetwork& net, const Eigen::VectorXd& t, con
 Eigen::VectorXd conductedHeat(const ThermalNetwork& net, const Eigen::VectorXd& t);
 /// ∂G/∂T (n×n), W/K (a factored GR formed: where n² fits).
 Eigen::MatrixXd netHeatJacobian(const ThermalNetwork& net, const Eigen::VectorXd& t);
+/// ∂(conducted heat)/∂T entry by entry, W/K, as add(row, column, value) (repeated entries
+/// sum): constant conductors K_ij, and tabulated ones with their slopes
+/// (q = K(T̄)(T_j − T_i) into i: ∂q/∂T_i = −K + ½ K' (T_j − T_i), ∂q/∂T_j = K + ½ K' (T_j − T_i)).
+/// The one source of these entries for the dense Jacobian, its diagonal and the factored one.
+template <class Add>
+void conductionJacobianEntries(const ThermalNetwork& net, const Eigen::VectorXd& t, const Add& add) {
+  for (int k = 0; k < net.conductors.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(net.conductors, k); it; ++it) {
+      if (it.row() == it.col()) continue;  // K_ii would add and take away the same
+      add(it.row(), it.col(), it.value());
+      add(it.row(), it.row(), -it.value());
+    }
+  for (const TabledConductor& c : net.tabled_conductors) {
+    const double mean = 0.5 * (t[c.i] + t[c.j]), k = c.conductance.at(mean);
+    const double d = 0.5 * c.conductance.slope(mean) * (t[c.j] - t[c.i]);
+    add(c.i, c.i, -k + d);
+    add(c.i, c.j, k + d);
+    add(c.j, c.i, k - d);
+    add(c.j, c.j, -k - d);
+  }
+}
 /// The diagonal of ∂G/∂T (n), W/K, without forming the rest.
 Eigen::VectorXd netHeatJacobianDiagonal(const ThermalNetwork& net, const Eigen::VectorXd& t);
 /// The size of what flows through each node at t (sum of |net terms|: powers, exchange with
