@@ -115,3 +115,53 @@ TEST_CASE("result layout: CSR groups and GR factors read back bit for bit, damag
   CHECK_THROWS_WITH(cases::readCsr(h5, "/network/sparse/conductance", n, 10), Catch::Contains("/indices"));
   CHECK_THROWS_WITH(cases::readCsr(h5, "/broken", 3, 3), Catch::Contains("/broken/indptr"));
 }
+
+TEST_CASE("CSR written in place: a symmetric G from its column arrays, F's scaled rows by blocks") {
+  // 2.4 M non-zeros: F's values are made by blocks of 2^20 entries, so rows straddle block
+  // boundaries. Truth: G itself (converted to rows by Eigen) and G_ij / A_i by the same
+  // product, bit for bit.
+  const int n = 3000, per_row = 800;
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> col(0, n - 1);
+  std::uniform_real_distribution<double> value(0.01, 1.0);
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int i = 0; i < n; ++i)
+    for (int e = 0; e < per_row / 2; ++e) entries.emplace_back(i, col(rng), value(rng));
+  Eigen::SparseMatrix<double> half(n, n);
+  half.setFromTriplets(entries.begin(), entries.end());
+  // Symmetric bit for bit as the network's G = ½ (A F + (A F)ᵀ): a + b = b + a.
+  const Eigen::SparseMatrix<double> g = Eigen::SparseMatrix<double>(half.transpose()) + half;
+  REQUIRE(g.nonZeros() > (1 << 21));
+  const Eigen::VectorXd area = Eigen::VectorXd::LinSpaced(n, 0.5, 3.0);
+  const Eigen::VectorXd inverse_area = area.cwiseInverse();
+  cases::SparseRows uncompressed(4, 4);  // Eigen's insert() leaves a matrix uncompressed
+  uncompressed.insert(2, 1) = 5.0, uncompressed.insert(0, 3) = -1.5;
+  REQUIRE_FALSE(uncompressed.isCompressed());
+
+  test::TempDir dir;
+  const std::string path = (dir.path / "in-place.h5").string();
+  {
+    cases::Hdf5Writer h5(path);
+    h5.attribute("/meta", "program", std::string("radnet"));
+    const Eigen::Map<const cases::SparseRows> rows = cases::rowsOfSymmetric(g);
+    cases::writeNetworkMatrix(h5, "conductance", rows, "m^2", false);
+    const cases::CsrPattern pattern("/network/sparse/conductance", rows);
+    cases::writeNetworkMatrix(h5, "view_factors", rows, "1", false, inverse_area, pattern);
+    cases::writeCsr(h5, "/small", uncompressed, "1");
+    h5.commit();
+  }
+  const cases::Hdf5Reader h5(path);
+  const cases::SparseRows g_rows = g;
+  const cases::SparseRows g_back = cases::readCsr(h5, "/network/conductance", n, n);
+  CHECK(g_back.nonZeros() == g.nonZeros());
+  CHECK(Eigen::MatrixXd(g_back - g_rows).cwiseAbs().maxCoeff() == 0.0);
+  const cases::SparseRows f_back = cases::readCsr(h5, "/network/view_factors", n, n);
+  REQUIRE(f_back.nonZeros() == g.nonZeros());
+  long long unequal = 0;  // compared with ==: x − a b would be contracted to one FMA (no rounding of a b)
+  for (int i = 0; i < n; ++i)
+    for (cases::SparseRows::InnerIterator it(f_back, i); it; ++it)
+      unequal += it.value() != g_rows.coeff(i, it.col()) * inverse_area[i];
+  CHECK(unequal == 0);
+  CHECK(Eigen::MatrixXd(cases::readCsr(h5, "/small", 4, 4)) == Eigen::MatrixXd(uncompressed));
+  CHECK_THROWS_AS(cases::rowsOfSymmetric(Eigen::SparseMatrix<double>(3, 4)), std::logic_error);
+}

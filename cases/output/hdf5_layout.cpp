@@ -52,21 +52,21 @@ void writeNodes(Hdf5Writer& h5, const RadiativeNetwork& radiative, const std::op
 void writeRadiativeNetwork(Hdf5Writer& h5, const RadiativeNetwork& radiative, const OutputSettings& output) {
   const solver::Network& net = *radiative.network;
   const bool dense = output.denseMatrices(net.size(), !net.isSparse());
-  SparseRows g;
-  if (net.isSparse()) {  // F = A⁻¹ G and G written from the sparse G, never formed densely; one pattern
-    g = net.sparseConductance();
+  CsrPattern g_pattern;
+  if (net.isSparse()) {  // F = A⁻¹ G and G written from G's own arrays, never copied or formed densely; one pattern
+    const Eigen::Map<const SparseRows> g = rowsOfSymmetric(net.sparseConductance());
     writeNetworkMatrix(h5, "conductance", g, "m^2", dense);
-    writeNetworkMatrix(h5, "view_factors", g, "1", dense, net.area().cwiseInverse(), {"/network/sparse/conductance", &g});
+    g_pattern = CsrPattern("/network/sparse/conductance", g);
+    writeNetworkMatrix(h5, "view_factors", g, "1", dense, net.area().cwiseInverse(), g_pattern);
   } else {
-    writeNetworkMatrix(h5, "view_factors", net.viewFactors(), "1", dense);
-    writeNetworkMatrix(h5, "conductance", net.denseConductance(), "m^2", dense);
+    writeDenseNetworkMatrix(h5, "view_factors", net.viewFactors(), "1", dense);
+    writeDenseNetworkMatrix(h5, "conductance", net.denseConductance(), "m^2", dense);
   }
   h5.writeVector("/network/space_view_factor", net.spaceViewFactor(), "1");
   h5.attribute("/network", "reciprocity_max_view_factor_change", net.reciprocity().max_view_factor_change);
   h5.attribute("/network", "closure_max_row_overshoot", net.reciprocity().max_row_overshoot);
   if (const auto& ex = radiative.exchange)  // GR's direct part E G E has G's pattern (checked)
-    writeExchange(h5, "/network/", *ex, output.denseExchange(net.size(), !ex->factored()),
-                  {"/network/sparse/conductance", net.isSparse() ? &g : nullptr});
+    writeExchange(h5, "/network/", *ex, output.denseExchange(net.size(), !ex->factored()), g_pattern);
   const solver::EigenPairs& pairs = radiative.pairs;
   h5.writeVector("/eigen/values", pairs.values, "m^2");
   h5.writeMatrix("/eigen/vectors", pairs.vectors, "1");
@@ -100,7 +100,7 @@ void writeViewFactorEstimate(Hdf5Writer& h5, const GeometryRunResult& r, ViewFac
   writeNetworkMatrix(h5, "view_factors_raw", r.raw_view_factors, "1", dense);
   // σ is estimated entry by entry with the raw F: the same pattern (checked).
   writeNetworkMatrix(h5, "view_factor_stderr", r.view_factor_stderr, "1", dense, {},
-                     {"/network/sparse/view_factors_raw", &r.raw_view_factors});
+                     CsrPattern("/network/sparse/view_factors_raw", r.raw_view_factors));
   h5.writeVector("/network/blocked_view_factor", r.radiative.network->blockedFraction(), "1");
   h5.attribute("/network", "correction_max_change", r.correction.max_change);
   h5.attribute("/network", "correction_max_change_sigma", r.correction.max_change_sigma);

@@ -3,21 +3,21 @@
 #include "solver/radiative/policy.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 #include <vector>
 
 namespace radnet::cases {
 
 namespace {
 
-// data, indices and indptr as one CSR group (scipy's convention); `pattern_from` non-empty:
-// indices and indptr are links to that group's (the same pattern, checked by the caller).
-void writeCsrParts(Hdf5Writer& h5, const std::string& group, const Eigen::Ref<const Eigen::VectorXd>& data,
-                   const Eigen::Ref<const Eigen::VectorXi>& indices, const std::vector<long long>& indptr, long long cols,
-                   const std::string& units,
-                   const std::string& pattern_from = "") {
-  // Stored whole: the non-zeros of F, G or GR deflate by 6 % (19,202-node satellite) for a
-  // second of compression; the indices, sorted within rows, shrink threefold and are deflated.
-  h5.writeVector(group + "/data", data, units, false);
+// indices and indptr of a CSR group (scipy's convention) and its attributes, its `data`
+// written by the caller; `pattern_from` non-empty: indices and indptr are links to that
+// group's (the same pattern, checked by the caller).
+void writeCsrPattern(Hdf5Writer& h5, const std::string& group, const Eigen::Ref<const Eigen::VectorXi>& indices,
+                     const std::vector<long long>& indptr, long long cols, const std::string& units,
+                     const std::string& pattern_from = "") {
+  // The indices, sorted within rows, shrink threefold and are deflated; the values (written
+  // whole by the callers) deflate by 6 % (19,202-node satellite) for a second of compression.
   if (pattern_from.empty()) {
     h5.writeIntegers(group + "/indices", indices, "1");
     h5.writeLongs(group + "/indptr", indptr, "1");
@@ -30,44 +30,69 @@ void writeCsrParts(Hdf5Writer& h5, const std::string& group, const Eigen::Ref<co
   h5.attribute(group, "units", units);
 }
 
-// Equal sparsity patterns, entry for entry (both compressed, as Eigen's products leave them).
-bool samePattern(const SparseRows& a, const SparseRows& b) {
-  if (a.rows() != b.rows() || a.cols() != b.cols() || a.nonZeros() != b.nonZeros() || !a.isCompressed() ||
-      !b.isCompressed())
-    return false;
-  return std::equal(a.outerIndexPtr(), a.outerIndexPtr() + a.rows() + 1, b.outerIndexPtr()) &&
-         std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.innerIndexPtr());
+void writeCsrParts(Hdf5Writer& h5, const std::string& group, const Eigen::Ref<const Eigen::VectorXd>& data,
+                   const Eigen::Ref<const Eigen::VectorXi>& indices, const std::vector<long long>& indptr, long long cols,
+                   const std::string& units) {
+  h5.writeVector(group + "/data", data, units, false);
+  writeCsrPattern(h5, group, indices, indptr, cols, units);
+}
+
+// Equal sparsity patterns, entry for entry (both compressed).
+bool samePattern(const CsrRef& a, const CsrPattern& b) {
+  if (!b.outer || a.rows() != b.rows || a.nonZeros() != b.nonzeros) return false;
+  return std::equal(a.outerIndexPtr(), a.outerIndexPtr() + a.rows() + 1, b.outer) &&
+         std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.inner);
 }
 
 }  // namespace
 
-void writeCsr(Hdf5Writer& h5, const std::string& group, const SparseRows& m, const std::string& units,
-              const Eigen::VectorXd& row_scale, const CsrPattern& shared) {
-  const Eigen::Index rows = m.rows();
-  std::vector<long long> indptr(static_cast<size_t>(rows) + 1, 0);
-  for (Eigen::Index r = 0; r < rows; ++r) indptr[static_cast<size_t>(r) + 1] = indptr[static_cast<size_t>(r)] + m.innerVector(r).nonZeros();
-  const Eigen::Index nnz = static_cast<Eigen::Index>(indptr.back());
-  const bool linked = shared.matrix && samePattern(m, *shared.matrix);
-  if (m.isCompressed() && row_scale.size() == 0) {  // the matrix's own arrays: no copy (2.4 GB at 2e8 non-zeros)
-    writeCsrParts(h5, group, Eigen::Map<const Eigen::VectorXd>(m.valuePtr(), nnz),
-                  Eigen::Map<const Eigen::VectorXi>(m.innerIndexPtr(), nnz), indptr, m.cols(), units,
-                  linked ? shared.group : "");
-    return;
-  }
-  Eigen::VectorXd data(nnz);
-  Eigen::VectorXi indices(nnz);
-  for (Eigen::Index r = 0; r < rows; ++r) {
-    Eigen::Index k = static_cast<Eigen::Index>(indptr[static_cast<size_t>(r)]);
-    const double scale = row_scale.size() ? row_scale[r] : 1.0;
-    for (SparseRows::InnerIterator it(m, r); it; ++it, ++k) {
-      data[k] = it.value() * scale;
-      indices[k] = static_cast<int>(it.col());
-    }
-  }
-  writeCsrParts(h5, group, data, indices, indptr, m.cols(), units, linked ? shared.group : "");
+CsrPattern::CsrPattern(std::string pattern_group, const CsrRef& m) {
+  if (!m.isCompressed()) return;  // no sharing (Eigen's products and conversions leave matrices compressed)
+  group = std::move(pattern_group);
+  rows = m.rows();
+  nonzeros = m.nonZeros();
+  outer = m.outerIndexPtr();
+  inner = m.innerIndexPtr();
 }
 
-void writeCsr(Hdf5Writer& h5, const std::string& group, const Eigen::MatrixXd& m, const std::string& units) {
+Eigen::Map<const SparseRows> rowsOfSymmetric(const Eigen::SparseMatrix<double>& m) {
+  if (!m.isCompressed() || m.rows() != m.cols())
+    throw std::logic_error("rowsOfSymmetric: a compressed square matrix is required");
+  return {m.rows(), m.cols(), m.nonZeros(), m.outerIndexPtr(), m.innerIndexPtr(), m.valuePtr()};
+}
+
+void writeCsr(Hdf5Writer& h5, const std::string& group, const CsrRef& m, const std::string& units,
+              const Eigen::VectorXd& row_scale, const CsrPattern& shared) {
+  if (!m.isCompressed()) {
+    SparseRows compressed(m);
+    compressed.makeCompressed();
+    writeCsr(h5, group, compressed, units, row_scale, {});
+    return;
+  }
+  // The matrix's own arrays, no copy of them (2.4 GB at 2e8 non-zeros); scaled values made
+  // and written by blocks.
+  const Eigen::Index rows = m.rows(), nnz = m.nonZeros();
+  const int* outer = m.outerIndexPtr();
+  const std::vector<long long> indptr(outer, outer + rows + 1);
+  if (row_scale.size() == 0) {
+    h5.writeVector(group + "/data", Eigen::Map<const Eigen::VectorXd>(m.valuePtr(), nnz), units, false);
+  } else {
+    h5.writeVectorBlocks(
+        group + "/data", nnz,
+        [&](long long first, long long count, double* out) {
+          long long r = std::upper_bound(outer, outer + rows + 1, first) - outer - 1;  // the row of entry `first`
+          for (long long k = first; k < first + count; ++k) {
+            while (outer[r + 1] <= k) ++r;
+            out[k - first] = m.valuePtr()[k] * row_scale[r];
+          }
+        },
+        units);
+  }
+  writeCsrPattern(h5, group, Eigen::Map<const Eigen::VectorXi>(m.innerIndexPtr(), nnz), indptr, m.cols(), units,
+                  samePattern(m, shared) ? shared.group : "");
+}
+
+void writeCsrOfDense(Hdf5Writer& h5, const std::string& group, const Eigen::MatrixXd& m, const std::string& units) {
   // Two passes over blocks of rows copied row-major (a row of the column-major matrix is
   // strided): count, then fill; no sparse copy of a matrix that may be 80 % non-zero.
   constexpr Eigen::Index kBlock = 256;
@@ -106,18 +131,18 @@ bool csrAlso(Eigen::Index n, double nonzeros, bool dense) {
 }
 }  // namespace
 
-void writeNetworkMatrix(Hdf5Writer& h5, const std::string& name, const SparseRows& m, const std::string& units,
+void writeNetworkMatrix(Hdf5Writer& h5, const std::string& name, const CsrRef& m, const std::string& units,
                         bool dense, const Eigen::VectorXd& row_scale, const CsrPattern& shared) {
   if (dense) h5.writeMatrix("/network/" + name, m, units, row_scale);
   if (csrAlso(m.rows(), double(m.nonZeros()), dense)) writeCsr(h5, "/network/sparse/" + name, m, units, row_scale, shared);
   if (!dense) h5.link("/network/sparse/" + name, "/network/" + name);
 }
 
-void writeNetworkMatrix(Hdf5Writer& h5, const std::string& name, const Eigen::MatrixXd& m, const std::string& units,
+void writeDenseNetworkMatrix(Hdf5Writer& h5, const std::string& name, const Eigen::MatrixXd& m, const std::string& units,
                         bool dense) {
   if (dense) h5.writeMatrix("/network/" + name, m, units);
   // Held dense: a network with 25 % or more of F non-zero (policy::storeSparse).
-  if (csrAlso(m.rows(), double(m.size()), dense)) writeCsr(h5, "/network/sparse/" + name, m, units);
+  if (csrAlso(m.rows(), double(m.size()), dense)) writeCsrOfDense(h5, "/network/sparse/" + name, m, units);
   if (!dense) h5.link("/network/sparse/" + name, "/network/" + name);
 }
 
@@ -137,7 +162,7 @@ void writeExchange(Hdf5Writer& h5, const std::string& prefix, const solver::Exch
     h5.writeMatrix(factors + "/basis", ex.basis, "1");
     h5.writeMatrix(factors + "/core", ex.core, "m^2");
   } else {  // held whole: GR is its own direct part, k = 0
-    writeCsr(h5, factors + "/direct", ex.gr, "m^2");
+    writeCsrOfDense(h5, factors + "/direct", ex.gr, "m^2");
     h5.writeMatrix(factors + "/basis", Eigen::MatrixXd(n, 0), "1");
     h5.writeMatrix(factors + "/core", Eigen::MatrixXd(0, 0), "m^2");
   }

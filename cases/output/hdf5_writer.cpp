@@ -2,6 +2,7 @@
 
 #include "cases/config/errors.hpp"
 #include "cases/config/hdf5_handle.hpp"
+#include "cases/output/hdf5_checks.hpp"
 #include "cases/output/hdf5_chunks.hpp"
 #include "cases/output/output_guard.hpp"
 
@@ -17,23 +18,11 @@
 namespace radnet::cases {
 namespace {
 
-
-void check(herr_t status, const std::string& what) {
-  if (status < 0) throw OutputError("HDF5: " + what + " failed");
-}
-hid_t checkId(hid_t id, const std::string& what) {
-  if (id < 0) throw OutputError("HDF5: " + what + " failed");
-  return id;
-}
-
+using hdf5_detail::check;
+using hdf5_detail::checkId;
+using hdf5_detail::createLinkProps;
 // Closes an HDF5 identifier at scope exit.
 using Handle = Hdf5Handle;
-
-hid_t createLinkProps() {
-  hid_t lcpl = checkId(H5Pcreate(H5P_LINK_CREATE), "link property list");
-  H5Pset_create_intermediate_group(lcpl, 1);
-  return lcpl;
-}
 
 void writeStringAttribute(hid_t obj, const std::string& name, const std::string& value) {
   // Variable-length UTF-8, so that h5py returns str rather than bytes.
@@ -139,89 +128,6 @@ void Hdf5Writer::writeArray(const std::string& path, long long file_type, long l
   } else if (count > 0) {
     check(H5Dwrite(ds.id, static_cast<hid_t>(memory_type), H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write " + path);
   }
-  addUnits(ds.id, units);
-}
-
-void Hdf5Writer::writeMatrix(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m,
-                             const std::string& units) {
-  if (m.rows() >= 2 * kMatrixChunk && m.cols() >= 2 * kMatrixChunk && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
-    writeChunkedMatrix(
-        path, m.rows(), m.cols(),
-        [&](Eigen::Index row0, Eigen::Index col0, auto& block) {
-          const Eigen::Index rows = std::min<Eigen::Index>(kMatrixChunk, m.rows() - row0);
-          const Eigen::Index cols = std::min<Eigen::Index>(kMatrixChunk, m.cols() - col0);
-          block.topLeftCorner(rows, cols) = m.block(row0, col0, rows, cols);
-        },
-        units);
-    return;
-  }
-  // HDF5 is row-major: (rows, cols) as a reader indexes it. The transposition goes by
-  // 64 × 64 tiles that stay in cache.
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> data(m.rows(), m.cols());
-  constexpr Eigen::Index kTile = 64;
-  for (Eigen::Index j = 0; j < m.cols(); j += kTile)
-    for (Eigen::Index i = 0; i < m.rows(); i += kTile) {
-      const Eigen::Index rows = std::min(kTile, m.rows() - i), cols = std::min(kTile, m.cols() - j);
-      data.block(i, j, rows, cols) = m.block(i, j, rows, cols);
-    }
-  const unsigned long long dims[2] = {static_cast<unsigned long long>(m.rows()),
-                                      static_cast<unsigned long long>(m.cols())};
-  writeArray(path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, dims, data.data(), units);
-}
-
-void Hdf5Writer::writeMatrix(const std::string& path, const Eigen::SparseMatrix<double, Eigen::RowMajor>& m,
-                             const std::string& units, const Eigen::VectorXd& row_scale) {
-  const auto scale = [&](Eigen::Index r) { return row_scale.size() ? row_scale[r] : 1.0; };
-  if (!(m.rows() >= 2 * kMatrixChunk && m.cols() >= 2 * kMatrixChunk && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0)) {
-    Eigen::MatrixXd dense(m);  // small: the ordinary path
-    for (Eigen::Index r = 0; r < dense.rows(); ++r) dense.row(r) *= scale(r);
-    writeMatrix(path, dense, units);
-    return;
-  }
-  writeChunkedMatrix(
-      path, m.rows(), m.cols(),
-      [&](Eigen::Index row0, Eigen::Index col0, auto& block) {
-        const Eigen::Index rows = std::min<Eigen::Index>(kMatrixChunk, m.rows() - row0);
-        for (Eigen::Index r = 0; r < rows; ++r)
-          for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(m, row0 + r); it; ++it)
-            if (it.col() >= col0 && it.col() < col0 + kMatrixChunk) block(r, it.col() - col0) = it.value() * scale(row0 + r);
-      },
-      units);
-}
-
-// The layout writeArray gives a large matrix (256 × 256 chunks, deflate level 1), but each
-// chunk filled (from a dense or a sparse matrix), compressed here on all cores, and handed
-// to HDF5 ready (H5Dwrite_chunk): HDF5 1.10 runs its filters on one core, which made writing
-// the five n × n matrices the largest stage of a 6,402-node run (14 s), and no row-major
-// copy of the whole matrix is needed. Readers see an ordinary deflated dataset; chunks are
-// written in order, so the file does not depend on the thread count.
-void Hdf5Writer::writeChunkedMatrix(const std::string& path, Eigen::Index rows, Eigen::Index cols,
-                                    const ChunkFill& fill, const std::string& units) {
-  const hsize_t dims[2] = {static_cast<hsize_t>(rows), static_cast<hsize_t>(cols)};
-  const hsize_t chunk[2] = {kMatrixChunk, kMatrixChunk};
-  Handle space{checkId(H5Screate_simple(2, dims, nullptr), "dataspace"), H5Sclose};
-  Handle dcpl{checkId(H5Pcreate(H5P_DATASET_CREATE), "dataset properties"), H5Pclose};
-  check(H5Pset_chunk(dcpl.id, 2, chunk), "chunking");
-  check(H5Pset_deflate(dcpl.id, 1), "deflate");
-  Handle lcpl{createLinkProps(), H5Pclose};
-  Handle ds{checkId(H5Dcreate2(static_cast<hid_t>(file_), path.c_str(), H5T_IEEE_F64LE, space.id, lcpl.id, dcpl.id,
-                               H5P_DEFAULT),
-                    "create dataset " + path),
-            H5Dclose};
-  const Eigen::Index col_chunks = (cols + kMatrixChunk - 1) / kMatrixChunk;
-  const long long chunks = static_cast<long long>((rows + kMatrixChunk - 1) / kMatrixChunk * col_chunks);
-  deflateChunks(
-      chunks, sizeof(double) * kMatrixChunk * kMatrixChunk,
-      [&](long long k, unsigned char* bytes) {
-        ChunkBlock block(reinterpret_cast<double*>(bytes), kMatrixChunk, kMatrixChunk);
-        fill(k / col_chunks * kMatrixChunk, k % col_chunks * kMatrixChunk, block);
-      },
-      [&](long long k, const std::vector<unsigned char>& bytes) {
-        const hsize_t offset[2] = {static_cast<hsize_t>(k / col_chunks * kMatrixChunk),
-                                   static_cast<hsize_t>(k % col_chunks * kMatrixChunk)};
-        check(H5Dwrite_chunk(ds.id, H5P_DEFAULT, 0, offset, bytes.size(), bytes.data()), "write " + path);
-      },
-      path);
   addUnits(ds.id, units);
 }
 

@@ -31,11 +31,19 @@ class Hdf5Writer {
   void writeMatrix(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m, const std::string& units);
   /// The same dataset from a sparse matrix, each row scaled by `row_scale` (empty: 1), never
   /// formed densely (F = A⁻¹ G of a 6,402-node network is 3.7 % non-zero: 330 MB dense).
-  void writeMatrix(const std::string& path, const Eigen::SparseMatrix<double, Eigen::RowMajor>& m,
-                   const std::string& units, const Eigen::VectorXd& row_scale = {});
+  /// A compressed row-major matrix or a Map of one (a symmetric column-major matrix's arrays
+  /// read as rows) is read in place.
+  using SparseRowsRef = Eigen::Ref<const Eigen::SparseMatrix<double, Eigen::RowMajor>>;
+  void writeMatrix(const std::string& path, const SparseRowsRef& m, const std::string& units,
+                   const Eigen::VectorXd& row_scale = {});
   /// `deflate` false: stored whole (values that do not compress, e.g. a sparse matrix's non-zeros).
   void writeVector(const std::string& path, const Eigen::Ref<const Eigen::VectorXd>& v, const std::string& units,
                    bool deflate = true);
+  /// fill(first, count, out): entries first … first + count − 1 of a vector.
+  using VectorFill = std::function<void(long long first, long long count, double* out)>;
+  /// A vector of `size` doubles stored whole (as writeVector's undeflated ones) but made and
+  /// written block by block: values that exist only as a product (a matrix's scaled non-zeros).
+  void writeVectorBlocks(const std::string& path, long long size, const VectorFill& fill, const std::string& units);
   /// (slices, rows, cols) dataset of equally sized matrices.
   void writeStack(const std::string& path, const std::vector<Eigen::MatrixXd>& slices, const std::string& units);
   /// True when `path` exists (its parent groups must: "/a/b" with "/a" written).

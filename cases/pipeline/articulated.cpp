@@ -204,7 +204,7 @@ std::unique_ptr<Configuration> Articulated::make(const std::vector<double>& angl
   const geometry::ViewFactorEstimate estimate = geometry::withSampledRows(base_.estimate, vf, base_.rows);
   Eigen::VectorXd rays = base_.rays;
   for (int i : base_.changed) rays[i] = double(vf.rays[static_cast<size_t>(i)]);
-  const geometry::ReciprocityCorrection correction = geometry::enforceReciprocity(area_, estimate, rays);
+  geometry::ReciprocityCorrection correction = geometry::enforceReciprocity(area_, estimate, rays);
   RadiativeNetwork& net = k->own_radiative;
   net.network = buildNetwork(c_, area_, correction);
   const solver::EigenPairs& pairs0 = configs_.front()->radiative->pairs;

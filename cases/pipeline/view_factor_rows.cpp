@@ -38,11 +38,14 @@ geometry::ViewFactorResult castRays(const GeometryCase& c, const geometry::RayCa
 
 // The network from the corrected F, stored sparse or dense by the solver policy.
 std::unique_ptr<solver::Network> buildNetwork(const GeometryCase& c, const Eigen::VectorXd& area,
-                                              const geometry::ReciprocityCorrection& correction) {
+                                              geometry::ReciprocityCorrection& correction) {
   const int n = static_cast<int>(area.size());
   const auto tol = solver::policy::kCorrectedNetworkTolerances;
   const Eigen::SparseMatrix<double> f = correction.view_factors;
-  if (solver::policy::storeSparse(correction.view_factors.nonZeros(), n))
+  // Nothing reads it after the network, and f is its column-major copy. Swapped out: an
+  // assignment would keep Eigen's storage allocated.
+  Eigen::SparseMatrix<double, Eigen::RowMajor>().swap(correction.view_factors);
+  if (solver::policy::storeSparse(f.nonZeros(), n))
     return std::make_unique<solver::Network>(c.node_names, area, f, correction.blocked, tol);
   return std::make_unique<solver::Network>(c.node_names, area, Eigen::MatrixXd(f), correction.blocked, tol);
 }

@@ -29,8 +29,13 @@ void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, Geomet
                 Eigen::VectorXd& rays, bool show_progress, std::ostream& progress,
                 geometry::ViewFactorEstimate& estimate);
 
-/// The network from the corrected F, stored sparse or dense by the solver policy.
+/// The network from the corrected F, stored sparse or dense by the solver policy. The
+/// correction's F is released once read (the network's G holds it; 2.4 GB at 2e8 entries).
 std::unique_ptr<solver::Network> buildNetwork(const GeometryCase& c, const Eigen::VectorXd& area,
-                                              const geometry::ReciprocityCorrection& correction);
+                                              geometry::ReciprocityCorrection& correction);
+inline std::unique_ptr<solver::Network> buildNetwork(const GeometryCase& c, const Eigen::VectorXd& area,
+                                                     geometry::ReciprocityCorrection&& correction) {
+  return buildNetwork(c, area, correction);
+}
 
 }  // namespace radnet::cases
