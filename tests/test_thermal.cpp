@@ -5,8 +5,10 @@
 
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 using namespace radnet::solver;
 
@@ -150,4 +152,26 @@ TEST_CASE("heat flows: a sunlit plate in a steady state emits what it absorbs, Ï
   CHECK(f.dissipation(0, 0) == 20.0);
   CHECK(f.stored(0, 0) == 0.0);
   CHECK(f.radiative(0, 0) == 0.0);
+}
+
+TEST_CASE("progress: every output of every orbit reported once and in order, steady states as one orbit") {
+  ThermalNetwork net = emptyNetwork(2);
+  net.gr_space << 0.5, 0.2;
+  net.gr(0, 1) = net.gr(1, 0) = 0.1;
+  net.capacitance << 500.0, 100.0;
+  Eigen::MatrixXd q = Eigen::MatrixXd::Zero(2, 4);
+  q.row(0).setConstant(300.0);
+  const std::vector<double> times = {0, 1500, 3000, 4500};
+  std::vector<std::array<int, 3>> calls;
+  ThermalOptions opt;
+  opt.progress = [&calls](int orbit, int done, int outputs) { calls.push_back({orbit, done, outputs}); };
+  REQUIRE(transient(net, times, q, 6000.0, 3.0, Eigen::VectorXd::Constant(2, 250.0), opt).status == Status::Converged);
+  REQUIRE(calls.size() == 12);
+  for (size_t k = 0; k < calls.size(); ++k) CHECK(calls[k] == std::array<int, 3>{int(k / 4) + 1, int(k % 4) + 1, 4});
+  calls.clear();
+  ThermalForcing forcing;
+  forcing.times_s = times, forcing.q_env = q;
+  REQUIRE(steadyStates(net, forcing, opt).status == Status::Converged);
+  REQUIRE(calls.size() == 4);
+  CHECK(calls.back() == std::array<int, 3>{1, 4, 4});
 }

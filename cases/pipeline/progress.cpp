@@ -2,7 +2,9 @@
 
 #include <unistd.h>
 #include <algorithm>
+#include <cmath>
 #include <atomic>
+#include <chrono>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -38,6 +40,20 @@ std::function<void(int, int)> progressBar(std::ostream& out, const char* stage, 
             << std::flush;
         return;
       }
+  };
+}
+
+std::function<void(int, int, int)> thermalProgress(std::ostream& out, double interval_s) {
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
+  auto last = std::make_shared<Clock::time_point>(start);
+  return [&out, interval_s, start, last](int orbit, int done, int outputs) {
+    const Clock::time_point now = Clock::now();
+    if (std::chrono::duration<double>(now - *last).count() < interval_s) return;
+    *last = now;
+    out << "radnet: temperatures: orbit " << orbit << ", output " << done << "/" << outputs << ", "
+        << std::lround(std::chrono::duration<double>(now - start).count()) << " s\n"
+        << std::flush;
   };
 }
 

@@ -11,4 +11,9 @@ namespace radnet::cases {
 /// 75 and 100 %.
 std::function<void(int, int)> progressBar(std::ostream& out, const char* stage, const char* unit);
 
+/// Progress of a temperature solve, (orbit, outputs done in it, outputs per orbit) as
+/// solver::ThermalOptions::progress reports them: a line "radnet: temperatures: orbit 2,
+/// output 38/76, 95 s" at most every `interval_s`, so a solve shorter than that prints none.
+std::function<void(int, int, int)> thermalProgress(std::ostream& out, double interval_s = 10.0);
+
 }  // namespace radnet::cases

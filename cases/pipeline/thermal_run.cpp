@@ -1,6 +1,7 @@
 #include "cases/pipeline/thermal_run.hpp"
 
 #include "cases/config/errors.hpp"
+#include "cases/pipeline/progress.hpp"
 #include "solver/radiative/uncertainty.hpp"
 #include "solver/thermal/uncertainty.hpp"
 #include "solver/units.hpp"
@@ -59,7 +60,8 @@ std::string failureWhere(const ThermalSettings& ts, const SweepResult& sw, int k
 // state per position. Each case's heater duty is kept.
 solver::ThermalResult solvePerCase(const ThermalSettings& ts, const solver::ThermalNetwork& net, const SweepResult& sw,
                                    const Eigen::MatrixXd& q_env, Eigen::MatrixXd& case_duty,
-                                   const std::shared_ptr<const std::vector<solver::ExchangeUpdate>>& turned) {
+                                   const std::shared_ptr<const std::vector<solver::ExchangeUpdate>>& turned,
+                                   const solver::ThermalOptions& opt) {
   const Eigen::Index n = net.size(), P = q_env.cols(), H = static_cast<Eigen::Index>(net.heaters.size());
   solver::ThermalResult result;
   result.temperature.resize(n, P);
@@ -71,9 +73,9 @@ solver::ThermalResult solvePerCase(const ThermalSettings& ts, const solver::Ther
   for (int k = 0; k < sw.caseCount(); ++k) {
     const solver::ThermalForcing f = caseForcing(sw, q_env, k, net.optics != nullptr, turned);
     const solver::ThermalResult part =
-        ts.periodic ? solver::periodicTransient(net, f, ts.initial_temperature, *ts.periodic, ts.options)
-        : ts.transient_orbits ? solver::transient(net, f, *ts.transient_orbits, ts.initial_temperature, ts.options)
-                              : solver::steadyStates(net, f, ts.options);
+        ts.periodic ? solver::periodicTransient(net, f, ts.initial_temperature, *ts.periodic, opt)
+        : ts.transient_orbits ? solver::transient(net, f, *ts.transient_orbits, ts.initial_temperature, opt)
+                              : solver::steadyStates(net, f, opt);
     result.newton_iterations += part.newton_iterations;
     result.heater_switches += part.heater_switches;
     result.factorisations += part.factorisations;
@@ -116,7 +118,7 @@ solver::ThermalResult solvePerCase(const ThermalSettings& ts, const solver::Ther
 // Without an orbit: a steady state (no environment loads), or a transient over `duration`
 // with outputs every output_step.
 solver::ThermalResult solveWithoutOrbit(const ThermalSettings& ts, const solver::ThermalNetwork& net,
-                                        std::vector<double>& times) {
+                                        std::vector<double>& times, const solver::ThermalOptions& opt) {
   solver::ThermalForcing f;
   if (!ts.output_times_s.empty()) {
     f.times_s = ts.output_times_s;
@@ -128,8 +130,8 @@ solver::ThermalResult solveWithoutOrbit(const ThermalSettings& ts, const solver:
   }
   times = f.times_s;
   f.q_env = Eigen::MatrixXd::Zero(net.size(), static_cast<Eigen::Index>(f.times_s.size()));
-  return ts.duration_s ? solver::transient(net, f, 1.0, ts.initial_temperature, ts.options)
-                       : solver::steadyStates(net, f, ts.options);
+  return ts.duration_s ? solver::transient(net, f, 1.0, ts.initial_temperature, opt)
+                       : solver::steadyStates(net, f, opt);
 }
 
 std::string modeName(const ThermalSettings& ts) {
@@ -310,6 +312,8 @@ ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFact
   net.optics = std::move(optics);
   checkDetermined(ts, net);
   StageTimer timer(timings, Stage::Thermal);
+  solver::ThermalOptions options = ts.options;
+  options.progress = thermalProgress(progress);
   ThermalSolution out{ts.node_names, ts.radiative_nodes, {}, modeName(ts)};
   for (const solver::Heater& h : ts.heaters) out.heater_names.push_back(h.name), out.heater_rated_w.push_back(h.power_w);
   // Lumped nodes absorb nothing from the environment.
@@ -318,9 +322,9 @@ ThermalSolution runThermal(const ThermalSettings& ts, const solver::ExchangeFact
     q_env = Eigen::MatrixXd::Zero(ts.nodeCount(), sweep->absorbed_total.cols());
     q_env.topRows(ts.radiative_nodes) = sweep->absorbed_total;
     for (const auto& p : sweep->positions) out.times_s.push_back(p.t_s);
-    out.solve = solvePerCase(ts, net, *sweep, q_env, out.case_heater_duty, states.states);
+    out.solve = solvePerCase(ts, net, *sweep, q_env, out.case_heater_duty, states.states, options);
   } else {
-    out.solve = solveWithoutOrbit(ts, net, out.times_s);
+    out.solve = solveWithoutOrbit(ts, net, out.times_s, options);
     q_env = Eigen::MatrixXd::Zero(ts.nodeCount(), static_cast<Eigen::Index>(out.times_s.size()));
     out.case_heater_duty = out.solve.heater_duty.transpose();
   }

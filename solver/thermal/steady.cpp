@@ -226,6 +226,7 @@ ThermalResult steadyStates(const ThermalNetwork& net_in, const ThermalForcing& f
       recordOptics(state, forcing.q_env.col(p) + state.loadCorrection(*net.optics, q_solar, q_ir), p, res);
     }
     res.heater_power.col(p) = power;
+    if (opt.progress) opt.progress(1, static_cast<int>(p + 1), static_cast<int>(P));
   }
   res.heater_duty = Eigen::VectorXd::Zero(H);
   for (Eigen::Index k = 0; k < H; ++k)

@@ -10,6 +10,7 @@
 
 #include <Eigen/Dense>
 
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -24,6 +25,10 @@ struct ThermalOptions {
   double max_step_s = 10.0;           ///< transient substep
   double switch_tolerance_k = 1e-3;   ///< a heater switches within this of its set point, K
   bool reuse_jacobian = true;         ///< chord steps on a cached LU (false: a new LU every iteration)
+  /// Called as each output is reached: (orbit, counted from 1, outputs done in it, outputs per
+  /// orbit); steady states count as one orbit. A run's progress (a 100,002-node orbit takes
+  /// minutes); it must not throw. Empty: not called.
+  std::function<void(int orbit, int done, int outputs)> progress;
 };
 
 /// What drives the network: absorbed environment loads sampled at times within one period,

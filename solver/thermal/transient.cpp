@@ -309,6 +309,7 @@ bool Integrator::marchPeriod(double start, TransientState& s) {
     if (net_.optics) recordOptics(p, s);
     for (Eigen::Index k = 0; k < H; ++k)
       res_.heater_power(k, p) = s.heater_on[static_cast<size_t>(k)] ? net_.heaters[static_cast<size_t>(k)].power_w : 0.0;
+    if (opt_.progress) opt_.progress(res_.orbits + 1, static_cast<int>(p + 1), static_cast<int>(P));
   }
   const double window = s.clock - s.window_start;
   res_.heater_duty = window > 0 ? Eigen::VectorXd(s.on_time / window) : Eigen::VectorXd(res_.heater_power.rowwise().mean());
