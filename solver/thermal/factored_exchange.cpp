@@ -9,35 +9,6 @@ namespace radnet::solver {
 
 using Direct = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
-namespace {
-// Rows per block: fixed (not per thread), so the sums' order is too. Below two blocks' worth a
-// product is too small to share.
-constexpr Eigen::Index kRowsPerBlock = 4096;
-}  // namespace
-
-Eigen::VectorXd sparsePlusLowRankTimes(const Direct& s, const Eigen::MatrixXd& u, const Eigen::MatrixXd& c,
-                                       const Eigen::MatrixXd& v, const Eigen::VectorXd& x) {
-  const Eigen::Index n = s.rows(), k = u.cols();
-  const Eigen::Index blocks = (n + kRowsPerBlock - 1) / kRowsPerBlock;
-  auto rows = [&](Eigen::Index b) { return std::min(kRowsPerBlock, n - b * kRowsPerBlock); };
-  Eigen::VectorXd small = Eigen::VectorXd::Zero(k);
-  if (k > 0) {
-    Eigen::MatrixXd partial(k, blocks);
-    parallelFor(blocks, [&](long long b) {
-      partial.col(b).noalias() = v.middleRows(b * kRowsPerBlock, rows(b)).transpose() * x.segment(b * kRowsPerBlock, rows(b));
-    }, blocks > 1 ? 0 : 1);
-    for (Eigen::Index b = 0; b < blocks; ++b) small += partial.col(b);
-    if (c.size() > 0) small = c * small;
-  }
-  Eigen::VectorXd y(n);
-  parallelFor(blocks, [&](long long b) {
-    auto part = y.segment(b * kRowsPerBlock, rows(b));
-    part.noalias() = s.middleRows(b * kRowsPerBlock, rows(b)) * x;
-    if (k > 0) part.noalias() += u.middleRows(b * kRowsPerBlock, rows(b)) * small;
-  }, blocks > 1 ? 0 : 1);
-  return y;
-}
-
 Eigen::MatrixXd FactoredExchange::reflectedTimes(const Eigen::Ref<const Eigen::MatrixXd>& x) const {
   if (rank() == 0) return Eigen::MatrixXd::Zero(size(), x.cols());
   return basis * (core * (basis.transpose() * x));

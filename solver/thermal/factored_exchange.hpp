@@ -4,6 +4,8 @@
 // the reflected part in rank k. The thermal solver applies it as products, O(nnz(D) + n k)
 // a product instead of n², so temperatures of a 100,000-node network never form GR
 // (docs/solver.md, "Temperatures on a factored GR").
+#include "solver/parallel.hpp"
+
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 
@@ -14,12 +16,6 @@ namespace radnet::solver {
 /// transient at 1,024 nodes 0.56 s dense against 0.74 s factored; at 2,025 nodes 3.4 s against
 /// 1.6 s; steady states 1.3× and 2.1× faster factored).
 inline constexpr long kFactoredThermalMinNodes = 1500;
-
-/// y = S x + U (C (Vᵀ x)) (C empty: the identity), on the cores by fixed blocks of rows: Vᵀ x
-/// summed block by block in order, so y is bit-identical for any thread count. S (n×n), U, V
-/// (n×k), C (k×k).
-Eigen::VectorXd sparsePlusLowRankTimes(const Eigen::SparseMatrix<double, Eigen::RowMajor>& s, const Eigen::MatrixXd& u,
-                                       const Eigen::MatrixXd& c, const Eigen::MatrixXd& v, const Eigen::VectorXd& x);
 
 struct FactoredExchange {
   Eigen::SparseMatrix<double, Eigen::RowMajor> direct;  ///< D (n×n), symmetric, ≥ 0, m²: the direct exchange and couplings given
