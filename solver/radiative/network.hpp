@@ -71,7 +71,8 @@ class Network {
 
   /// Symmetric conductance G = ½(AF + (AF)ᵀ), m². Dense copy (built on demand for sparse networks).
   Eigen::MatrixXd denseConductance() const;
-  /// Symmetric conductance in sparse storage (valid only when isSparse()).
+  /// Symmetric conductance in sparse storage (valid only when isSparse()); compressed, so its
+  /// column-major arrays, read as rows, are its CSR (G = Gᵀ).
   const Eigen::SparseMatrix<double>& sparseConductance() const { return g_sparse_; }
   /// One conductance G_ij, m² (no copy of the matrix).
   double conductance(int i, int j) const { return sparse_ ? g_sparse_.coeff(i, j) : g_dense_(i, j); }
