@@ -10,6 +10,9 @@
 
 namespace radnet::cases::hdf5_detail {
 
+/// Closes an HDF5 identifier at scope exit.
+using Handle = Hdf5Handle;
+
 inline void check(herr_t status, const std::string& what) {
   if (status < 0) throw OutputError("HDF5: " + what + " failed");
 }

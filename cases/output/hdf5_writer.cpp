@@ -18,11 +18,7 @@
 namespace radnet::cases {
 namespace {
 
-using hdf5_detail::check;
-using hdf5_detail::checkId;
-using hdf5_detail::createLinkProps;
-// Closes an HDF5 identifier at scope exit.
-using Handle = Hdf5Handle;
+using namespace hdf5_detail;  // check, checkId, createLinkProps, Handle
 
 void writeStringAttribute(hid_t obj, const std::string& name, const std::string& value) {
   // Variable-length UTF-8, so that h5py returns str rather than bytes.

@@ -10,10 +10,7 @@
 namespace radnet::cases {
 namespace {
 
-using hdf5_detail::check;
-using hdf5_detail::checkId;
-using hdf5_detail::createLinkProps;
-using Handle = Hdf5Handle;
+using namespace hdf5_detail;  // check, checkId, createLinkProps, Handle
 
 }  // namespace
 

@@ -181,8 +181,7 @@ ThermalResult steadyStates(const ThermalNetwork& net_in, const ThermalForcing& f
   ThermalNetwork with_optics = net_in.optics || forcing.exchange_states ? net_in : ThermalNetwork{};
   const ThermalNetwork& net = net_in.optics || forcing.exchange_states ? with_optics : net_in;
   net.validate();
-  const Eigen::Index n = net.size(), P = forcing.q_env.cols();
-  const Eigen::Index H = static_cast<Eigen::Index>(net.heaters.size());
+  const Eigen::Index n = net.size(), P = forcing.q_env.cols(), H = static_cast<Eigen::Index>(net.heaters.size());
   if (forcing.q_env.rows() != n || P == 0 || static_cast<Eigen::Index>(forcing.times_s.size()) != P ||
       !(forcing.sunlit_fraction.empty() || static_cast<Eigen::Index>(forcing.sunlit_fraction.size()) == P))
     throw std::invalid_argument("steady states: one load column, time and sunlit fraction per position");
