@@ -1,7 +1,11 @@
 // GR held as its factors (direct E G E sparse + E V (C − Λ) Vᵀ E) against the dense forms,
-// and the result file's sparse layout (CSR groups, GR factors) written and read back.
+// the result file's sparse layout (CSR groups, GR factors) written and read back, and the
+// memory estimate's sampled count of F's non-zeros.
 #include "cases/config/errors.hpp"
+#include "cases/config/work_estimate.hpp"
 #include "cases/output/hdf5_matrix_reader.hpp"
+#include "geometry/rays/view_factors.hpp"
+#include "geometry/scene/primitives.hpp"
 #include "solver/radiative/eigenpairs.hpp"
 #include "solver/radiative/exchange.hpp"
 #include "clustered_network.hpp"
@@ -164,4 +168,35 @@ TEST_CASE("CSR written in place: a symmetric G from its column arrays, F's scale
   CHECK(unequal == 0);
   CHECK(Eigen::MatrixXd(cases::readCsr(h5, "/small", 4, 4)) == Eigen::MatrixXd(uncompressed));
   CHECK_THROWS_AS(cases::rowsOfSymmetric(Eigen::SparseMatrix<double>(3, 4)), std::logic_error);
+}
+
+TEST_CASE("memory estimate: sampled rows' entries match the rows cast in full, within 3 standard errors") {
+  // Two 2 × 2 m plates 0.5 m apart, each cut into 20 × 20 nodes: a cast row reaches some of
+  // the 400 facing nodes, edge nodes fewer than central ones. Truth: every row cast with the
+  // same rays; the 64 sampled rows' mean must lie within 3 standard errors (sd / √64) of it.
+  geometry::Scene scene;
+  const int cells = 20;
+  const double side = 2.0 / cells;
+  for (int plate = 0; plate < 2; ++plate)
+    for (int a = 0; a < cells; ++a)
+      for (int b = 0; b < cells; ++b) {
+        const std::string name = std::to_string(plate) + "_" + std::to_string(a) + "_" + std::to_string(b);
+        const geometry::Vec3 corner(a * side, b * side, 0.5 * plate);
+        const geometry::Vec3 u(side, 0, 0), v(0, side, 0);
+        scene.addSurface(name, name, plate == 0 ? geometry::rectangle(corner, u, v, 1, 1)
+                                                : geometry::rectangle(corner, v, u, 1, 1), name, "");
+      }
+  const double rays = 2048;
+  geometry::ViewFactorOptions all;
+  all.rays_per_node = static_cast<std::int64_t>(rays);
+  const geometry::RayCaster caster(scene);
+  const geometry::ViewFactorResult full = geometry::computeViewFactors(caster, all);
+  Eigen::ArrayXd per_row(full.view_factors.rows());
+  for (Eigen::Index i = 0; i < per_row.size(); ++i) per_row[i] = double(full.view_factors.row(i).nonZeros());
+  const double mean = per_row.mean();
+  const double sd = std::sqrt((per_row - mean).square().sum() / double(per_row.size() - 1));
+  const double sampled = cases::sampledRowEntries(scene, rays);
+  INFO("full mean " << mean << ", sd " << sd << ", sampled " << sampled);
+  REQUIRE(mean > 50.0);  // the rays reach many nodes: the estimate has something to find
+  CHECK(std::abs(sampled - mean) <= 3.0 * sd / 8.0);
 }

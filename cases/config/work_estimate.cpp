@@ -1,6 +1,8 @@
 #include "cases/config/work_estimate.hpp"
 
+#include "geometry/exact/view_factors.hpp"
 #include "geometry/rays/recast_rows.hpp"
+#include "geometry/rays/view_factors.hpp"
 #include "solver/radiative/policy.hpp"
 
 #include <sys/resource.h>
@@ -8,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <numeric>
 #include <random>
 #include <sstream>
 
@@ -97,6 +100,38 @@ double facingPairShare(const geometry::Scene& scene) {
   return static_cast<double>(facing) / kPairs;
 }
 
+double rowRays(const GeometryCase& c) {
+  const geometry::ViewFactorOptions& mc = c.view_factors.monte_carlo;
+  if (mc.target_error <= 0) return double(mc.rays_per_node);
+  return std::clamp(geometry::kRaysPerRowUnderTarget, double(mc.min_rays_per_node), double(mc.rays_per_node));
+}
+
+std::int64_t pairEntriesCap(const GeometryCase& c, double memory_bytes) {
+  if (!(memory_bytes > 0)) return -1;
+  const double floor = kMinBytesPerNode * double(c.scene.nodes().size()) * double(c.optical_sets.size());
+  return static_cast<std::int64_t>(std::max(0.0, kPairEntriesMemoryShare * memory_bytes - floor) / kBytesPerPairEntry);
+}
+
+double sampledRowEntries(const geometry::Scene& scene, double rays) {
+  const auto n = static_cast<std::int64_t>(scene.nodes().size());
+  constexpr std::int64_t kRows = 64;
+  geometry::ViewFactorOptions opt;
+  opt.rays_per_node = std::max<std::int64_t>(1024, std::llround(rays));
+  opt.cast_rows.assign(static_cast<size_t>(n), 0);
+  std::mt19937_64 rng(20261206u);  // fixed: the estimate does not change run to run
+  std::vector<std::int64_t> order(static_cast<size_t>(n));
+  std::iota(order.begin(), order.end(), 0);
+  const std::int64_t rows = std::min(n, kRows);
+  for (std::int64_t k = 0; k < rows; ++k) {  // the first `rows` of a Fisher–Yates shuffle
+    std::uniform_int_distribution<std::int64_t> pick(k, n - 1);
+    std::swap(order[static_cast<size_t>(k)], order[static_cast<size_t>(pick(rng))]);
+    opt.cast_rows[static_cast<size_t>(order[static_cast<size_t>(k)])] = 1;
+  }
+  const geometry::RayCaster caster(scene);
+  const geometry::ViewFactorResult vf = geometry::computeViewFactors(caster, opt);
+  return rows > 0 ? double(vf.view_factors.nonZeros()) / double(rows) : 0.0;
+}
+
 namespace {
 // Temperatures keep GR factored (solver/thermal/jacobian.hpp) unless optics follow
 // temperature or parts turn: those re-form GR densely.
@@ -104,6 +139,30 @@ bool denseThermal(const GeometryCase& c) {
   bool curves = false;
   for (const auto& [name, m] : c.materials) curves = curves || m.hasCurves();
   return c.thermal && (curves || !c.articulation.drives.empty());
+}
+
+// Bytes per entry of F's raw estimate while the network is built: the raw F and σ_F, the
+// corrected F (with each cast entry's transpose: up to twice the raw entries) and its
+// column-major copy, (A F)ᵀ and G, at 12 B a non-zero. Measured: the 100,002-node defaults
+// peak 13.5 GB, about 110 B a raw entry above the floor.
+constexpr double kSparseCopies = 10.0, kBytesPerSparseEntry = 12.0 * kSparseCopies;
+// A bound above this is refined by casting a few rows (about 0.1–1 s at 100,000 nodes).
+constexpr double kSampleRowsAboveBytes = 2e9;
+constexpr double kSampledRowsMargin = 1.25;
+
+// F's non-zeros: every facing pair, or at most the rays of each row (monte_carlo); when that is
+// large and rows are cast, auto's cap on integrated entries plus the sampled rows' entries.
+double sparseNonzeros(const GeometryCase& c, double n, double facing_share, bool& sampled) {
+  double nonzeros = std::max(facing_share * n * n, n);
+  const ViewFactorMethod method = c.view_factors.method;
+  if (method == ViewFactorMethod::MonteCarlo)
+    nonzeros = std::min(nonzeros, n * static_cast<double>(c.view_factors.monte_carlo.rays_per_node));
+  if (method == ViewFactorMethod::Exact || nonzeros * kBytesPerSparseEntry <= kSampleRowsAboveBytes) return nonzeros;
+  const double cast = n * kSampledRowsMargin * sampledRowEntries(c.scene, rowRays(c));
+  const double cap = method == ViewFactorMethod::Auto ? double(pairEntriesCap(c, memoryLimit().bytes)) : 0.0;
+  if (cap < 0) return nonzeros;  // memory unknown: auto's integrated rows are not bounded
+  sampled = cap + cast < nonzeros;
+  return std::min(nonzeros, cap + cast);
 }
 }  // namespace
 
@@ -123,13 +182,11 @@ WorkEstimate estimateWork(const GeometryCase& c) {
   w.facing_share = n > 1 ? facingPairShare(c.scene) : 1.0;
   w.sparse = !denseThermal(c) && w.facing_share < solver::policy::kSparseStorageMaxDensity;
   if (w.sparse) {
-    double nonzeros = std::max(w.facing_share * n * n, n);
-    // Every row by rays (method: monte_carlo): a row has at most as many non-zeros as rays.
-    if (c.view_factors.method == ViewFactorMethod::MonteCarlo)
-      nonzeros = std::min(nonzeros, n * static_cast<double>(c.view_factors.monte_carlo.rays_per_node));
+    w.nonzeros = sparseNonzeros(c, n, w.facing_share, w.rows_sampled);
     w.sparse_floor_bytes = kMinBytesPerNode * n * (1.0 + extra_sets);
     // Temperatures: the thermal network's copy of GR's direct part and the Jacobian's sparse part.
-    w.dense_bytes = nonzeros * 12.0 * (10.0 + extra_sets + (c.thermal ? 2.0 : 0.0)) + w.sparse_floor_bytes;
+    w.dense_bytes = w.nonzeros * kBytesPerSparseEntry * (1.0 + (extra_sets + (c.thermal ? 2.0 : 0.0)) / kSparseCopies) +
+                    w.sparse_floor_bytes;
   } else {
     w.dense_bytes = 8.0 * n * n * (3.0 + extra_sets);
   }
@@ -177,8 +234,10 @@ void checkWorkEstimate(const YamlDocument& doc, GeometryCase& c, double memory_b
   if (w.sparse && w.total() - w.dense_bytes + w.sparse_floor_bytes <= memory_bytes) {
     std::ostringstream m;
     m << "geometry: the " << c.scene.nodes().size() << "-node sparse network may need up to " << gigabytes(w.total())
-      << " (" << 100.0 * w.facing_share << " % of node pairs face each other: F's non-zeros are bounded, not "
-      << "known, before the view factors), more than " << memory.source << "; a run that runs out stops with exit 2";
+      << " (" << 100.0 * w.facing_share << " % of node pairs face each other: "
+      << (w.rows_sampled ? "F's non-zeros estimated from sampled rows and auto's memory cap"
+                         : "F's non-zeros are bounded, not known, before the view factors")
+      << "), more than " << memory.source << "; a run that runs out stops with exit 2";
     c.warnings.push_back(m.str());
     return;
   }

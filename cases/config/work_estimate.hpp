@@ -5,6 +5,8 @@
 #include "cases/config/geometry_case.hpp"
 #include "cases/config/yaml_document.hpp"
 
+#include <cstdint>
+
 namespace radnet::cases {
 
 /// Memory one triangle of the scene takes while the case runs: its CGAL mesh entry, the
@@ -23,6 +25,25 @@ inline constexpr double kMinBytesPerNode = 20e3;
 /// density of F before occlusion, an upper bound for it. Below the sparse-storage density
 /// and without temperatures the network, its GR and its result file are sparse.
 double facingPairShare(const geometry::Scene& scene);
+
+/// The rays `auto` expects a row it leaves to sampling to take (and `monte_carlo` a row): the
+/// pinned count, or under the budget's target error what rows take on average (most stop
+/// well below the cap).
+double rowRays(const GeometryCase& c);
+
+/// Auto's cap on F's entries from integrated pairs: what kPairEntriesMemoryShare of
+/// `memory_bytes` holds at kBytesPerPairEntry (F, its raw estimate and σ, G, GR's direct part
+/// and their copies while the correction builds them), after the n × k vectors' floor. Rows
+/// beyond it are cast: their entries are the distinct nodes their rays hit (0.47 % of n² at
+/// 4,000 rays a row on the 100,002-node satellite, against 5.5 % from every facing pair).
+/// −1: memory unknown (≤ 0), no cap.
+inline constexpr double kPairEntriesMemoryShare = 0.4, kBytesPerPairEntry = 120.0;
+std::int64_t pairEntriesCap(const GeometryCase& c, double memory_bytes);
+
+/// The distinct nodes a row cast with `rays` rays reaches (its non-zeros in F), averaged over
+/// up to 64 nodes drawn with a fixed seed: what a sampled row holds, far below the nodes
+/// that face it (rays concentrate on near nodes).
+double sampledRowEntries(const geometry::Scene& scene, double rays);
 
 /// The memory this process may use, bytes (0 when unknown): the least of the machine's
 /// physical memory, the process's address-space and data limits (`ulimit -v`, `ulimit -d`:
@@ -45,6 +66,11 @@ struct WorkEstimate {
   double scene_bytes = 0;     ///< triangles: mesh, faces, AABB tree
   double dense_bytes = 0;     ///< node × node matrices: F, its raw estimate and σ, G, GR per optical set
   double facing_share = 1.0;  ///< facingPairShare: F's density before occlusion
+  /// Sparse: the non-zeros of F counted. An upper bound from the pairs that face each other
+  /// (or the rays), or, when that bound is large and rows are cast, auto's cap plus the
+  /// sampled rows' entries (sampledRowEntries, with a 25 % margin): then `rows_sampled`.
+  double nonzeros = 0;
+  bool rows_sampled = false;
   bool sparse = false;        ///< the matrices counted sparse (facing share < 0.25, GR kept factored)
   /// Sparse: the part of dense_bytes that does not depend on F's non-zeros (n × k vectors);
   /// the rest is an upper bound (pairs that face each other, or rays), not an expectation.

@@ -62,31 +62,15 @@ void moveEstimate(geometry::ViewFactorEstimate& from, geometry::ViewFactorEstima
   to.blocked_error.swap(from.blocked_error);
 }
 
-// The rays auto expects a cast row to take: the pinned count, or under the budget's target
-// error what rows take on average (most stop well below the cap).
-double rowRays(const GeometryCase& c) {
-  const geometry::ViewFactorOptions& mc = c.view_factors.monte_carlo;
-  if (mc.target_error <= 0) return double(mc.rays_per_node);
-  return std::clamp(geometry::kRaysPerRowUnderTarget, double(mc.min_rays_per_node), double(mc.rays_per_node));
-}
-
-// Auto's cap on F's entries from integrated pairs: what kPairEntriesMemoryShare of the memory
-// this process may use holds at kBytesPerEntry (F, its raw estimate and σ, G, GR's direct part
-// and their copies while the correction builds them: 110 B an entry measured on the
-// 100,002-node satellite), after the n × k vectors' floor. Rows beyond it are cast: their
-// entries are the distinct nodes their rays hit (0.47 % of n² at 4,000 rays a row there,
-// against 5.5 % from every facing pair). −1: memory unknown, no cap.
-constexpr double kPairEntriesMemoryShare = 0.4, kBytesPerEntry = 120.0;
-
+// Auto's cap on F's entries from integrated pairs (cases/config/work_estimate.hpp), from the
+// least memory of any rank: every rank must plan the same rows.
 std::int64_t pairEntriesCap(const GeometryCase& c) {
   double memory = memoryLimit().bytes;
-  if (cluster::distributed()) {  // every rank must plan the same rows: the least memory of any
+  if (cluster::distributed()) {
     const std::vector<double> all = cluster::gatherAll(std::vector<double>{memory > 0 ? memory : -1.0});
     for (double m : all) memory = m > 0 && (memory <= 0 || m < memory) ? m : memory;
   }
-  if (!(memory > 0)) return -1;
-  const double floor = kMinBytesPerNode * double(c.scene.nodes().size()) * double(c.optical_sets.size());
-  return static_cast<std::int64_t>(std::max(0.0, kPairEntriesMemoryShare * memory - floor) / kBytesPerEntry);
+  return pairEntriesCap(c, memory);
 }
 
 // F by the exact method into `estimate`, with the rows it leaves to sampling (auto) cast as rays.
