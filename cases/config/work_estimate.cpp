@@ -173,9 +173,10 @@ WorkEstimate estimateWork(const GeometryCase& c) {
   w.scene_bytes = kSceneBytesPerTriangle * triangles;
   const double thermal_nodes = c.thermal ? static_cast<double>(c.thermal->nodeCount()) : n;
   // A dense network (or temperatures with a dense GR: the thermal solver then holds GR and
-  // its Jacobian densely): three n × n matrices of 8 bytes, GR and its working copy, and F/G; one more GR
-  // per further optical set. Measured peaks: 24 n² bytes for a 3,872-node enclosure of 12 %
-  // density, 18 n² at 6,402 nodes. A sparse one: F, its raw estimate and σ, G and GR's
+  // its Jacobian densely): seven n × n matrices of 8 bytes (GR, its working copy and the LU of
+  // I − S G, G, and F, A F and its transpose while the network is built); one more GR per
+  // further optical set; and the sparse estimate's matrices. Measured peaks: 24 n² bytes for a 3,872-node enclosure of 12 %
+  // density, 82 n² for the 3,456-node closed room (83 %). A sparse one: F, its raw estimate and σ, G and GR's
   // direct part at 12 B a non-zero, twice over while the correction builds them, and n × k
   // vectors (the 19,202-node satellite, F 1.3 % non-zero: 1.2 GB peak, 63 kB a node).
   const double extra_sets = static_cast<double>(c.optical_sets.size() - 1);
@@ -188,7 +189,13 @@ WorkEstimate estimateWork(const GeometryCase& c) {
     w.dense_bytes = w.nonzeros * kBytesPerSparseEntry * (1.0 + (extra_sets + (c.thermal ? 2.0 : 0.0)) / kSparseCopies) +
                     w.sparse_floor_bytes;
   } else {
-    w.dense_bytes = 8.0 * n * n * (3.0 + extra_sets);
+    // The estimate's F, σ_F, the corrected F and its column-major copy stay sparse at 12 B a
+    // non-zero until the network is built, beside its dense F and A F: at 83 % density (the
+    // 3,456-node closed room) they are most of the 82 n² bytes measured, which 24 n² missed.
+    double estimate_entries = std::max(w.facing_share * n * n, n);
+    if (c.view_factors.method == ViewFactorMethod::MonteCarlo)
+      estimate_entries = std::min(estimate_entries, n * static_cast<double>(c.view_factors.monte_carlo.rays_per_node));
+    w.dense_bytes = 8.0 * n * n * (7.0 + extra_sets) + 4.0 * 12.0 * estimate_entries;
   }
   for (const DesignCase& d : c.design_cases) {
     if (!d.orbit) continue;
@@ -231,7 +238,7 @@ void checkWorkEstimate(const YamlDocument& doc, GeometryCase& c, double memory_b
   if (memory_bytes <= 0) return;  // unknown: nothing to compare with
   const WorkEstimate w = estimateWork(c);
   if (w.total() <= memory_bytes) return;
-  if (w.sparse && w.total() - w.dense_bytes + w.sparse_floor_bytes <= memory_bytes) {
+  if (w.sparse && w.floorTotal() <= memory_bytes) {
     std::ostringstream m;
     m << "geometry: the " << c.scene.nodes().size() << "-node sparse network may need up to " << gigabytes(w.total())
       << " (" << 100.0 * w.facing_share << " % of node pairs face each other: "
