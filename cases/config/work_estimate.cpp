@@ -150,6 +150,17 @@ constexpr double kSparseCopies = 10.0, kBytesPerSparseEntry = 12.0 * kSparseCopi
 constexpr double kSampleRowsAboveBytes = 2e9;
 constexpr double kSampledRowsMargin = 1.25;
 
+// A dense network's matrices. The estimate's F, σ_F, the corrected F and its column-major copy
+// stay sparse at 12 B a non-zero until the network is built, beside its dense F and A F: at 83 %
+// density (the 3,456-node closed room) they are most of the 82 n² bytes measured, which 24 n²
+// missed.
+double denseNetworkBytes(const GeometryCase& c, double n, double facing_share, double extra_sets) {
+  double estimate_entries = std::max(facing_share * n * n, n);
+  if (c.view_factors.method == ViewFactorMethod::MonteCarlo)
+    estimate_entries = std::min(estimate_entries, n * static_cast<double>(c.view_factors.monte_carlo.rays_per_node));
+  return 8.0 * n * n * (7.0 + extra_sets) + 4.0 * 12.0 * estimate_entries;
+}
+
 // F's non-zeros: every facing pair, or at most the rays of each row (monte_carlo); when that is
 // large and rows are cast, auto's cap on integrated entries plus the sampled rows' entries.
 double sparseNonzeros(const GeometryCase& c, double n, double facing_share, bool& sampled) {
@@ -189,13 +200,7 @@ WorkEstimate estimateWork(const GeometryCase& c) {
     w.dense_bytes = w.nonzeros * kBytesPerSparseEntry * (1.0 + (extra_sets + (c.thermal ? 2.0 : 0.0)) / kSparseCopies) +
                     w.sparse_floor_bytes;
   } else {
-    // The estimate's F, σ_F, the corrected F and its column-major copy stay sparse at 12 B a
-    // non-zero until the network is built, beside its dense F and A F: at 83 % density (the
-    // 3,456-node closed room) they are most of the 82 n² bytes measured, which 24 n² missed.
-    double estimate_entries = std::max(w.facing_share * n * n, n);
-    if (c.view_factors.method == ViewFactorMethod::MonteCarlo)
-      estimate_entries = std::min(estimate_entries, n * static_cast<double>(c.view_factors.monte_carlo.rays_per_node));
-    w.dense_bytes = 8.0 * n * n * (7.0 + extra_sets) + 4.0 * 12.0 * estimate_entries;
+    w.dense_bytes = denseNetworkBytes(c, n, w.facing_share, extra_sets);
   }
   for (const DesignCase& d : c.design_cases) {
     if (!d.orbit) continue;
