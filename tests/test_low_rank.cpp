@@ -6,6 +6,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <random>
+
 using namespace radnet;
 
 namespace {
@@ -177,4 +179,38 @@ TEST_CASE("a network with no exchange at all (G = 0) keeps rank 0 and solves exa
     CHECK((s.exitance - mo).cwiseAbs().maxCoeff() == 0.0);
     CHECK(s.irradiance.cwiseAbs().maxCoeff() == 0.0);
   }
+}
+
+TEST_CASE("Lanczos growing its rank past G's non-zero eigenvalues keeps orthonormal pairs that rebuild G") {
+  // 800 nodes of which only 24 see each other (a closed cluster): G has at most 24 non-zero
+  // eigenvalues. A rank grown 16 → 32 → 64 asks the later runs, which work on G with the
+  // pairs found deflated, for pairs of a zero eigenvalue, whose eigenvectors may mix with the
+  // deflated ones. Truth: VᵀV = I and V Λ Vᵀ = G, to round-off.
+  const int n = 800, m = 24;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> share(0.2, 1.0);
+  std::vector<Eigen::Triplet<double>> f;
+  for (int i = 0; i < m; ++i) {
+    std::vector<double> row(m, 0.0);
+    double total = 0.0;
+    for (int j = 0; j < m; ++j) total += (row[j] = i == j ? 0.0 : share(rng));
+    for (int j = 0; j < m; ++j)
+      if (row[j] > 0) f.emplace_back(i, j, 0.9 * row[j] / total);
+  }
+  Eigen::SparseMatrix<double> view_factors(n, n);
+  view_factors.setFromTriplets(f.begin(), f.end());
+  const solver::Network net(test::nodeNames(n), Eigen::VectorXd::Constant(n, 0.01), view_factors, {},
+                            solver::NetworkTolerances{1e-3, 1.0});
+  REQUIRE(net.isSparse());
+  solver::EigenRequest req;
+  req.tolerance = 1e-300;  // never met by a non-zero pair: the rank grows to the cap
+  req.max_rank = 64;
+  req.method = solver::EigenMethod::Lanczos;
+  const solver::EigenPairs pairs = solver::decomposeConductance(net, req);
+  REQUIRE(pairs.status == solver::Status::Converged);
+  INFO("rank " << pairs.rank() << ", rule " << pairs.rank_rule);
+  const Eigen::MatrixXd vtv = pairs.vectors.transpose() * pairs.vectors;
+  CHECK((vtv - Eigen::MatrixXd::Identity(pairs.rank(), pairs.rank())).cwiseAbs().maxCoeff() < 1e-10);
+  const Eigen::MatrixXd g = net.denseConductance();
+  CHECK((solver::reconstruct(pairs) - g).cwiseAbs().maxCoeff() < 1e-10 * g.cwiseAbs().maxCoeff());
 }
