@@ -191,11 +191,15 @@ Eigen::VectorXd closureMultipliers(const std::vector<Pair>& pairs, const Eigen::
   return mu;
 }
 
+}  // namespace
+
 // How far each entry moved, in view-factor units and in standard errors, and the closure.
 // The corrected rows hold a subset of the estimate's columns: both are walked together.
-void reportChanges(const ViewFactorEstimate& est, const Eigen::VectorXd& rays, ReciprocityCorrection& out) {
+void reportCorrection(const ViewFactorEstimate& est, const Eigen::VectorXd& rays, ReciprocityCorrection& out,
+                      const solver::RowShare& share) {
   const int n = static_cast<int>(rays.size());
   for (int i = 0; i < n; ++i) {
+    if (!share.holds(i)) continue;
     RowSparse::InnerIterator f(est.view_factors, i), e(est.standard_error, i);
     for (RowSparse::InnerIterator it(out.view_factors, i); it; ++it) {
       const int j = static_cast<int>(it.col());
@@ -221,7 +225,23 @@ void reportChanges(const ViewFactorEstimate& est, const Eigen::VectorXd& rays, R
     const double closure = out.view_factors.row(i).sum() + out.space[i] + out.blocked[i] - 1.0;
     out.max_closure_error = std::max(out.max_closure_error, std::abs(closure));
   }
+  if (share.whole()) return;
+  // The largest move and, among equal ones, the first pair in row order: its −(i n + j) the largest.
+  const double largest = share.largest(out.max_change);
+  double first = out.max_change == largest && out.worst_from >= 0
+                     ? -(double(out.worst_from) * n + out.worst_to)
+                     : -1e300;
+  first = share.largest(first);
+  out.max_change = largest;
+  if (first > -1e300) {
+    out.worst_from = static_cast<int>(-first / n);
+    out.worst_to = static_cast<int>(-first - double(out.worst_from) * n);
+  }
+  out.max_change_sigma = share.largest(out.max_change_sigma);
+  out.max_closure_error = share.largest(out.max_closure_error);
 }
+
+namespace {
 
 // The corrected F in compressed rows, straight from the pairs (sorted by i, then j ≥ i):
 // row r receives g_ir / A_r from the pairs (i < r, r) in increasing i, then g_rj / A_r from
@@ -309,7 +329,7 @@ ReciprocityCorrection enforceReciprocity(const Eigen::VectorXd& area, const View
   out.space = (g_space + v_space.cwiseProduct(mu)).cwiseMax(0.0).cwiseQuotient(area);
   out.blocked = (g_blocked + v_blocked.cwiseProduct(mu)).cwiseMax(0.0).cwiseQuotient(area);
   out.view_factors = correctedRows(pairs, g, area);
-  reportChanges(*shared, rays, out);  // σ on F's pattern (absent entries 0)
+  reportCorrection(*shared, rays, out);  // σ on F's pattern (absent entries 0)
   return out;
 }
 

@@ -10,6 +10,8 @@
 // Lagrange multipliers μ from a sparse SPD system), so precise entries barely move and
 // zero entries stay zero. Entries driven negative are pinned to zero and the system is
 // solved again.
+#include "solver/parallel.hpp"
+
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 
@@ -17,6 +19,9 @@ namespace radnet::geometry {
 
 struct ReciprocityCorrection {
   Eigen::SparseMatrix<double, Eigen::RowMajor> view_factors;  ///< corrected F: A F symmetric, rows closed
+  /// Rows shared out (RowShare): the held rows of Fᵀ (row i: F_ji), which G's held rows need
+  /// besides F's; empty otherwise.
+  Eigen::SparseMatrix<double, Eigen::RowMajor> transposed;
   Eigen::VectorXd space;                                      ///< corrected F_space
   Eigen::VectorXd blocked;                                    ///< corrected F_blocked
   double max_change = 0.0;                                    ///< largest |ΔF_ij|, view-factor units
@@ -40,5 +45,22 @@ struct ViewFactorEstimate {
 ///                  entries with a zero error estimate are not frozen)
 ReciprocityCorrection enforceReciprocity(const Eigen::VectorXd& area, const ViewFactorEstimate& estimate,
                                          const Eigen::VectorXd& rays);
+
+/// The same correction with F's rows shared out over processes (solver::RowShare): each
+/// holds its rows of `estimate` (the vectors whole), receives the partner entries F_ji of
+/// its rows from their holders, and solves for the multipliers by Jacobi-preconditioned
+/// conjugate gradients on its rows of K with every vector whole, so every process moves
+/// the entries it holds exactly as its partners do. Returns the held rows of the corrected
+/// F and of Fᵀ, and the whole space and blocked terms and report. The same for any number
+/// of processes bit for bit; against enforceReciprocity, equal to the multipliers' solver
+/// tolerance (1e-13 of the residual).
+ReciprocityCorrection enforceReciprocityOnRows(const Eigen::VectorXd& area, const ViewFactorEstimate& estimate,
+                                               const Eigen::VectorXd& rays, const solver::RowShare& share);
+
+/// How far each held entry moved (in F's units and in standard errors) and the rows'
+/// closure, into `out`'s report: the largest over the processes (the first pair in row
+/// order among equal moves).
+void reportCorrection(const ViewFactorEstimate& estimate, const Eigen::VectorXd& rays, ReciprocityCorrection& out,
+                      const solver::RowShare& share = {});
 
 }  // namespace radnet::geometry

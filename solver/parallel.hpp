@@ -14,9 +14,11 @@
 #include <sched.h>
 
 #include <algorithm>
+#include <cstddef>
 #include <atomic>
 #include <cstdlib>
 #include <exception>
+#include <functional>
 #include <optional>
 #include <system_error>
 #include <thread>
@@ -113,5 +115,56 @@ inline Eigen::VectorXd sparsePlusLowRankTimes(const SparseRowsRef& s, const Eige
   }, blocks > 1 ? 0 : 1);
   return y;
 }
+
+}  // namespace radnet::solver
+
+namespace radnet::solver {
+
+/// The rows of a network's n × n matrices shared out over processes (MPI ranks,
+/// docs/mpi.md): row i is held by process i mod parts, and no process holds another's rows
+/// (a matrix keeps its n × n shape, the rows it does not hold empty). Vectors of length n,
+/// and n × k blocks such as the eigenvectors, stay whole on every process: a product with a
+/// shared matrix computes the rows held here, leaves +0.0 in the others, and `join` fills
+/// them with their holders' bits. Each row is computed in the same order whatever the
+/// number of processes, so every process ends with the same numbers. The functions are the
+/// caller's (solver/ and geometry/ know no MPI).
+struct RowShare {
+  int part = 0;   ///< this process, 0 … parts − 1
+  int parts = 1;  ///< number of processes (1: every row here, the functions unused)
+  /// In place: each element given by one process (+0.0 on the others) ends with the
+  /// giver's bits on every process.
+  std::function<void(double*, std::size_t)> join;
+  /// In place: the element-wise largest over the processes.
+  std::function<void(double*, std::size_t)> max;
+  /// send[p] to process p (one per process); returns what every process sent to this one,
+  /// concatenated in process order.
+  std::function<std::vector<double>(const std::vector<std::vector<double>>&)> exchange;
+
+  bool whole() const { return parts <= 1; }
+  bool holds(Eigen::Index row) const { return parts <= 1 || row % parts == part; }
+  int holder(Eigen::Index row) const { return parts <= 1 ? 0 : static_cast<int>(row % parts); }
+  /// Joins a contiguous block (each element computed by its row's holder).
+  void joinRows(double* data, std::size_t count) const {
+    if (!whole()) join(data, count);
+  }
+  /// The largest x over the processes.
+  double largest(double x) const {
+    if (!whole()) max(&x, 1);
+    return x;
+  }
+  /// Whether any process says yes.
+  bool any(bool yes) const { return largest(yes ? 1.0 : 0.0) > 0.0; }
+  /// The sum over the processes of a count (exact in doubles below 2⁵³), by the largest of
+  /// each process's count in its own slot.
+  double total(double count) const {
+    if (whole()) return count;
+    std::vector<double> slots(static_cast<std::size_t>(parts), 0.0);
+    slots[static_cast<std::size_t>(part)] = count;
+    join(slots.data(), slots.size());
+    double sum = 0.0;
+    for (double s : slots) sum += s;
+    return sum;
+  }
+};
 
 }  // namespace radnet::solver

@@ -16,7 +16,7 @@ ALLOWED_PROJECT = [
     ("geometry/rays/", ["geometry/rays/", "geometry/scene/", "geometry/reciprocity.hpp", "solver/units.hpp"]),
     ("geometry/exact/", ["geometry/exact/", "geometry/scene/", "geometry/reciprocity.hpp", "solver/units.hpp"]),
     ("geometry/irradiance/", ["geometry/irradiance/", "geometry/rays/", "geometry/scene/", "solver/units.hpp"]),
-    ("geometry/", ["geometry/reciprocity.hpp", "solver/units.hpp"]),
+    ("geometry/", ["geometry/reciprocity.hpp", "solver/units.hpp", "solver/parallel.hpp"]),
     ("solver/radiative/", ["solver/radiative/", "solver/units.hpp", "solver/status.hpp", "solver/parallel.hpp"]),
     ("solver/thermal/", ["solver/thermal/", "solver/units.hpp", "solver/status.hpp", "solver/parallel.hpp"]),
     ("solver/", ["solver/units.hpp", "solver/status.hpp", "solver/parallel.hpp"]),

@@ -1,0 +1,266 @@
+// The reciprocity and closure correction of reciprocity.cpp with F's rows shared out over
+// processes (docs/mpi.md): a process holds its rows of F and σ, learns its rows' partner
+// entries A_j F_ji from their holders, and keeps every unordered pair twice, once in each
+// of its two rows, combined the same way by both holders (the lower index's estimate
+// first), so the two copies stay equal bit for bit through the multipliers and the pinning.
+#include "geometry/reciprocity.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace radnet::geometry {
+namespace {
+
+using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+
+double floorVariance(const Eigen::VectorXd& area, const Eigen::VectorXd& rays, Eigen::Index i) {
+  return std::pow(area[i] / std::max(1.0, rays[i]), 2);
+}
+
+// Each held row's pairs, every partner j (itself too) in increasing order: the combined
+// estimate ĝ_ij of the conductance and its variance.
+struct RowPairs {
+  std::vector<std::int64_t> start;  // n + 1; rows not held are empty
+  std::vector<int> partner;
+  std::vector<double> g_hat, var, g;
+  std::vector<char> pinned;
+};
+
+// One directional estimate: x = A_i F_ij and its variance, from row i's holder.
+struct Side {
+  double x = 0.0, v = 0.0;
+  bool present = false;
+};
+
+// ĝ and its variance from the two sides of the pair (lo, hi), lo ≤ hi, as combinedPairs in
+// reciprocity.cpp combines them (the same operations in the same order).
+void combine(const Side& lo, const Side& hi, Eigen::Index lo_node, Eigen::Index hi_node, const Eigen::VectorXd& area,
+             const Eigen::VectorXd& rays, double& g_hat, double& var) {
+  if (lo.present) {
+    double num = lo.x / lo.v, den = 1.0 / lo.v;
+    if (lo_node != hi_node) {
+      if (hi.present) {
+        num += hi.x / hi.v;
+        den += 1.0 / hi.v;
+      } else {
+        den += 1.0 / floorVariance(area, rays, hi_node);
+      }
+    }
+    g_hat = num / den;
+    var = 1.0 / den;
+    return;
+  }
+  const double den = 1.0 / hi.v + 1.0 / floorVariance(area, rays, lo_node);
+  g_hat = hi.x / hi.v / den;
+  var = 1.0 / den;
+}
+
+// The held rows' pairs: own entries, and the partners' entries received from their holders
+// as (j · n + i, A_j F_ji, variance) triples, sorted into each row.
+RowPairs rowPairs(const Eigen::VectorXd& area, const ViewFactorEstimate& est, const Eigen::VectorXd& rays,
+                  const solver::RowShare& share) {
+  const RowSparse &f = est.view_factors, &sigma = est.standard_error;
+  const Eigen::Index n = area.size();
+  auto variance = [&](Eigen::Index row, double error) {
+    return std::max(std::pow(area[row] * error, 2), floorVariance(area, rays, row));
+  };
+  std::vector<std::vector<double>> send(static_cast<size_t>(share.parts));
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (share.holds(i))
+      for (Eigen::Index k = f.outerIndexPtr()[i]; k < f.outerIndexPtr()[i + 1]; ++k) {
+        const Eigen::Index j = f.innerIndexPtr()[k];
+        if (j == i) continue;
+        std::vector<double>& to = send[static_cast<size_t>(share.holder(j))];
+        to.push_back(double(j) * double(n) + double(i));
+        to.push_back(area[i] * f.valuePtr()[k]);
+        to.push_back(variance(i, sigma.valuePtr()[k]));
+      }
+  std::vector<double> received = share.whole() ? std::move(send[0]) : share.exchange(send);
+  send.clear();
+  send.shrink_to_fit();
+  // Received triples by row (a counting sort), each row's by partner.
+  const size_t count = received.size() / 3;
+  auto key = [&](size_t q) { return static_cast<std::int64_t>(received[3 * q]); };
+  std::vector<std::int64_t> first(static_cast<size_t>(n) + 1, 0);
+  for (size_t q = 0; q < count; ++q) ++first[static_cast<size_t>(key(q) / n) + 1];
+  for (size_t i = 0; i < static_cast<size_t>(n); ++i) first[i + 1] += first[i];
+  std::vector<std::int64_t> order(count);
+  {
+    std::vector<std::int64_t> fill(first.begin(), first.end() - 1);
+    for (size_t q = 0; q < count; ++q) order[static_cast<size_t>(fill[static_cast<size_t>(key(q) / n)]++)] = std::int64_t(q);
+  }
+  for (size_t i = 0; i < static_cast<size_t>(n); ++i)
+    std::sort(order.begin() + first[i], order.begin() + first[i + 1],
+              [&](std::int64_t a, std::int64_t b) { return key(size_t(a)) < key(size_t(b)); });
+  RowPairs rp;
+  rp.start.assign(static_cast<size_t>(n) + 1, 0);
+  size_t held = count;
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (share.holds(i)) held += static_cast<size_t>(f.outerIndexPtr()[i + 1] - f.outerIndexPtr()[i]);
+  const size_t reserve = held;
+  rp.partner.reserve(reserve);
+  rp.g_hat.reserve(reserve);
+  rp.var.reserve(reserve);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    rp.start[static_cast<size_t>(i)] = static_cast<std::int64_t>(rp.partner.size());
+    if (!share.holds(i)) continue;
+    Eigen::Index k = f.outerIndexPtr()[i];
+    const Eigen::Index end = f.outerIndexPtr()[i + 1];
+    auto r = first[static_cast<size_t>(i)];
+    const auto r_end = first[static_cast<size_t>(i) + 1];
+    while (k < end || r < r_end) {
+      const Eigen::Index own_j = k < end ? f.innerIndexPtr()[k] : n;
+      const size_t at = r < r_end ? static_cast<size_t>(order[static_cast<size_t>(r)]) : 0;
+      const Eigen::Index recv_j = r < r_end ? static_cast<Eigen::Index>(key(at) % n) : n;
+      const Eigen::Index j = std::min(own_j, recv_j);
+      Side mine, theirs;
+      if (own_j == j) {
+        mine = {area[i] * f.valuePtr()[k], variance(i, sigma.valuePtr()[k]), true};
+        ++k;
+      }
+      if (recv_j == j) {
+        theirs = {received[3 * at + 1], received[3 * at + 2], true};
+        ++r;
+      }
+      double g_hat = 0.0, var = 0.0;
+      if (i <= j) combine(mine, theirs, i, j, area, rays, g_hat, var);
+      else combine(theirs, mine, j, i, area, rays, g_hat, var);
+      rp.partner.push_back(static_cast<int>(j));
+      rp.g_hat.push_back(g_hat);
+      rp.var.push_back(var);
+    }
+  }
+  rp.start[static_cast<size_t>(n)] = static_cast<std::int64_t>(rp.partner.size());
+  rp.pinned.assign(rp.partner.size(), 0);
+  rp.g.assign(rp.partner.size(), 0.0);
+  return rp;
+}
+
+// K's held rows times x, whole on every process: diagonal then the free pairs, by row.
+Eigen::VectorXd timesK(const RowPairs& rp, const Eigen::VectorXd& diag, const Eigen::VectorXd& x,
+                       const solver::RowShare& share) {
+  const Eigen::Index n = diag.size();
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (!share.holds(i)) continue;
+    double sum = diag[i] * x[i];
+    for (auto q = rp.start[size_t(i)]; q < rp.start[size_t(i) + 1]; ++q)
+      if (!rp.pinned[size_t(q)] && rp.partner[size_t(q)] != i) sum += rp.var[size_t(q)] * x[rp.partner[size_t(q)]];
+    y[i] = sum;
+  }
+  share.joinRows(y.data(), static_cast<size_t>(n));
+  return y;
+}
+
+// The multipliers: K μ = c − Σ ĝ (free pairs) by Jacobi-preconditioned conjugate gradients,
+// K = Σ v over each row's terms on the diagonal and v_ij off it (K is diagonally dominant).
+Eigen::VectorXd multipliers(const RowPairs& rp, const Eigen::VectorXd& free_rhs, const Eigen::VectorXd& free_variance,
+                            const solver::RowShare& share) {
+  const Eigen::Index n = free_rhs.size();
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n), diag = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (!share.holds(i)) continue;
+    double b = free_rhs[i], d = free_variance[i];
+    for (auto q = rp.start[size_t(i)]; q < rp.start[size_t(i) + 1]; ++q)
+      if (!rp.pinned[size_t(q)]) b -= rp.g_hat[size_t(q)], d += rp.var[size_t(q)];
+    rhs[i] = b;
+    diag[i] = d > 0 ? d : 1.0;  // isolated rows: μ = 0
+  }
+  share.joinRows(rhs.data(), static_cast<size_t>(n));
+  share.joinRows(diag.data(), static_cast<size_t>(n));
+  const Eigen::VectorXd inverse_diag = diag.cwiseInverse();
+  Eigen::VectorXd mu = Eigen::VectorXd::Zero(n), r = rhs, z = inverse_diag.cwiseProduct(r), p = z;
+  const double rhs_norm2 = rhs.squaredNorm(), tol2 = 1e-26 * rhs_norm2;
+  double rz = r.dot(z);
+  for (int it = 0; it < 2000 && rhs_norm2 > 0 && r.squaredNorm() > tol2; ++it) {
+    const Eigen::VectorXd q = timesK(rp, diag, p, share);
+    const double alpha = rz / p.dot(q);
+    mu += alpha * p;
+    r -= alpha * q;
+    z = inverse_diag.cwiseProduct(r);
+    const double rz_next = r.dot(z);
+    p = z + (rz_next / rz) * p;
+    rz = rz_next;
+  }
+  return mu;
+}
+
+}  // namespace
+
+ReciprocityCorrection enforceReciprocityOnRows(const Eigen::VectorXd& area, const ViewFactorEstimate& est,
+                                               const Eigen::VectorXd& rays, const solver::RowShare& share) {
+  const Eigen::Index n = area.size();
+  ViewFactorEstimate relaid;  // σ on F's compressed pattern, as rowPairs reads it
+  relaid.view_factors = est.view_factors;
+  relaid.view_factors.makeCompressed();
+  relaid.standard_error = relaid.view_factors;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    RowSparse::InnerIterator e(est.standard_error, i);
+    for (RowSparse::InnerIterator it(relaid.standard_error, i); it; ++it) {
+      while (e && e.col() < it.col()) ++e;
+      it.valueRef() = (e && e.col() == it.col()) ? e.value() : 0.0;
+    }
+  }
+  RowPairs rp = rowPairs(area, relaid, rays, share);
+  Eigen::VectorXd g_space = area.cwiseProduct(est.space), g_blocked = area.cwiseProduct(est.blocked);
+  Eigen::VectorXd v_space(n), v_blocked(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double floor_var = floorVariance(area, rays, i);
+    v_space[i] = est.space[i] > 0 ? std::max(std::pow(area[i] * est.space_error[i], 2), floor_var) : 0.0;
+    v_blocked[i] = est.blocked[i] > 0 ? std::max(std::pow(area[i] * est.blocked_error[i], 2), floor_var) : 0.0;
+  }
+  Eigen::VectorXd mu = Eigen::VectorXd::Zero(n);
+  for (int pass = 0; pass < 20; ++pass) {  // entries driven negative pinned at zero, as in enforceReciprocity
+    mu = multipliers(rp, area - g_space - g_blocked, v_space + v_blocked, share);
+    bool changed = false;
+    for (Eigen::Index i = 0; i < n; ++i)
+      for (auto q = rp.start[size_t(i)]; q < rp.start[size_t(i) + 1]; ++q) {
+        const auto s = static_cast<size_t>(q);
+        const Eigen::Index j = rp.partner[s];
+        if (rp.pinned[s]) {
+          rp.g[s] = 0.0;
+          continue;
+        }
+        // μ_lo + μ_hi in the pair's own order: both holders add the same way.
+        rp.g[s] = rp.g_hat[s] + rp.var[s] * (i == j ? mu[i] : mu[std::min(i, j)] + mu[std::max(i, j)]);
+        if (rp.g[s] < 0) {
+          rp.pinned[s] = 1;
+          changed = true;
+        }
+      }
+    for (Eigen::Index i = 0; i < n; ++i)  // whole vectors: every process alike
+      for (auto [g_term, v_term] : {std::pair{&g_space, &v_space}, std::pair{&g_blocked, &v_blocked}})
+        if ((*v_term)[i] > 0 && (*g_term)[i] + (*v_term)[i] * mu[i] < 0) {
+          (*g_term)[i] = (*v_term)[i] = 0.0;
+          changed = true;
+        }
+    if (!share.any(changed)) break;
+  }
+  ReciprocityCorrection out;
+  out.space = (g_space + v_space.cwiseProduct(mu)).cwiseMax(0.0).cwiseQuotient(area);
+  out.blocked = (g_blocked + v_blocked.cwiseProduct(mu)).cwiseMax(0.0).cwiseQuotient(area);
+  // Held rows of F (g / A_i) and of Fᵀ (g / A_j), in column order.
+  for (RowSparse* m : {&out.view_factors, &out.transposed}) {
+    const bool transposed = m == &out.transposed;
+    std::vector<int> outer(static_cast<size_t>(n) + 1, 0);
+    std::vector<int> inner;
+    std::vector<double> value;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      outer[size_t(i)] = static_cast<int>(inner.size());
+      for (auto q = rp.start[size_t(i)]; q < rp.start[size_t(i) + 1]; ++q)
+        if (rp.g[size_t(q)] > 0) {
+          const int j = rp.partner[size_t(q)];
+          inner.push_back(j);
+          value.push_back(rp.g[size_t(q)] / area[transposed ? j : i]);
+        }
+    }
+    outer[size_t(n)] = static_cast<int>(inner.size());
+    *m = Eigen::Map<const RowSparse>(n, n, static_cast<Eigen::Index>(inner.size()), outer.data(), inner.data(),
+                                     value.data());
+  }
+  reportCorrection(relaid, rays, out, share);
+  return out;
+}
+
+}  // namespace radnet::geometry
