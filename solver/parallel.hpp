@@ -81,45 +81,6 @@ void parallelFor(long long count, const Body& body, unsigned threads = 0) {
   if (first) std::rethrow_exception(first);
 }
 
-/// A compressed row-major matrix read in place: a SparseMatrix or a Map of its arrays (a
-/// symmetric column-major matrix's arrays are its rows).
-using SparseRowsRef = Eigen::Ref<const Eigen::SparseMatrix<double, Eigen::RowMajor>>;
-
-/// y = S x + U (C (Vᵀ x)) (C empty: the identity), on the cores by fixed blocks of 4,096 rows:
-/// Vᵀ x summed block by block in order and each y_i by one task, so y is bit-identical for
-/// any thread count. S (n×n), U, V (n×k), C (k×k). The thermal solver's factored GR and
-/// Jacobian, and Lanczos on G with the pairs already found deflated.
-inline Eigen::VectorXd sparsePlusLowRankTimes(const SparseRowsRef& s, const Eigen::MatrixXd& u,
-                                              const Eigen::MatrixXd& c, const Eigen::MatrixXd& v,
-                                              const Eigen::Ref<const Eigen::VectorXd>& x) {
-  // Fixed blocks (not one per thread), so the sums' order is too; below two blocks' worth a
-  // product is too small to share.
-  constexpr Eigen::Index kRowsPerBlock = 4096;
-  const Eigen::Index n = s.rows(), k = u.cols();
-  const Eigen::Index blocks = (n + kRowsPerBlock - 1) / kRowsPerBlock;
-  auto rows = [&](Eigen::Index b) { return std::min(kRowsPerBlock, n - b * kRowsPerBlock); };
-  Eigen::VectorXd small = Eigen::VectorXd::Zero(k);
-  if (k > 0) {
-    Eigen::MatrixXd partial(k, blocks);
-    parallelFor(blocks, [&](long long b) {
-      partial.col(b).noalias() = v.middleRows(b * kRowsPerBlock, rows(b)).transpose() * x.segment(b * kRowsPerBlock, rows(b));
-    }, blocks > 1 ? 0 : 1);
-    for (Eigen::Index b = 0; b < blocks; ++b) small += partial.col(b);
-    if (c.size() > 0) small = c * small;
-  }
-  Eigen::VectorXd y(n);
-  parallelFor(blocks, [&](long long b) {
-    auto part = y.segment(b * kRowsPerBlock, rows(b));
-    part.noalias() = s.middleRows(b * kRowsPerBlock, rows(b)) * x;
-    if (k > 0) part.noalias() += u.middleRows(b * kRowsPerBlock, rows(b)) * small;
-  }, blocks > 1 ? 0 : 1);
-  return y;
-}
-
-}  // namespace radnet::solver
-
-namespace radnet::solver {
-
 /// The rows of a network's n × n matrices shared out over processes (MPI ranks,
 /// docs/mpi.md): row i is held by process i mod parts, and no process holds another's rows
 /// (a matrix keeps its n × n shape, the rows it does not hold empty). Vectors of length n,
@@ -166,5 +127,49 @@ struct RowShare {
     return sum;
   }
 };
+
+/// A compressed row-major matrix read in place: a SparseMatrix or a Map of its arrays (a
+/// symmetric column-major matrix's arrays are its rows).
+using SparseRowsRef = Eigen::Ref<const Eigen::SparseMatrix<double, Eigen::RowMajor>>;
+
+/// y = S x + U (C (Vᵀ x)) (C empty: the identity), on the cores by fixed blocks of 4,096 rows:
+/// Vᵀ x summed block by block in order and each y_i by one task, so y is bit-identical for
+/// any thread count. S (n×n), U, V (n×k), C (k×k). The thermal solver's factored GR and
+/// Jacobian, and Lanczos on G with the pairs already found deflated. S's rows shared out
+/// (`share`): S x from the held rows, joined, then the low-rank part: the same bits.
+inline Eigen::VectorXd sparsePlusLowRankTimes(const SparseRowsRef& s, const Eigen::MatrixXd& u,
+                                              const Eigen::MatrixXd& c, const Eigen::MatrixXd& v,
+                                              const Eigen::Ref<const Eigen::VectorXd>& x,
+                                              const RowShare& share = {}) {
+  // Fixed blocks (not one per thread), so the sums' order is too; below two blocks' worth a
+  // product is too small to share.
+  constexpr Eigen::Index kRowsPerBlock = 4096;
+  const Eigen::Index n = s.rows(), k = u.cols();
+  const Eigen::Index blocks = (n + kRowsPerBlock - 1) / kRowsPerBlock;
+  auto rows = [&](Eigen::Index b) { return std::min(kRowsPerBlock, n - b * kRowsPerBlock); };
+  Eigen::VectorXd small = Eigen::VectorXd::Zero(k);
+  if (k > 0) {
+    Eigen::MatrixXd partial(k, blocks);
+    parallelFor(blocks, [&](long long b) {
+      partial.col(b).noalias() = v.middleRows(b * kRowsPerBlock, rows(b)).transpose() * x.segment(b * kRowsPerBlock, rows(b));
+    }, blocks > 1 ? 0 : 1);
+    for (Eigen::Index b = 0; b < blocks; ++b) small += partial.col(b);
+    if (c.size() > 0) small = c * small;
+  }
+  Eigen::VectorXd y(n);
+  const bool whole = share.whole();
+  parallelFor(blocks, [&](long long b) {
+    auto part = y.segment(b * kRowsPerBlock, rows(b));
+    part.noalias() = s.middleRows(b * kRowsPerBlock, rows(b)) * x;
+    if (k > 0 && whole) part.noalias() += u.middleRows(b * kRowsPerBlock, rows(b)) * small;
+  }, blocks > 1 ? 0 : 1);
+  if (whole) return y;
+  share.joinRows(y.data(), static_cast<std::size_t>(n));
+  if (k > 0)
+    parallelFor(blocks, [&](long long b) {
+      y.segment(b * kRowsPerBlock, rows(b)).noalias() += u.middleRows(b * kRowsPerBlock, rows(b)) * small;
+    }, blocks > 1 ? 0 : 1);
+  return y;
+}
 
 }  // namespace radnet::solver

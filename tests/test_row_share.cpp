@@ -134,3 +134,141 @@ TEST_CASE("correction on shared rows: 1, 2 and 3 parts bit for bit, the one-proc
   const Eigen::MatrixXd raw = Eigen::MatrixXd(e.estimate.view_factors);
   CHECK(((raw.array() > 0) && (one.f.array() == 0)).count() > 0);
 }
+
+// ---- The network, its eigenpairs, GR and the band solves on shared rows ----------------
+
+#include "solver/radiative/exchange.hpp"
+#include "solver/radiative/policy.hpp"
+#include "solver/radiative/uncertainty.hpp"
+
+namespace {
+
+// A reciprocal sparse network of n nodes on a ring: each sees its 8 neighbours on either
+// side, A_i F_ij = g_ij symmetric and random, rows summing to 0.5–0.9.
+struct RingNetwork {
+  Eigen::VectorXd area;
+  RowSparse f, sigma;  // F and a σ_F on its pattern
+  std::vector<std::string> names;
+};
+
+RingNetwork ringNetwork(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  RingNetwork r;
+  r.area.resize(n);
+  for (int i = 0; i < n; ++i) r.area[i] = 0.5 + u(rng), r.names.push_back("n" + std::to_string(i));
+  std::vector<Eigen::Triplet<double>> g;
+  for (int i = 0; i < n; ++i)
+    for (int d = 1; d <= 8; ++d) {
+      const double gij = 0.01 + u(rng);
+      g.emplace_back(i, (i + d) % n, gij);
+      g.emplace_back((i + d) % n, i, gij);
+    }
+  RowSparse gm(n, n);
+  gm.setFromTriplets(g.begin(), g.end());
+  Eigen::VectorXd row = gm * Eigen::VectorXd::Ones(n);
+  const double scale = 0.9 * (r.area.cwiseQuotient(row)).minCoeff();  // every row sum ≤ 0.9
+  r.f = r.area.cwiseInverse().asDiagonal() * (scale * gm);
+  r.sigma = r.f;
+  for (Eigen::Index k = 0; k < r.sigma.nonZeros(); ++k) r.sigma.valuePtr()[k] = 1e-3 * (1.0 + u(rng));
+  return r;
+}
+
+// What a part computes, put together from the parts (rows from their holders).
+struct SharedRun {
+  Eigen::VectorXd f_space, gr_space, values, probe;
+  Eigen::MatrixXd vectors, exitance, gr_times, var_f;
+  RowSparse g_rows, direct;  // every part's held rows, put together
+  double bound = 0.0, change = 0.0, g_entry = 0.0, gr_entry = 0.0;
+  int worst_from = -1, worst_to = -1;
+};
+
+void addRows(RowSparse& into, const RowSparse& held) { into += held; }
+
+SharedRun runShared(const RingNetwork& r, int parts) {
+  const Eigen::Index n = r.area.size();
+  const Eigen::VectorXd eps = Eigen::VectorXd::LinSpaced(n, 0.3, 0.9), rho = Eigen::VectorXd::Ones(n) - eps;
+  solver::SolverSettings settings;
+  settings.tolerance = 1e-6;
+  settings.rank = 24;  // one Lanczos run: the test's time is six decompositions (1 + 2 + 3 parts)
+  SharedRun out;
+  out.g_rows.resize(n, n);
+  out.direct.resize(n, n);
+  std::mutex gather;
+  testing::ThreadedParts(parts).run([&](const solver::RowShare& share) {
+    const RowSparse f = heldRows(r.f, share), ft = heldRows(RowSparse(r.f.transpose()), share);
+    const solver::Network net(r.names, r.area, f, ft, Eigen::VectorXd(), solver::policy::kCorrectedNetworkTolerances,
+                              share);
+    const solver::EigenPairs pairs = solver::policy::decomposeForBands(net, rho, settings, {eps});
+    const solver::ExchangeFactors ex = solver::policy::exchangeFactors(net, pairs, eps, settings);
+    const solver::LowRankBandSolver band(net, pairs, rho);
+    const Eigen::MatrixXd m0 = Eigen::MatrixXd::Constant(n, 2, 100.0);
+    const solver::BandSolution sol = band.solve(m0, 1e-9);
+    const Eigen::MatrixXd gr_times = ex.apply(Eigen::MatrixXd::Ones(n, 1));
+    const solver::AbsorbedVariance var = solver::absorbedVariance(net, band, heldRows(r.sigma, share), sol.exitance,
+                                                                  Eigen::MatrixXd::Constant(n, 2, 1.0));
+    const double bound = net.spectralBound(), g_entry = net.conductance(5, 7), gr_entry = ex.entry(5, 7);
+    const Eigen::Map<const RowSparse> g_held(n, n, net.sparseConductance().nonZeros(),
+                                             net.sparseConductance().outerIndexPtr(),
+                                             net.sparseConductance().innerIndexPtr(),
+                                             net.sparseConductance().valuePtr());
+    std::lock_guard<std::mutex> lock(gather);
+    addRows(out.g_rows, RowSparse(g_held));
+    addRows(out.direct, ex.direct);
+    if (share.part != 0) return;
+    out.f_space = net.spaceViewFactor();
+    out.gr_space = ex.gr_space;
+    out.values = pairs.values;
+    out.vectors = pairs.vectors;
+    out.exitance = sol.exitance;
+    out.gr_times = gr_times;
+    out.var_f = var.view_factors;
+    out.bound = bound, out.g_entry = g_entry, out.gr_entry = gr_entry;
+    out.change = net.reciprocity().max_view_factor_change;
+    out.worst_from = net.reciprocity().worst_from, out.worst_to = net.reciprocity().worst_to;
+  });
+  return out;
+}
+
+bool same(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  return a.rows() == b.rows() && a.cols() == b.cols() && (a.array() == b.array()).all();
+}
+bool same(const RowSparse& a, const RowSparse& b) { return same(Eigen::MatrixXd(a), Eigen::MatrixXd(b)); }
+
+}  // namespace
+
+TEST_CASE("network, eigenpairs, GR and band solves on shared rows: the one-process numbers bit for bit") {
+  // 9,000 nodes: above every dense threshold of the policy (8,000), as shared rows are.
+  const RingNetwork r = ringNetwork(9000, 3);
+  const SharedRun one = runShared(r, 1), two = runShared(r, 2), three = runShared(r, 3);
+  REQUIRE(one.values.size() > 10);
+  for (const SharedRun* s : {&two, &three}) {
+    CHECK(same(s->g_rows, one.g_rows));
+    CHECK(same(s->direct, one.direct));
+    CHECK(same(s->f_space, one.f_space));
+    CHECK(same(s->values, one.values));
+    CHECK(same(s->vectors, one.vectors));
+    CHECK(same(s->gr_space, one.gr_space));
+    CHECK(same(s->exitance, one.exitance));
+    CHECK(same(s->gr_times, one.gr_times));
+    CHECK(same(s->var_f, one.var_f));
+    CHECK(s->bound == one.bound);
+    CHECK(s->g_entry == one.g_entry);
+    CHECK(s->gr_entry == one.gr_entry);
+    CHECK(s->change == one.change);
+    CHECK(s->worst_from == one.worst_from);
+    CHECK(s->worst_to == one.worst_to);
+  }
+  // One part against the one-process network of the whole F (column-major, as the pipeline
+  // builds it): the same G, F_space and eigenpairs.
+  const solver::Network whole(r.names, r.area, Eigen::SparseMatrix<double>(r.f), Eigen::VectorXd(),
+                              solver::policy::kCorrectedNetworkTolerances);
+  const Eigen::SparseMatrix<double>& g = whole.sparseConductance();
+  CHECK(same(RowSparse(Eigen::Map<const RowSparse>(g.rows(), g.cols(), g.nonZeros(), g.outerIndexPtr(),
+                                                   g.innerIndexPtr(), g.valuePtr())),
+             one.g_rows));
+  CHECK(same(whole.spaceViewFactor(), one.f_space));
+  CHECK(whole.spectralBound() == one.bound);
+  CHECK(whole.conductance(5, 7) == one.g_entry);
+  CHECK(one.g_entry > 0.0);
+}

@@ -139,11 +139,12 @@ struct DeflatedSparseProduct {
   Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor>> g;
   const Eigen::MatrixXd& vectors;
   Eigen::MatrixXd minus_values;  // −Λ (k×k)
+  const RowShare& share;         // G's rows shared out: the product joined, whole on every process
   Eigen::Index rows() const { return g.rows(); }
   Eigen::Index cols() const { return g.cols(); }
   void perform_op(const double* x, double* y) const {
-    Eigen::Map<Eigen::VectorXd>(y, g.rows()) =
-        sparsePlusLowRankTimes(g, vectors, minus_values, vectors, Eigen::Map<const Eigen::VectorXd>(x, g.rows()));
+    Eigen::Map<Eigen::VectorXd>(y, g.rows()) = sparsePlusLowRankTimes(
+        g, vectors, minus_values, vectors, Eigen::Map<const Eigen::VectorXd>(x, g.rows()), share);
   }
 };
 
@@ -180,7 +181,8 @@ EigenPairs lanczosOnNetwork(const Network& net, int nev, const EigenRequest& req
     const Eigen::SparseMatrix<double>& g = net.sparseConductance();
     DeflatedSparseProduct deflated{{n, n, g.nonZeros(), g.outerIndexPtr(), g.innerIndexPtr(), g.valuePtr()},
                                    found.vectors,
-                                   -Eigen::MatrixXd(found.values.asDiagonal())};
+                                   -Eigen::MatrixXd(found.values.asDiagonal()),
+                                   net.share()};
     out = nextPairs(deflated, n, nev - found.rank(), req, found, reached_null);
   } else {
     const Eigen::MatrixXd g = net.denseConductance();

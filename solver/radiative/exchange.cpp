@@ -1,6 +1,7 @@
 #include "solver/radiative/exchange.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 #include <cmath>
 
 namespace radnet::solver {
@@ -100,13 +101,19 @@ ExchangeFactors exchangeFactorsLowRank(const Network& net, const LowRankBandSolv
     finishFactors(ex, net, emissivity);
     return ex;
   }
-  ex.direct = Eigen::SparseMatrix<double, Eigen::RowMajor>(net.sparseConductance());
+  // G's column-major arrays are its rows (G = Gᵀ): the held rows when they are shared out.
+  const Eigen::SparseMatrix<double>& g = net.sparseConductance();
+  ex.direct = Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor>>(
+      g.rows(), g.cols(), g.nonZeros(), g.outerIndexPtr(), g.innerIndexPtr(), g.valuePtr());
   for (Eigen::Index i = 0; i < ex.direct.outerSize(); ++i)
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(ex.direct, i); it; ++it)
       it.valueRef() *= emissivity[it.row()] * emissivity[it.col()];
+  ex.share = net.share();
   // Row sums without GR: D 1 + W (K (Wᵀ 1)).
   const Eigen::VectorXd ones = Eigen::VectorXd::Ones(net.size());
-  const Eigen::VectorXd row_sum = ex.direct * ones + ex.basis * (ex.core * (ex.basis.transpose() * ones));
+  Eigen::VectorXd direct_sum = ex.direct * ones;
+  ex.share.joinRows(direct_sum.data(), static_cast<size_t>(direct_sum.size()));
+  const Eigen::VectorXd row_sum = direct_sum + ex.basis * (ex.core * (ex.basis.transpose() * ones));
   ex.gr_space = emissivity.cwiseProduct(net.area()) - row_sum;
   // Symmetric by construction (G and the symmetrised K); what K's round-off was, relative.
   ex.asymmetry = core_scale > 0 ? core_asymmetry / core_scale : 0.0;
@@ -117,16 +124,12 @@ ExchangeFactors exchangeFactorsLowRank(const Network& net, const LowRankBandSolv
   return ex;
 }
 
-double ExchangeFactors::entry(Eigen::Index i, Eigen::Index j) const {
-  if (!factored()) return gr(i, j);
-  return direct.coeff(i, j) + basis.row(i).dot(core * basis.row(j).transpose());
-}
-
 void ExchangeFactors::denseInto(Eigen::Ref<Eigen::MatrixXd> out) const {
   if (!factored()) {
     out = gr;
     return;
   }
+  if (!share.whole()) throw std::logic_error("a dense GR of a network whose rows are shared out");
   out.noalias() = (basis * core) * basis.transpose();
   for (Eigen::Index i = 0; i < direct.outerSize(); ++i)
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(direct, i); it; ++it)
@@ -144,15 +147,34 @@ Eigen::MatrixXd ExchangeFactors::dense() const {
 Eigen::MatrixXd ExchangeFactors::rows(Eigen::Index first, Eigen::Index count) const {
   if (!factored()) return gr.middleRows(first, count);
   Eigen::MatrixXd out = (basis.middleRows(first, count) * core) * basis.transpose();
+  if (share.whole()) {
+    for (Eigen::Index r = 0; r < count; ++r)
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(direct, first + r); it; ++it)
+        out(r, it.col()) += it.value();
+    return out;
+  }
+  Eigen::MatrixXd held = Eigen::MatrixXd::Zero(count, direct.cols());  // the direct rows, from their holders
   for (Eigen::Index r = 0; r < count; ++r)
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(direct, first + r); it; ++it)
-      out(r, it.col()) += it.value();
+      held(r, it.col()) = it.value();
+  share.joinRows(held.data(), static_cast<size_t>(held.size()));
+  for (Eigen::Index j = 0; j < held.cols(); ++j)
+    for (Eigen::Index r = 0; r < count; ++r)
+      if (held(r, j) != 0.0) out(r, j) += held(r, j);
   return out;
+}
+
+double ExchangeFactors::entry(Eigen::Index i, Eigen::Index j) const {
+  if (!factored()) return gr(i, j);
+  double d = direct.coeff(i, j);
+  share.joinRows(&d, 1);
+  return d + basis.row(i).dot(core * basis.row(j).transpose());
 }
 
 Eigen::MatrixXd ExchangeFactors::apply(const Eigen::Ref<const Eigen::MatrixXd>& x) const {
   if (!factored()) return gr * x;
   Eigen::MatrixXd y = direct * x;
+  share.joinRows(y.data(), static_cast<size_t>(y.size()));
   y.noalias() += basis * (core * (basis.transpose() * x));
   return y;
 }

@@ -25,6 +25,9 @@ struct ExchangeFactors {
   Eigen::SparseMatrix<double, Eigen::RowMajor> direct;  ///< D = E G E (n×n, sparse), m²
   Eigen::MatrixXd basis;         ///< W = E V (n×k), –
   Eigen::MatrixXd core;          ///< K = C − Λ (k×k), symmetric, m²
+  /// `direct`'s rows shared out as the network's (RowShare): the held rows only; entry, rows
+  /// and apply are then collectives (every process asks the same).
+  RowShare share;
   double asymmetry = 0.0;    ///< max |GR_ij − GR_ji| / max|GR| before symmetrising (round-off), –
   std::string method;        ///< "dense LU" or "direct + low-rank reflected (k = <rank>)"
   bool from_pairs = false;   ///< the reflections come from the rank-k pairs (not exact)

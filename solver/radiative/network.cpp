@@ -183,12 +183,94 @@ Network::Network(std::vector<std::string> names, Eigen::VectorXd area_m2,
       }
     }
   }
-  Eigen::VectorXd g_rows = g_sparse_ * Eigen::VectorXd::Ones(n);
-  finish(g_rows.cwiseQuotient(area_), tol);
+  finish(heldRowSums().cwiseQuotient(area_), tol);
+}
+
+// G's row sums, whole: column i is row i (G = Gᵀ), summed in order by its holder and joined.
+Eigen::VectorXd Network::heldRowSums() const {
+  const int n = size();
+  Eigen::VectorXd sums = Eigen::VectorXd::Zero(n);
+  for (int i = 0; i < n; ++i)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(g_sparse_, i); it; ++it) sums[i] += it.value();
+  share_.joinRows(sums.data(), static_cast<size_t>(n));
+  return sums;
+}
+
+Network::Network(std::vector<std::string> names, Eigen::VectorXd area_m2,
+                 const Eigen::SparseMatrix<double, Eigen::RowMajor>& held_f,
+                 const Eigen::SparseMatrix<double, Eigen::RowMajor>& held_ft, Eigen::VectorXd blocked,
+                 NetworkTolerances tol, RowShare share)
+    : names_(std::move(names)), area_(std::move(area_m2)), blocked_(std::move(blocked)), sparse_(true),
+      share_(std::move(share)) {
+  using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+  validateCommon(tol);
+  const int n = size();
+  checkShape(held_f.rows(), held_f.cols(), n);
+  checkShape(held_ft.rows(), held_ft.cols(), n);
+  Eigen::VectorXd row_sums = Eigen::VectorXd::Zero(n);
+  for (int i = 0; i < n; ++i)
+    for (RowSparse::InnerIterator it(held_f, i); it; ++it) {
+      checkEntry(names_, i, static_cast<int>(it.col()), it.value());
+      row_sums[i] += it.value();
+    }
+  share_.joinRows(row_sums.data(), static_cast<size_t>(n));
+  checkRowSums(names_, row_sums, blocked_, tol.row_sum);
+  // G's held rows as the one-process sum forms them (a + b, or the one side present), then
+  // its column-major arrays: a symmetric matrix's rows are its columns.
+  const RowSparse g_rows = 0.5 * (area_.asDiagonal() * held_f + held_ft * area_.asDiagonal());
+  g_sparse_ = Eigen::Map<const Eigen::SparseMatrix<double>>(n, n, g_rows.nonZeros(), g_rows.outerIndexPtr(),
+                                                           g_rows.innerIndexPtr(), g_rows.valuePtr());
+  g_sparse_.makeCompressed();
+  // Defects of the pairs (i, j < i) from row i's holder; the first of equal ones in the
+  // one-process order (by j, then i).
+  for (int i = 0; i < n; ++i) {
+    RowSparse::InnerIterator f(held_f, i), t(held_ft, i);
+    for (; f || t;) {
+      const Eigen::Index j = std::min(f ? f.col() : n, t ? t.col() : n);
+      if (j >= i) break;
+      const double af = f && f.col() == j ? area_[i] * f.value() : 0.0;
+      const double aft = t && t.col() == j ? area_[j] * t.value() : 0.0;
+      const double change = 0.5 * std::abs(af - aft) / std::min(area_[i], area_[j]);
+      const ReciprocityReport& r = reciprocity_;
+      if (change > r.max_view_factor_change ||
+          (change == r.max_view_factor_change && change > 0 &&
+           (j < r.worst_to || (j == r.worst_to && i < r.worst_from))))
+        reciprocity_ = {change, i, static_cast<int>(j), 0.0};
+      if (f && f.col() == j) ++f;
+      if (t && t.col() == j) ++t;
+    }
+  }
+  if (!share_.whole()) {
+    const double largest = share_.largest(reciprocity_.max_view_factor_change);
+    const double key = reciprocity_.max_view_factor_change == largest && reciprocity_.worst_from >= 0
+                           ? -(double(reciprocity_.worst_to) * n + reciprocity_.worst_from)
+                           : -1e300;
+    const double first = share_.largest(key);
+    reciprocity_ = {largest, -1, -1, 0.0};
+    if (first > -1e300) {
+      reciprocity_.worst_to = static_cast<int>(-first / n);
+      reciprocity_.worst_from = static_cast<int>(-first - double(reciprocity_.worst_to) * n);
+    }
+  }
+  finish(heldRowSums().cwiseQuotient(area_), tol);
+}
+
+long long Network::conductanceNonZeros() const {
+  if (!sparse_) return static_cast<long long>(g_dense_.size());
+  return static_cast<long long>(share_.total(double(g_sparse_.nonZeros())));
+}
+
+double Network::conductance(int i, int j) const {
+  if (!sparse_) return g_dense_(i, j);
+  if (share_.whole()) return g_sparse_.coeff(i, j);
+  double g = share_.holds(j) ? g_sparse_.coeff(i, j) : 0.0;  // column j is row j, held by j's holder
+  share_.joinRows(&g, 1);
+  return g;
 }
 
 Eigen::MatrixXd Network::denseConductance() const {
   if (!sparse_) return g_dense_;
+  if (!share_.whole()) throw std::logic_error("a dense G of a network whose rows are shared out");
   return Eigen::MatrixXd(g_sparse_);
 }
 
@@ -207,18 +289,18 @@ Eigen::MatrixXd Network::applyConductance(const Eigen::Ref<const Eigen::MatrixXd
     const Eigen::Index first = b * kRowsPerBlock, count = std::min(kRowsPerBlock, n - first);
     y.middleRows(first, count).noalias() = rows.middleRows(first, count) * x;
   }, blocks > 1 ? 0 : 1);
+  share_.joinRows(y.data(), static_cast<size_t>(y.size()));  // rows not held are +0.0 here
   return y;
 }
 
 Eigen::MatrixXd Network::viewFactors() const { return area_.cwiseInverse().asDiagonal() * denseConductance(); }
 
 double Network::spectralBound() const {
-  if (sparse_) {
+  if (sparse_) {  // column k is row k (G = Gᵀ): its |G_kj| summed in j order, as by rows
     Eigen::VectorXd rows = Eigen::VectorXd::Zero(size());
     for (int k = 0; k < g_sparse_.outerSize(); ++k)
-      for (Eigen::SparseMatrix<double>::InnerIterator it(g_sparse_, k); it; ++it)
-        rows[it.row()] += std::abs(it.value());
-    return rows.maxCoeff();
+      for (Eigen::SparseMatrix<double>::InnerIterator it(g_sparse_, k); it; ++it) rows[k] += std::abs(it.value());
+    return share_.largest(rows.maxCoeff());
   }
   return g_dense_.cwiseAbs().rowwise().sum().maxCoeff();
 }

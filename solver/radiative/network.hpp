@@ -3,6 +3,7 @@
 // A_i and form factors F_ij, and its symmetric conductance matrix G = A F (eq. 10, 13).
 // Space is the black, cold enclosure of eq. 6 and is not a node: its share of each row
 // is F_space,i = 1 − Σ_j F_ij − F_blocked,i.
+#include "solver/parallel.hpp"
 #include "solver/units.hpp"
 
 #include <Eigen/Dense>
@@ -64,7 +65,20 @@ class Network {
   Network(std::vector<std::string> names, Eigen::VectorXd area_m2, const Eigen::SparseMatrix<double>& view_factors,
           Eigen::VectorXd blocked = {}, NetworkTolerances tolerances = {});
 
+  /// Sparse form with F's rows shared out over processes (RowShare, docs/mpi.md): this one
+  /// holds rows of F and of Fᵀ (F_ji in row i; the correction's `transposed`), the others
+  /// empty, and builds G's held rows, ½(A_i F_ij + A_j F_ji): the one-process G's rows bit
+  /// for bit. F_space, the report and every product come out whole on every process.
+  Network(std::vector<std::string> names, Eigen::VectorXd area_m2,
+          const Eigen::SparseMatrix<double, Eigen::RowMajor>& held_view_factors,
+          const Eigen::SparseMatrix<double, Eigen::RowMajor>& held_transposed, Eigen::VectorXd blocked,
+          NetworkTolerances tolerances, RowShare share);
+
   int size() const { return static_cast<int>(names_.size()); }
+  /// How G's rows are shared out (whole: every row here).
+  const RowShare& share() const { return share_; }
+  /// Non-zeros of G over every process.
+  long long conductanceNonZeros() const;
   const std::vector<std::string>& names() const { return names_; }
   const Eigen::VectorXd& area() const { return area_; }
   bool isSparse() const { return sparse_; }
@@ -72,11 +86,14 @@ class Network {
   /// Symmetric conductance G = ½(AF + (AF)ᵀ), m². Dense copy (built on demand for sparse networks).
   Eigen::MatrixXd denseConductance() const;
   /// Symmetric conductance in sparse storage (valid only when isSparse()); compressed, so its
-  /// column-major arrays, read as rows, are its CSR (G = Gᵀ).
+  /// column-major arrays, read as rows, are its CSR (G = Gᵀ). Shared rows: the held rows
+  /// (columns) only.
   const Eigen::SparseMatrix<double>& sparseConductance() const { return g_sparse_; }
   /// One conductance G_ij, m² (no copy of the matrix).
-  double conductance(int i, int j) const { return sparse_ ? g_sparse_.coeff(i, j) : g_dense_(i, j); }
-  /// Y = G X for a block of vectors, without forming a dense copy of a sparse G.
+  /// Shared rows: a collective (every process must ask for the same entry).
+  double conductance(int i, int j) const;
+  /// Y = G X for a block of vectors, without forming a dense copy of a sparse G (whole on
+  /// every process when the rows are shared).
   Eigen::MatrixXd applyConductance(const Eigen::Ref<const Eigen::MatrixXd>& x) const;
 
   /// Reciprocal form factors F = A⁻¹ G, –.
@@ -95,6 +112,7 @@ class Network {
  private:
   void validateCommon(const NetworkTolerances& tol);
   void finish(const Eigen::VectorXd& row_sums_after, const NetworkTolerances& tol);
+  Eigen::VectorXd heldRowSums() const;
 
   std::vector<std::string> names_;
   Eigen::VectorXd area_;
@@ -104,6 +122,7 @@ class Network {
   Eigen::MatrixXd g_dense_;
   Eigen::SparseMatrix<double> g_sparse_;
   ReciprocityReport reciprocity_;
+  RowShare share_;
 };
 
 /// Checks that every entry of a per-node property lies in [lo, hi] and is finite.

@@ -27,7 +27,7 @@ BandSolveCost bandSolveCost(const Network& net, int rank, Eigen::Index columns, 
   const double contraction = std::clamp(std::sqrt(start_residual), 1e-3, 0.9);
   cost.refine_iterations =
       start_residual <= tolerance ? 0 : int(std::ceil(std::log(tolerance / start_residual) / std::log(contraction)));
-  const double product_flops = net.isSparse() ? 2.0 * double(net.sparseConductance().nonZeros()) : 2.0 * n * n;
+  const double product_flops = net.isSparse() ? 2.0 * double(net.conductanceNonZeros()) : 2.0 * n * n;
   const double product_rate = net.isSparse() ? kSparseFlopsPerSecond : kDenseFlopsPerSecond;
   const double per_iteration = p * (product_flops / product_rate + (4.0 * n * rank + 12.0 * n) / kSparseFlopsPerSecond);
   cost.refine_s = cost.refine_iterations * per_iteration;

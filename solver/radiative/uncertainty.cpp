@@ -70,8 +70,9 @@ AbsorbedVariance absorbedVariance(const Network& net, const LowRankBandSolver& b
   const Eigen::VectorXd alpha = Eigen::VectorXd::Ones(n) - rho;
   const Eigen::VectorXd s = rho.cwiseQuotient(area);
   const Eigen::MatrixXd var_e = sigma_e.array().square().matrix();
-  const Eigen::MatrixXd vy = sigma_f.size() ? receivedVariance(area, sigma_f, m.array().square().matrix())
-                                            : Eigen::MatrixXd::Zero(n, P);
+  Eigen::MatrixXd vy = sigma_f.size() ? receivedVariance(area, sigma_f, m.array().square().matrix())
+                                      : Eigen::MatrixXd::Zero(n, P);
+  net.share().joinRows(vy.data(), static_cast<size_t>(vy.size()));  // σ_F's rows shared out as G's
   AbsorbedVariance out;
   Eigen::VectorXd b_diag = Eigen::VectorXd::Zero(n);
   Eigen::MatrixXd spread = Eigen::MatrixXd::Zero(n, 2 * P);  // (B∘B)[s² var y, ρ² var E]
