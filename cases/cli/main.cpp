@@ -9,6 +9,7 @@
 #include "cases/output/export.hpp"
 #include "cases/output/output_guard.hpp"
 #include "cases/output/result_files.hpp"
+#include "cases/output/shared_matrices.hpp"
 #include "cases/output/summary.hpp"
 #include "cases/pipeline/distributed.hpp"
 #include "cases/pipeline/geometry_run.hpp"
@@ -174,6 +175,7 @@ int runCommand(const RunOptions& o) {
     const GeometryRunResult r = runGeometryCase(*c.geometry, !o.quiet && writer, progress);
     const auto t0 = std::chrono::steady_clock::now();
     if (writer) writeGeometryResult(*c.geometry, r, out, tap.warnings());
+    else writeSharedMatrices(nullptr, r);  // rows shared out: each block of the file's matrices joined
     write_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     printGeometrySummary(*c.geometry, r, std::cout, o.all_nodes);
   }

@@ -156,6 +156,44 @@ std::vector<double> gatherAll(const std::vector<double>& mine) {
   return all;
 }
 
+std::vector<double> exchange(const std::vector<std::vector<double>>& send) {
+  if (g_size == 1) return send.empty() ? std::vector<double>() : send[0];
+  std::vector<double> received;
+#ifdef RADNET_HAVE_MPI
+  checkPeers();
+  std::vector<long long> send_count(static_cast<std::size_t>(g_size)), recv_count(send_count.size());
+  for (int r = 0; r < g_size; ++r) send_count[std::size_t(r)] = static_cast<long long>(send[std::size_t(r)].size());
+  MPI_Alltoall(send_count.data(), 1, MPI_LONG_LONG, recv_count.data(), 1, MPI_LONG_LONG, MPI_COMM_WORLD);
+  std::vector<std::size_t> offset(static_cast<std::size_t>(g_size) + 1, 0);
+  for (int r = 0; r < g_size; ++r) offset[std::size_t(r) + 1] = offset[std::size_t(r)] + std::size_t(recv_count[std::size_t(r)]);
+  allocateOrAbort([&] { received.resize(offset.back()); });
+  // Every block sent and received at once (MPI counts are int: blocks of kBlock), tagged
+  // by its index; a rank's own part is copied.
+  std::vector<MPI_Request> requests;
+  for (int r = 0; r < g_size; ++r) {
+    const std::vector<double>& out = send[std::size_t(r)];
+    double* in = received.data() + offset[std::size_t(r)];
+    const std::size_t in_count = offset[std::size_t(r) + 1] - offset[std::size_t(r)];
+    if (r == g_rank) {
+      std::copy(out.begin(), out.end(), in);
+      continue;
+    }
+    for (std::size_t at = 0, tag = 0; at < in_count; at += kBlock, ++tag) {
+      requests.emplace_back();
+      MPI_Irecv(in + at, static_cast<int>(std::min(kBlock, in_count - at)), MPI_DOUBLE, r, static_cast<int>(tag),
+                MPI_COMM_WORLD, &requests.back());
+    }
+    for (std::size_t at = 0, tag = 0; at < out.size(); at += kBlock, ++tag) {
+      requests.emplace_back();
+      MPI_Isend(out.data() + at, static_cast<int>(std::min(kBlock, out.size() - at)), MPI_DOUBLE, r,
+                static_cast<int>(tag), MPI_COMM_WORLD, &requests.back());
+    }
+  }
+  MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+#endif
+  return received;
+}
+
 void broadcast(double* data, std::size_t count) {
 #ifdef RADNET_HAVE_MPI
   if (g_size == 1) return;

@@ -61,6 +61,9 @@ void sum(std::int64_t* data, std::size_t count);
 void max(double* data, std::size_t count);
 /// Every rank's `mine`, concatenated in rank order, on every rank. @throws PeerFailure
 std::vector<double> gatherAll(const std::vector<double>& mine);
+/// send[r] to rank r (one vector per rank); returns what every rank sent to this one,
+/// concatenated in rank order (an all-to-all). @throws PeerFailure
+std::vector<double> exchange(const std::vector<std::vector<double>>& send);
 /// Rank 0's `data` (count given on every rank) on every rank. @throws PeerFailure
 void broadcast(double* data, std::size_t count);
 /// Rank `root`'s string (text or bytes) on every rank. @throws PeerFailure

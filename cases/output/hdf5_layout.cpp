@@ -53,7 +53,9 @@ void writeRadiativeNetwork(Hdf5Writer& h5, const RadiativeNetwork& radiative, co
   const solver::Network& net = *radiative.network;
   const bool dense = output.denseMatrices(net.size(), !net.isSparse());
   CsrPattern g_pattern;
-  if (net.isSparse()) {  // F = A⁻¹ G and G written from G's own arrays, never copied or formed densely; one pattern
+  if (!net.share().whole()) {
+    // Rows shared out over MPI ranks: G, F and GR's direct part by writeSharedMatrices.
+  } else if (net.isSparse()) {  // F = A⁻¹ G and G written from G's own arrays, never copied or formed densely; one pattern
     const Eigen::Map<const SparseRows> g = rowsOfSymmetric(net.sparseConductance());
     writeNetworkMatrix(h5, "conductance", g, "m^2", dense);
     g_pattern = CsrPattern("/network/sparse/conductance", g);
@@ -97,10 +99,12 @@ void writeGeometry(Hdf5Writer& h5, const geometry::Scene& scene, const geometry:
 void writeViewFactorEstimate(Hdf5Writer& h5, const GeometryRunResult& r, ViewFactorMethod method,
                              const OutputSettings& output) {
   const bool dense = output.denseMatrices(r.radiative.network->size(), !r.radiative.network->isSparse());
-  writeNetworkMatrix(h5, "view_factors_raw", r.raw_view_factors, "1", dense);
-  // σ is estimated entry by entry with the raw F: the same pattern (checked).
-  writeNetworkMatrix(h5, "view_factor_stderr", r.view_factor_stderr, "1", dense, {},
-                     CsrPattern("/network/sparse/view_factors_raw", r.raw_view_factors));
+  if (r.radiative.network->share().whole()) {  // else by writeSharedMatrices
+    writeNetworkMatrix(h5, "view_factors_raw", r.raw_view_factors, "1", dense);
+    // σ is estimated entry by entry with the raw F: the same pattern (checked).
+    writeNetworkMatrix(h5, "view_factor_stderr", r.view_factor_stderr, "1", dense, {},
+                       CsrPattern("/network/sparse/view_factors_raw", r.raw_view_factors));
+  }
   h5.writeVector("/network/blocked_view_factor", r.radiative.network->blockedFraction(), "1");
   h5.attribute("/network", "correction_max_change", r.correction.max_change);
   h5.attribute("/network", "correction_max_change_sigma", r.correction.max_change_sigma);
@@ -117,7 +121,7 @@ void writeViewFactorEstimate(Hdf5Writer& h5, const GeometryRunResult& r, ViewFac
     if (r.exact->predicted_seconds > 0)
       h5.attribute("/report", "time_view_factors_predicted_s", r.exact->predicted_seconds);
   }
-  h5.attribute("/report", "view_factor_error", solver::largestEntry(r.view_factor_stderr));
+  h5.attribute("/report", "view_factor_error", r.row_stderr_max.size() ? r.row_stderr_max.maxCoeff() : 0.0);
   h5.attribute("/report", "rays_per_second", r.rays_per_second);
 }
 

@@ -158,7 +158,7 @@ void writeExchange(Hdf5Writer& h5, const std::string& prefix, const solver::Exch
   const Eigen::Index n = ex.size();
   if (!ex.factored() && !csrAlso(n, double(n) * double(n), dense)) return;  // the (n,n) GR is its compact form
   if (ex.factored()) {
-    writeCsr(h5, factors + "/direct", ex.direct, "m^2", {}, shared);
+    if (ex.share.whole()) writeCsr(h5, factors + "/direct", ex.direct, "m^2", {}, shared);  // else writeSharedMatrices
     h5.writeMatrix(factors + "/basis", ex.basis, "1");
     h5.writeMatrix(factors + "/core", ex.core, "m^2");
   } else {  // held whole: GR is its own direct part, k = 0

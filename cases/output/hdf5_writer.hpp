@@ -43,7 +43,11 @@ class Hdf5Writer {
   using VectorFill = std::function<void(long long first, long long count, double* out)>;
   /// A vector of `size` doubles stored whole (as writeVector's undeflated ones) but made and
   /// written block by block: values that exist only as a product (a matrix's scaled non-zeros).
+  /// fill is called for the blocks [k kVectorBlock, (k + 1) kVectorBlock) in order.
   void writeVectorBlocks(const std::string& path, long long size, const VectorFill& fill, const std::string& units);
+  /// The same as 32-bit integers (fill gives them as doubles: exact below 2⁵³).
+  void writeIntegerBlocks(const std::string& path, long long size, const VectorFill& fill, const std::string& units);
+  static constexpr long long kVectorBlock = 1LL << 20;  ///< entries a block (8 MB of doubles)
   /// (slices, rows, cols) dataset of equally sized matrices.
   void writeStack(const std::string& path, const std::vector<Eigen::MatrixXd>& slices, const std::string& units);
   /// True when `path` exists (its parent groups must: "/a/b" with "/a" written).
@@ -85,6 +89,8 @@ class Hdf5Writer {
   void writeChunkedMatrix(const std::string& path, Eigen::Index rows, Eigen::Index cols, const ChunkFill& fill,
                           const std::string& units);
   long long ensureGroup(const std::string& path);
+  void writeBlocks(const std::string& path, long long size, const VectorFill& fill, const std::string& units,
+                   bool integers);
   // HDF5 ids and sizes passed as plain integers so this header needs no <hdf5.h>.
   void writeArray(const std::string& path, long long file_type, long long memory_type, int rank,
                   const unsigned long long* dims, const void* data, const std::string& units, bool deflate = true);

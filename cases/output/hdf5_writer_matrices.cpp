@@ -98,25 +98,40 @@ void Hdf5Writer::writeChunkedMatrix(const std::string& path, Eigen::Index rows, 
 }
 
 // Stored contiguous, as writeVector's undeflated vectors, and written by hyperslabs of
-// kBlock entries (8 MB): the 100,002-node F's 2e8 scaled non-zeros never exist whole.
+// kVectorBlock entries (8 MB): the 100,002-node F's 2e8 scaled non-zeros never exist whole.
 void Hdf5Writer::writeVectorBlocks(const std::string& path, long long size, const VectorFill& fill,
                                    const std::string& units) {
-  constexpr long long kBlock = 1 << 20;
+  writeBlocks(path, size, fill, units, false);
+}
+
+void Hdf5Writer::writeIntegerBlocks(const std::string& path, long long size, const VectorFill& fill,
+                                    const std::string& units) {
+  writeBlocks(path, size, fill, units, true);
+}
+
+void Hdf5Writer::writeBlocks(const std::string& path, long long size, const VectorFill& fill, const std::string& units,
+                             bool integers) {
   const hsize_t dims[1] = {static_cast<hsize_t>(size)};
   Handle space{checkId(H5Screate_simple(1, dims, nullptr), "dataspace"), H5Sclose};
   Handle lcpl{createLinkProps(), H5Pclose};
-  Handle ds{checkId(H5Dcreate2(static_cast<hid_t>(file_), path.c_str(), H5T_IEEE_F64LE, space.id, lcpl.id,
-                               H5P_DEFAULT, H5P_DEFAULT),
+  Handle ds{checkId(H5Dcreate2(static_cast<hid_t>(file_), path.c_str(), integers ? H5T_STD_I32LE : H5T_IEEE_F64LE,
+                               space.id, lcpl.id, H5P_DEFAULT, H5P_DEFAULT),
                     "create dataset " + path),
             H5Dclose};
-  std::vector<double> block(static_cast<size_t>(std::min(size, kBlock)));
-  for (long long first = 0; first < size; first += kBlock) {
-    const long long count = std::min(kBlock, size - first);
+  std::vector<double> block(static_cast<size_t>(std::min(size, kVectorBlock)));
+  std::vector<int> as_int(integers ? block.size() : 0);
+  for (long long first = 0; first < size; first += kVectorBlock) {
+    const long long count = std::min(kVectorBlock, size - first);
     fill(first, count, block.data());
     const hsize_t offset[1] = {static_cast<hsize_t>(first)}, extent[1] = {static_cast<hsize_t>(count)};
     check(H5Sselect_hyperslab(space.id, H5S_SELECT_SET, offset, nullptr, extent, nullptr), "select " + path);
     Handle memory{checkId(H5Screate_simple(1, extent, nullptr), "memory space"), H5Sclose};
-    check(H5Dwrite(ds.id, H5T_NATIVE_DOUBLE, memory.id, space.id, H5P_DEFAULT, block.data()), "write " + path);
+    if (integers) {
+      for (long long k = 0; k < count; ++k) as_int[size_t(k)] = static_cast<int>(block[size_t(k)]);
+      check(H5Dwrite(ds.id, H5T_NATIVE_INT, memory.id, space.id, H5P_DEFAULT, as_int.data()), "write " + path);
+    } else {
+      check(H5Dwrite(ds.id, H5T_NATIVE_DOUBLE, memory.id, space.id, H5P_DEFAULT, block.data()), "write " + path);
+    }
   }
   addUnits(ds.id, units);
 }

@@ -2,6 +2,7 @@
 
 #include "cases/config/errors.hpp"
 #include "cases/output/hdf5_layout.hpp"
+#include "cases/output/shared_matrices.hpp"
 #include "cases/output/xdmf.hpp"
 
 #include <cstdio>
@@ -81,6 +82,7 @@ void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, cons
     h5.writeVector("/limits/max", hi, "K");
   }
   const XdmfPlan xdmf = writeXdmfData(h5, c.scene, r, path);
+  writeSharedMatrices(&h5, r);  // rows shared out over MPI ranks: the other ranks join each block
   writeTimings(h5, r.timings);
   h5.writeStrings("/report/warnings", warnings);
   h5.commit(xdmfFiles(xdmf, path));  // the result and its ParaView files, or neither

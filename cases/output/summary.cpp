@@ -266,7 +266,7 @@ void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std
                {{"area m²", r.radiative.surfaceArea(), Aggregate::Sum}, eps, alpha,
                 {"F_space", net.spaceViewFactor(), Aggregate::Mean},
                 {"GR_space", ex.gr_space, Aggregate::Sum},
-                {"max σ(F)", solver::rowLargestEntries(r.view_factor_stderr, net.size()), Aggregate::Max}},
+                {"max σ(F)", r.row_stderr_max, Aggregate::Max}},
                out, 0);
   const int cases = r.cases.caseCount();
   if (cases > 1)

@@ -294,6 +294,7 @@ ArticulatedBase turningBase(const GeometryCase& c, const geometry::RayCaster& ca
   r.correction = geometry::enforceReciprocity(area, base.estimate, base.rays);
   r.raw_view_factors = base.estimate.view_factors;
   r.view_factor_stderr = base.estimate.standard_error;
+  r.row_stderr_max = solver::rowLargestEntries(r.view_factor_stderr, r.view_factor_stderr.rows());
   r.lost_view_factor_stderr =
       (base.estimate.space_error.array().square() + base.estimate.blocked_error.array().square()).sqrt();
   return base;

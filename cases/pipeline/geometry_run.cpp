@@ -8,6 +8,7 @@
 #include "cases/pipeline/optical_uncertainty.hpp"
 #include "cases/pipeline/progress.hpp"
 #include "cases/pipeline/radiative_network.hpp"
+#include "cases/pipeline/shared_rows.hpp"
 #include "cases/pipeline/view_factor_rows.hpp"
 #include "geometry/exact/view_factors.hpp"
 #include "geometry/rays/specular.hpp"
@@ -46,6 +47,7 @@ solver::EigenPairs decomposeShared(const solver::Network& net, const Eigen::Vect
                                    const std::vector<Eigen::VectorXd>& emissivities,
                                    const solver::SolverSettings& settings, StageTimings& timings) {
   solver::EigenPairs pairs;
+  if (!net.share().whole()) return decomposeNetwork(net, reflectance, emissivities, settings, timings);  // every rank its part of each product
   if (cluster::rank() == 0) {
     pairs = decomposeNetwork(net, reflectance, emissivities, settings, timings);
     shareEigenPairs(pairs);
@@ -132,14 +134,15 @@ void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, c
   StageTimer timer(r.timings, Stage::ViewFactors);
   Eigen::VectorXd rays(n);
   geometry::ViewFactorEstimate estimate;
+  const bool shared = sharesRows(c);
   if (c.view_factors.method == ViewFactorMethod::MonteCarlo) {
-    geometry::ViewFactorResult vf = castRays(c, caster, {}, show_progress, progress);
+    geometry::ViewFactorResult vf = castRays(c, caster, {}, show_progress, progress, shared);
     for (Eigen::Index i = 0; i < n; ++i) rays[i] = double(vf.rays[static_cast<size_t>(i)]);
     r.total_rays = vf.total_rays;
     r.rays_per_second = vf.seconds > 0 ? double(vf.total_rays) / vf.seconds : 0.0;
     moveEstimate(vf, estimate);
   } else {
-    exactStage(c, caster, r, rays, show_progress, progress, estimate);
+    exactStage(c, caster, r, rays, show_progress, progress, estimate, shared);
   }
   if (diffuse) *diffuse = {estimate, rays};  // what an optical set's own networks start from
   if (c.hasSpecular()) {
@@ -149,11 +152,14 @@ void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, c
     geometry::ViewFactorEstimate traced;
     r.correction = specularBand(c, caster, estimate, c.specular_ir, rows, area, rays, r, &traced);
     estimate = traced;
+  } else if (shared) {
+    r.correction = geometry::enforceReciprocityOnRows(area, estimate, rays, clusterRowShare());
   } else {
     r.correction = geometry::enforceReciprocity(area, estimate, rays);
   }
   r.raw_view_factors.swap(estimate.view_factors);
   r.view_factor_stderr.swap(estimate.standard_error);
+  r.row_stderr_max = rowLargestStderr(r.view_factor_stderr, shared ? clusterRowShare() : solver::RowShare());
   // What leaves to space or to inactive sides is uncertain too (it sets the GR to space).
   r.lost_view_factor_stderr = (estimate.space_error.array().square() + estimate.blocked_error.array().square()).sqrt();
   timer.stop();
@@ -309,7 +315,7 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
 
   // One decomposition serves every optical set and sample: its rank rule takes the largest
   // reflectance any of them may give each node.
-  r.solver = budgetedSolverSettings(c.solver, solver::largestEntry(r.view_factor_stderr));
+  r.solver = budgetedSolverSettings(c.solver, r.row_stderr_max.size() ? r.row_stderr_max.maxCoeff() : 0.0);
   r.solver.exchange_from_pairs = turning;  // one GR per configuration: from the pairs, not O(n³) each
   r.radiative.pairs = decomposeOnce(*r.radiative.network, c, r.solver, r.timings);
   for (const std::string& w : decompositionWarnings(r.radiative.pairs, r.solver))

@@ -197,6 +197,7 @@ struct ArticulationResult {
 struct GeometryRunResult {
   Eigen::SparseMatrix<double, Eigen::RowMajor> raw_view_factors;  ///< before the correction, –
   solver::SparseRowMatrix view_factor_stderr;  ///< σ (rays) or the error estimate (exact), –
+  Eigen::VectorXd row_stderr_max;  ///< each row's largest σ_F (whole when the rows are shared out), –
   Eigen::VectorXd lost_view_factor_stderr;  ///< σ of F_space + F_blocked per node, –
   geometry::ReciprocityCorrection correction;
   /// The solar band's own correction, when its specular optics differ from the IR band's.

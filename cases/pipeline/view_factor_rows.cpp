@@ -4,6 +4,7 @@
 #include "cases/config/work_estimate.hpp"
 #include "cases/pipeline/distributed.hpp"
 #include "cases/pipeline/progress.hpp"
+#include "cases/pipeline/shared_rows.hpp"
 #include "solver/radiative/policy.hpp"
 #include "geometry/exact/view_factors.hpp"
 
@@ -26,13 +27,21 @@ std::vector<char> myRows(std::vector<char> rows, std::size_t n) {
 }  // namespace
 
 geometry::ViewFactorResult castRays(const GeometryCase& c, const geometry::RayCaster& caster,
-                                   std::vector<char> rows, bool show_progress, std::ostream& progress) {
+                                   std::vector<char> rows, bool show_progress, std::ostream& progress, bool shared) {
   geometry::ViewFactorOptions opt = c.view_factors.monte_carlo;
   const bool some = !rows.empty();
-  opt.cast_rows = myRows(std::move(rows), caster.scene().nodes().size());
+  const std::size_t n = caster.scene().nodes().size();
+  if (shared) {  // the rows this rank holds: node i on rank i mod R
+    if (rows.empty()) rows.assign(n, 1);
+    for (std::size_t i = 0; i < n; ++i) rows[i] = rows[i] && cluster::owns(static_cast<long long>(i));
+    opt.cast_rows = std::move(rows);
+  } else {
+    opt.cast_rows = myRows(std::move(rows), n);
+  }
   if (show_progress) opt.progress = progressBar(progress, some ? "view factors (rays)" : "view factors", "nodes");
   geometry::ViewFactorResult vf = geometry::computeViewFactors(caster, opt);
-  joinViewFactorRows(vf);
+  if (shared) joinHeldRowVectors(vf);
+  else joinViewFactorRows(vf);
   return vf;
 }
 
@@ -41,6 +50,13 @@ std::unique_ptr<solver::Network> buildNetwork(const GeometryCase& c, const Eigen
                                               geometry::ReciprocityCorrection& correction) {
   const int n = static_cast<int>(area.size());
   const auto tol = solver::policy::kCorrectedNetworkTolerances;
+  if (correction.transposed.rows() > 0) {  // shared rows (shared_rows.hpp)
+    auto net = std::make_unique<solver::Network>(c.node_names, area, correction.view_factors, correction.transposed,
+                                                 correction.blocked, tol, clusterRowShare());
+    Eigen::SparseMatrix<double, Eigen::RowMajor>().swap(correction.view_factors);
+    Eigen::SparseMatrix<double, Eigen::RowMajor>().swap(correction.transposed);
+    return net;
+  }
   const Eigen::SparseMatrix<double> f = correction.view_factors;
   // Nothing reads it after the network, and f is its column-major copy. Swapped out: an
   // assignment would keep Eigen's storage allocated.
@@ -76,7 +92,7 @@ std::int64_t pairEntriesCap(const GeometryCase& c) {
 // F by the exact method into `estimate`, with the rows it leaves to sampling (auto) cast as rays.
 void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, GeometryRunResult& r,
                 Eigen::VectorXd& rays, bool show_progress, std::ostream& progress,
-                geometry::ViewFactorEstimate& estimate) {
+                geometry::ViewFactorEstimate& estimate, bool shared) {
   geometry::ExactOptions opt = c.view_factors.exact;
   const bool automatic = c.view_factors.method == ViewFactorMethod::Auto;
   opt.max_blockers = !automatic ? -1 : (opt.max_blockers >= 0 ? opt.max_blockers : geometry::kAutoMaxBlockers);
@@ -118,13 +134,18 @@ void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, Geomet
   // An exact row's entries are good to the tolerance: that is its variance floor.
   rays.setConstant(1.0 / opt.tolerance);
   moveEstimate(ex, estimate);
+  if (shared) {
+    const solver::RowShare share = clusterRowShare();
+    keepHeldRows(estimate.view_factors, share);
+    keepHeldRows(estimate.standard_error, share);
+  }
   for (char row : ex.sampled_rows) r.exact->sampled_rows += row;
   if (ex.rows_for_memory > 0)
     progress << "radnet: view factors: " << ex.rows_for_memory << " row(s) cast as rays instead of integrated: "
              << "their pairs' " << ex.entries_for_memory << " entries of F would not fit in "
              << kPairEntriesMemoryShare * 100 << " % of " << memoryLimit().source << "\n";
   if (r.exact->sampled_rows == 0) return;
-  const geometry::ViewFactorResult vf = castRays(c, caster, ex.sampled_rows, show_progress, progress);
+  const geometry::ViewFactorResult vf = castRays(c, caster, ex.sampled_rows, show_progress, progress, shared);
   for (Eigen::Index i = 0; i < rays.size(); ++i)
     if (ex.sampled_rows[static_cast<size_t>(i)]) rays[i] = double(vf.rays[static_cast<size_t>(i)]);
   r.total_rays = vf.total_rays;

@@ -16,21 +16,25 @@ namespace radnet::cases {
 
 /// Casts the rows marked (empty: all) with the case's Monte Carlo settings; under MPI each
 /// rank its share, joined on every rank (a row's rays depend only on the seed and the node:
-/// the same F as one process).
+/// the same F as one process). `shared` (shared_rows.hpp): each rank casts the marked rows
+/// it holds and keeps them, the per-node vectors joined.
 geometry::ViewFactorResult castRays(const GeometryCase& c, const geometry::RayCaster& caster, std::vector<char> rows,
-                                   bool show_progress, std::ostream& progress);
+                                   bool show_progress, std::ostream& progress, bool shared = false);
 
 /// Moves F, σ and the per-node vectors of `from` into `to` (swapped: no copy).
 void moveEstimate(geometry::ViewFactorEstimate& from, geometry::ViewFactorEstimate& to);
 
 /// F by the exact method into `estimate`, with the rows `auto` leaves to sampling cast as
 /// rays; `rays` gets each row's variance weight, `r` the method's counts and timings.
+/// `shared`: the rows this rank does not hold are dropped from the integrated F (and its
+/// σ) before the sampled rows are cast, each rank its own.
 void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, GeometryRunResult& r,
                 Eigen::VectorXd& rays, bool show_progress, std::ostream& progress,
-                geometry::ViewFactorEstimate& estimate);
+                geometry::ViewFactorEstimate& estimate, bool shared = false);
 
 /// The network from the corrected F, stored sparse or dense by the solver policy. The
 /// correction's F is released once read (the network's G holds it; 2.4 GB at 2e8 entries).
+/// A correction with held rows (its `transposed` set) makes a network of shared rows.
 std::unique_ptr<solver::Network> buildNetwork(const GeometryCase& c, const Eigen::VectorXd& area,
                                               geometry::ReciprocityCorrection& correction);
 inline std::unique_ptr<solver::Network> buildNetwork(const GeometryCase& c, const Eigen::VectorXd& area,
