@@ -275,18 +275,20 @@ RowSparse correctedRows(const std::vector<Pair>& pairs, const std::vector<double
 
 }  // namespace
 
+const ViewFactorEstimate& onOnePattern(const ViewFactorEstimate& est, ViewFactorEstimate& storage) {
+  if (samePattern(est.view_factors, est.standard_error)) return est;
+  storage.view_factors = est.view_factors;
+  storage.view_factors.makeCompressed();
+  storage.standard_error = sigmaOnPattern(storage.view_factors, est.standard_error);
+  return storage;
+}
+
 ReciprocityCorrection enforceReciprocity(const Eigen::VectorXd& area, const ViewFactorEstimate& est,
                                          const Eigen::VectorXd& rays) {
   const int n = static_cast<int>(area.size());
   // combinedPairs reads F and σ on one compressed pattern: a copy only when they differ.
   ViewFactorEstimate relaid;
-  const ViewFactorEstimate* shared = &est;
-  if (!samePattern(est.view_factors, est.standard_error)) {
-    relaid.view_factors = est.view_factors;
-    relaid.view_factors.makeCompressed();
-    relaid.standard_error = sigmaOnPattern(relaid.view_factors, est.standard_error);
-    shared = &relaid;
-  }
+  const ViewFactorEstimate* shared = &onOnePattern(est, relaid);
   std::vector<Pair> pairs = combinedPairs(area, *shared, rays);
   // Space and blocked conductances: free per node, variance from their own errors.
   Eigen::VectorXd g_space = area.cwiseProduct(est.space), g_blocked = area.cwiseProduct(est.blocked);

@@ -57,6 +57,11 @@ ReciprocityCorrection enforceReciprocity(const Eigen::VectorXd& area, const View
 ReciprocityCorrection enforceReciprocityOnRows(const Eigen::VectorXd& area, const ViewFactorEstimate& estimate,
                                                const Eigen::VectorXd& rays, const solver::RowShare& share);
 
+/// `estimate` itself when σ lies on F's compressed pattern entry for entry (as both methods
+/// make them), else a copy so laid in `storage` (σ 0 where it held nothing): what the
+/// corrections read.
+const ViewFactorEstimate& onOnePattern(const ViewFactorEstimate& estimate, ViewFactorEstimate& storage);
+
 /// How far each held entry moved (in F's units and in standard errors) and the rows'
 /// closure, into `out`'s report: the largest over the processes (the first pair in row
 /// order among equal moves).

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <atomic>
 #include <cstdlib>
 #include <exception>
@@ -82,7 +83,7 @@ void parallelFor(long long count, const Body& body, unsigned threads = 0) {
 }
 
 /// The rows of a network's n × n matrices shared out over processes (MPI ranks,
-/// docs/mpi.md): row i is held by process i mod parts, and no process holds another's rows
+/// docs/mpi.md): row i is held by one process (holder(i)), and no process holds another's rows
 /// (a matrix keeps its n × n shape, the rows it does not hold empty). Vectors of length n,
 /// and n × k blocks such as the eigenvectors, stay whole on every process: a product with a
 /// shared matrix computes the rows held here, leaves +0.0 in the others, and `join` fills
@@ -102,8 +103,17 @@ struct RowShare {
   std::function<std::vector<double>(const std::vector<std::vector<double>>&)> exchange;
 
   bool whole() const { return parts <= 1; }
-  bool holds(Eigen::Index row) const { return parts <= 1 || row % parts == part; }
-  int holder(Eigen::Index row) const { return parts <= 1 ? 0 : static_cast<int>(row % parts); }
+  /// Row i's process: a hash of i modulo parts. Not i mod parts: a model's node numbering
+  /// has periods (front and back sides of a panel alternate), and on 2 ranks one would hold
+  /// every back side and twice the entries (measured: 9.2 against 4.3 GB at 50,102 nodes).
+  int holder(Eigen::Index row) const {
+    if (parts <= 1) return 0;
+    std::uint64_t z = static_cast<std::uint64_t>(row) + 0x9e3779b97f4a7c15ULL;  // splitmix64's finaliser
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return static_cast<int>((z ^ (z >> 31)) % static_cast<std::uint64_t>(parts));
+  }
+  bool holds(Eigen::Index row) const { return parts <= 1 || holder(row) == part; }
   /// Joins a contiguous block (each element computed by its row's holder).
   void joinRows(double* data, std::size_t count) const {
     if (!whole()) join(data, count);

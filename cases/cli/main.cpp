@@ -9,7 +9,6 @@
 #include "cases/output/export.hpp"
 #include "cases/output/output_guard.hpp"
 #include "cases/output/result_files.hpp"
-#include "cases/output/shared_matrices.hpp"
 #include "cases/output/summary.hpp"
 #include "cases/pipeline/distributed.hpp"
 #include "cases/pipeline/geometry_run.hpp"
@@ -26,7 +25,6 @@
 #include <filesystem>
 #include <functional>
 #include <cstdlib>
-#include <iomanip>
 #include <iostream>
 #include <chrono>
 #include <map>
@@ -174,8 +172,8 @@ int runCommand(const RunOptions& o) {
     applyRunOptions(o, *c.geometry);
     const GeometryRunResult r = runGeometryCase(*c.geometry, !o.quiet && writer, progress);
     const auto t0 = std::chrono::steady_clock::now();
-    if (writer) writeGeometryResult(*c.geometry, r, out, tap.warnings());
-    else writeSharedMatrices(nullptr, r);  // rows shared out: each block of the file's matrices joined
+    // Rows shared out over MPI ranks: the others join each block of the file's matrices.
+    writer ? writeGeometryResult(*c.geometry, r, out, tap.warnings()) : writeSharedMatrices(nullptr, r);
     write_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     printGeometrySummary(*c.geometry, r, std::cout, o.all_nodes);
   }

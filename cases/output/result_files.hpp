@@ -4,6 +4,7 @@
 #include "cases/config/geometry_case.hpp"
 #include "cases/config/import_case.hpp"
 #include "cases/config/network_case.hpp"
+#include "cases/output/shared_matrices.hpp"  // the other MPI ranks' part of writing (writeSharedMatrices)
 #include "cases/pipeline/results.hpp"
 
 #include <string>

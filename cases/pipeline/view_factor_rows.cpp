@@ -31,9 +31,10 @@ geometry::ViewFactorResult castRays(const GeometryCase& c, const geometry::RayCa
   geometry::ViewFactorOptions opt = c.view_factors.monte_carlo;
   const bool some = !rows.empty();
   const std::size_t n = caster.scene().nodes().size();
-  if (shared) {  // the rows this rank holds: node i on rank i mod R
+  if (shared) {  // the rows this rank holds (RowShare::holds)
     if (rows.empty()) rows.assign(n, 1);
-    for (std::size_t i = 0; i < n; ++i) rows[i] = rows[i] && cluster::owns(static_cast<long long>(i));
+    const solver::RowShare share = clusterRowShare();
+    for (std::size_t i = 0; i < n; ++i) rows[i] = rows[i] && share.holds(static_cast<Eigen::Index>(i));
     opt.cast_rows = std::move(rows);
   } else {
     opt.cast_rows = myRows(std::move(rows), n);

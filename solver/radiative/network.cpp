@@ -217,9 +217,8 @@ Network::Network(std::vector<std::string> names, Eigen::VectorXd area_m2,
   checkRowSums(names_, row_sums, blocked_, tol.row_sum);
   // G's held rows as the one-process sum forms them (a + b, or the one side present), then
   // its column-major arrays: a symmetric matrix's rows are its columns.
-  const RowSparse g_rows = 0.5 * (area_.asDiagonal() * held_f + held_ft * area_.asDiagonal());
-  g_sparse_ = Eigen::Map<const Eigen::SparseMatrix<double>>(n, n, g_rows.nonZeros(), g_rows.outerIndexPtr(),
-                                                           g_rows.innerIndexPtr(), g_rows.valuePtr());
+  // (Stored column-major, the held rows' transpose is their own arrays: one copy, no second.)
+  g_sparse_ = (0.5 * (area_.asDiagonal() * held_f + held_ft * area_.asDiagonal())).transpose();
   g_sparse_.makeCompressed();
   // Defects of the pairs (i, j < i) from row i's holder; the first of equal ones in the
   // one-process order (by j, then i).

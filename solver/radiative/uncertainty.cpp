@@ -11,11 +11,13 @@ namespace {
 
 constexpr Eigen::Index kRowBlock = 256;  // rows of B (and of σ_F) formed at a time
 
-// body(r, rows) for every row block of n rows, in parallel (solver/parallel.hpp).
+// body(r, rows) for every row block of n rows, in parallel (solver/parallel.hpp); with the
+// rows shared out (`share`), each process the blocks b ≡ part (mod parts).
 template <class Body>
-void forRowBlocks(Eigen::Index n, const Body& body) {
+void forRowBlocks(Eigen::Index n, const Body& body, const RowShare& share = {}) {
   const Eigen::Index blocks = (n + kRowBlock - 1) / kRowBlock;
   parallelFor(blocks, [&](long long b) {
+    if (!share.whole() && b % share.parts != share.part) return;
     const Eigen::Index r = static_cast<Eigen::Index>(b) * kRowBlock;
     body(r, std::min(kRowBlock, n - r));
   });
@@ -39,8 +41,9 @@ Eigen::MatrixXd receivedVariance(const Eigen::VectorXd& area, const SparseRowMat
 // at most 6e-8 of itself). V C, V and each column of X are scaled to a largest magnitude of
 // 1 first, so nothing leaves float's range (1e±38) however the model's areas are scaled; the
 // scales are put back in double.
+// Rows shared out: each process forms its blocks of rows (the others +0.0), then joined.
 Eigen::MatrixXd squaredCoreTimes(const LowRankBandSolver& band, const Eigen::MatrixXd& vectors,
-                                 const Eigen::MatrixXd& x) {
+                                 const Eigen::MatrixXd& x, const RowShare& share) {
   const Eigen::Index n = vectors.rows();
   const auto scaleOf = [](double largest) { return largest > 0 && std::isfinite(largest) ? largest : 1.0; };
   const Eigen::MatrixXd vc = vectors * band.core();
@@ -50,11 +53,12 @@ Eigen::MatrixXd squaredCoreTimes(const LowRankBandSolver& band, const Eigen::Mat
   Eigen::VectorXd x_scale(x.cols());
   for (Eigen::Index c = 0; c < x.cols(); ++c) x_scale[c] = scaleOf(x.col(c).cwiseAbs().maxCoeff());
   const Eigen::MatrixXf x_f = (x * x_scale.cwiseInverse().asDiagonal()).cast<float>();
-  Eigen::MatrixXd out(n, x.cols());
+  Eigen::MatrixXd out = share.whole() ? Eigen::MatrixXd(n, x.cols()) : Eigen::MatrixXd::Zero(n, x.cols());
   forRowBlocks(n, [&](Eigen::Index r, Eigen::Index rows) {
     const Eigen::MatrixXf b = vc_f.middleRows(r, rows) * vt_f;
     out.middleRows(r, rows) = (b.array().square().matrix() * x_f).cast<double>();
-  });
+  }, share);
+  share.joinRows(out.data(), static_cast<size_t>(out.size()));
   const double b_scale = vc_scale * v_scale;
   return b_scale * b_scale * out * x_scale.asDiagonal();
 }
@@ -81,7 +85,7 @@ AbsorbedVariance absorbedVariance(const Network& net, const LowRankBandSolver& b
     b_diag = (v * band.core()).cwiseProduct(v).rowwise().sum();
     Eigen::MatrixXd x(n, 2 * P);
     x << s.array().square().matrix().asDiagonal() * vy, rho.array().square().matrix().asDiagonal() * var_e;
-    spread = squaredCoreTimes(band, v, x);
+    spread = squaredCoreTimes(band, v, x, net.share());
   }
   const Eigen::VectorXd alpha2 = alpha.array().square();
   const Eigen::ArrayXd self = 1.0 + 2.0 * b_diag.cwiseProduct(s).array();
