@@ -96,6 +96,9 @@ bench: build
 	# One process against two MPI ranks, bit for bit, and the cluster scaling model (issue 15; about 25 minutes).
 	/usr/bin/python3 bench/bench_mpi.py $(BUILD_DIR)/radnet docs/mpi-benchmark.md \
 	  bench/cases/satellite-1602.yaml bench/cases/satellite-1602-design.yaml bench/cases/satellite-6402.yaml
+	# Memory per rank with the rows shared out: 50,102 nodes at the defaults, 1 process and 2 ranks (issue 32; about 15 minutes).
+	/usr/bin/python3 bench/bench_mpi_memory.py $(BUILD_DIR)/radnet docs/mpi-memory-benchmark.md \
+	  bench/cases/satellite-50102.yaml --ranks 2 --defaults
 
 clean:
 	rm -rf $(BUILD_DIR) build-sanitize

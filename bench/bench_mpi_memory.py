@@ -11,6 +11,7 @@ runs it. Each process runs on one thread (--threads 1), so R ranks use R cores.
 """
 import os
 import platform
+import re
 import subprocess
 import sys
 import tempfile
@@ -69,8 +70,8 @@ def run(radnet, case, ranks):
     sampler = threading.Thread(target=sample)
     sampler.start()
     for line in p.stderr:
-        if line.startswith("radnet: ") and "%" not in line:
-            stage[0] = line.strip()[8:80]
+        if line.startswith("radnet: "):  # a progress bar's lines are one stage: "view factors (rays)"
+            stage[0] = re.sub(r"\s*\d+ %.*", "", line.strip()[8:])[:72]
     p.wait()
     sampler.join()
     wall = time.monotonic() - t0
@@ -81,6 +82,8 @@ def run(radnet, case, ranks):
         nnz_raw = h5["/network/sparse/view_factors_raw/data"].shape[0]
         n = h5["/nodes/name"].shape[0]
         k = int(h5["/eigen"].attrs["rank"])
+        times = {key[5:-2]: float(v) for key, v in h5["/report"].attrs.items()
+                 if key.startswith("time_") and key.endswith("_s") and not key.endswith("predicted_s")}
     for f in (out, out[:-3] + ".xmf"):
         if os.path.exists(f):
             os.unlink(f)
@@ -89,7 +92,8 @@ def run(radnet, case, ranks):
     for (s, r), b in peaks.items():
         per_rank[r] = max(per_rank.get(r, 0), b)
         by_stage.setdefault(s, {})[r] = b
-    return {"wall": wall, "per_rank": per_rank, "by_stage": by_stage, "n": n, "nnz": nnz, "nnz_raw": nnz_raw, "k": k}
+    return {"wall": wall, "per_rank": per_rank, "by_stage": by_stage, "n": n, "nnz": nnz, "nnz_raw": nnz_raw, "k": k,
+            "times": times}
 
 
 def main():
@@ -136,6 +140,10 @@ def main():
         b = many["by_stage"].get(s, {})
         lines.append(f"| {s} | {a.get(0, 0) / gb:.2f} | " +
                      " | ".join(f"{b.get(r, 0) / gb:.2f}" for r in range(ranks)) + " |")
+    lines += ["", "Stage times (s; /report's, under MPI the slowest rank's):", "",
+              f"| stage | 1 process | {ranks} ranks |", "|---|---|---|"]
+    for key in one["times"]:
+        lines.append(f"| {key} | {one['times'][key]:.1f} | {many['times'].get(key, float('nan')):.1f} |")
     with open(report, "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))

@@ -139,11 +139,16 @@ def shared_rows():
             failures.append(f"shared rows: one process against 2 ranks: {worst[1]} off by {worst[0]:.3g} of its largest")
         elif not one_sided and cmp.returncode == 0:
             print(f"shared rows: 2 and 3 ranks bit for bit; one process to {worst[0]:.2g} ({worst[1]})")
-    # Rank 0 cannot write (the ParaView sidecar's name is a directory) after the ranks have
-    # joined the matrices' blocks: every rank exits 4, nothing left behind.
+    # Rank 0 cannot write (a design case's ParaView sidecar's name is a directory, found only
+    # as the files are committed) after the ranks have joined the matrices' blocks: every
+    # rank exits 4, nothing left behind.
     u = WORK / "shared-unwritable"
-    (u / "out.xmf").mkdir(parents=True)
-    p, codes = per_rank_run("shared-unwritable", [case, case], u / "out.h5")
+    (u / "out.hot.xmf").mkdir(parents=True)
+    two_cases = u / "shared-cases.yaml"
+    two_cases.write_text(SHARED_CASE.replace(
+        "attitude: {mode: nadir}\n", "attitude: {mode: nadir}\ncases:\n  hot: {environment: {solar_constant: 1414}}\n"
+        "  cold: {environment: {solar_constant: 1322}}\n"))
+    p, codes = per_rank_run("shared-unwritable", [two_cases, two_cases], u / "out.h5")
     left = [f.name for f in u.iterdir() if f.name.startswith("out.h5")]
     if codes != [("rank-0.rc", "4"), ("rank-1.rc", "4")] or left:
         failures.append(f"shared rows, unwritable output: mpirun exit {p.returncode}, ranks {codes}, left {left}, "
