@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <stdexcept>
 
 namespace radnet::geometry {
 namespace {
@@ -19,13 +21,21 @@ double floorVariance(const Eigen::VectorXd& area, const Eigen::VectorXd& rays, E
 }
 
 // Each held row's pairs, every partner j (itself too) in increasing order: the combined
-// estimate ĝ_ij of the conductance and its variance.
+// estimate ĝ_ij of the conductance and its variance. A pair pinned at zero keeps ĝ = v = 0:
+// it then adds nothing to K or to the right-hand side, and its corrected value is 0 (20 B a
+// pair, not 29 with a flag and the value stored: this array is the shared correction's peak).
 struct RowPairs {
   std::vector<std::int64_t> start;  // n + 1; rows not held are empty
   std::vector<int> partner;
-  std::vector<double> g_hat, var, g;
-  std::vector<char> pinned;
+  std::vector<double> g_hat, var;
 };
+
+// The corrected conductance of pair s of row i: ĝ + v (μ_lo + μ_hi), the multipliers added in
+// the pair's own order so that both holders get the same bits.
+double corrected(const RowPairs& rp, size_t s, Eigen::Index i, const Eigen::VectorXd& mu) {
+  const Eigen::Index j = rp.partner[s];
+  return rp.g_hat[s] + rp.var[s] * (i == j ? mu[i] : mu[std::min(i, j)] + mu[std::max(i, j)]);
+}
 
 // One directional estimate: x = A_i F_ij and its variance, from row i's holder.
 struct Side {
@@ -85,26 +95,19 @@ RowPairs rowPairs(const Eigen::VectorXd& area, const ViewFactorEstimate& est, co
   std::vector<std::int64_t> first(static_cast<size_t>(n) + 1, 0);
   for (size_t q = 0; q < count; ++q) ++first[static_cast<size_t>(key(q) / n) + 1];
   for (size_t i = 0; i < static_cast<size_t>(n); ++i) first[i + 1] += first[i];
-  std::vector<std::int64_t> order(count);
+  if (count >= std::numeric_limits<std::uint32_t>::max())
+    throw std::length_error("shared reciprocity correction: more than 2^32 partner entries on one process");
+  std::vector<std::uint32_t> order(count);  // 4 B an entry: indices into `received`
   {
     std::vector<std::int64_t> fill(first.begin(), first.end() - 1);
-    for (size_t q = 0; q < count; ++q) order[static_cast<size_t>(fill[static_cast<size_t>(key(q) / n)]++)] = std::int64_t(q);
+    for (size_t q = 0; q < count; ++q)
+      order[static_cast<size_t>(fill[static_cast<size_t>(key(q) / n)]++)] = static_cast<std::uint32_t>(q);
   }
   for (size_t i = 0; i < static_cast<size_t>(n); ++i)
     std::sort(order.begin() + first[i], order.begin() + first[i + 1],
-              [&](std::int64_t a, std::int64_t b) { return key(size_t(a)) < key(size_t(b)); });
-  RowPairs rp;
-  rp.start.assign(static_cast<size_t>(n) + 1, 0);
-  size_t held = count;
-  for (Eigen::Index i = 0; i < n; ++i)
-    if (share.holds(i)) held += static_cast<size_t>(f.outerIndexPtr()[i + 1] - f.outerIndexPtr()[i]);
-  const size_t reserve = held;
-  rp.partner.reserve(reserve);
-  rp.g_hat.reserve(reserve);
-  rp.var.reserve(reserve);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    rp.start[static_cast<size_t>(i)] = static_cast<std::int64_t>(rp.partner.size());
-    if (!share.holds(i)) continue;
+              [&](std::uint32_t a, std::uint32_t b) { return key(a) < key(b); });
+  // Each held row's own entries and received ones merged by partner: counted, then filled.
+  auto mergeRow = [&](Eigen::Index i, const auto& visit) {
     Eigen::Index k = f.outerIndexPtr()[i];
     const Eigen::Index end = f.outerIndexPtr()[i + 1];
     auto r = first[static_cast<size_t>(i)];
@@ -123,17 +126,29 @@ RowPairs rowPairs(const Eigen::VectorXd& area, const ViewFactorEstimate& est, co
         theirs = {received[3 * at + 1], received[3 * at + 2], true};
         ++r;
       }
-      double g_hat = 0.0, var = 0.0;
-      if (i <= j) combine(mine, theirs, i, j, area, rays, g_hat, var);
-      else combine(theirs, mine, j, i, area, rays, g_hat, var);
-      rp.partner.push_back(static_cast<int>(j));
-      rp.g_hat.push_back(g_hat);
-      rp.var.push_back(var);
+      visit(j, mine, theirs);
     }
+  };
+  RowPairs rp;
+  rp.start.assign(static_cast<size_t>(n) + 1, 0);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    std::int64_t count = 0;
+    if (share.holds(i)) mergeRow(i, [&](Eigen::Index, const Side&, const Side&) { ++count; });
+    rp.start[static_cast<size_t>(i) + 1] = rp.start[static_cast<size_t>(i)] + count;
   }
-  rp.start[static_cast<size_t>(n)] = static_cast<std::int64_t>(rp.partner.size());
-  rp.pinned.assign(rp.partner.size(), 0);
-  rp.g.assign(rp.partner.size(), 0.0);
+  const auto total = static_cast<size_t>(rp.start.back());
+  rp.partner.resize(total);
+  rp.g_hat.resize(total);
+  rp.var.resize(total);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (!share.holds(i)) continue;
+    auto s = static_cast<size_t>(rp.start[static_cast<size_t>(i)]);
+    mergeRow(i, [&](Eigen::Index j, const Side& mine, const Side& theirs) {
+      if (i <= j) combine(mine, theirs, i, j, area, rays, rp.g_hat[s], rp.var[s]);
+      else combine(theirs, mine, j, i, area, rays, rp.g_hat[s], rp.var[s]);
+      rp.partner[s++] = static_cast<int>(j);
+    });
+  }
   return rp;
 }
 
@@ -146,7 +161,7 @@ Eigen::VectorXd timesK(const RowPairs& rp, const Eigen::VectorXd& diag, const Ei
     if (!share.holds(i)) continue;
     double sum = diag[i] * x[i];
     for (auto q = rp.start[size_t(i)]; q < rp.start[size_t(i) + 1]; ++q)
-      if (!rp.pinned[size_t(q)] && rp.partner[size_t(q)] != i) sum += rp.var[size_t(q)] * x[rp.partner[size_t(q)]];
+      if (rp.partner[size_t(q)] != i) sum += rp.var[size_t(q)] * x[rp.partner[size_t(q)]];
     y[i] = sum;
   }
   share.joinRows(y.data(), static_cast<size_t>(n));
@@ -163,7 +178,7 @@ Eigen::VectorXd multipliers(const RowPairs& rp, const Eigen::VectorXd& free_rhs,
     if (!share.holds(i)) continue;
     double b = free_rhs[i], d = free_variance[i];
     for (auto q = rp.start[size_t(i)]; q < rp.start[size_t(i) + 1]; ++q)
-      if (!rp.pinned[size_t(q)]) b -= rp.g_hat[size_t(q)], d += rp.var[size_t(q)];
+      b -= rp.g_hat[size_t(q)], d += rp.var[size_t(q)];  // a pinned pair adds 0
     rhs[i] = b;
     diag[i] = d > 0 ? d : 1.0;  // isolated rows: μ = 0
   }
@@ -206,20 +221,11 @@ ReciprocityCorrection enforceReciprocityOnRows(const Eigen::VectorXd& area, cons
     mu = multipliers(rp, area - g_space - g_blocked, v_space + v_blocked, share);
     bool changed = false;
     for (Eigen::Index i = 0; i < n; ++i)
-      for (auto q = rp.start[size_t(i)]; q < rp.start[size_t(i) + 1]; ++q) {
-        const auto s = static_cast<size_t>(q);
-        const Eigen::Index j = rp.partner[s];
-        if (rp.pinned[s]) {
-          rp.g[s] = 0.0;
-          continue;
-        }
-        // μ_lo + μ_hi in the pair's own order: both holders add the same way.
-        rp.g[s] = rp.g_hat[s] + rp.var[s] * (i == j ? mu[i] : mu[std::min(i, j)] + mu[std::max(i, j)]);
-        if (rp.g[s] < 0) {
-          rp.pinned[s] = 1;
+      for (auto q = rp.start[size_t(i)]; q < rp.start[size_t(i) + 1]; ++q)
+        if (corrected(rp, size_t(q), i, mu) < 0) {  // pinned at zero from now on
+          rp.g_hat[size_t(q)] = rp.var[size_t(q)] = 0.0;
           changed = true;
         }
-      }
     for (Eigen::Index i = 0; i < n; ++i)  // whole vectors: every process alike
       for (auto [g_term, v_term] : {std::pair{&g_space, &v_space}, std::pair{&g_blocked, &v_blocked}})
         if ((*v_term)[i] > 0 && (*g_term)[i] + (*v_term)[i] * mu[i] < 0) {
@@ -233,12 +239,10 @@ ReciprocityCorrection enforceReciprocityOnRows(const Eigen::VectorXd& area, cons
   out.blocked = (g_blocked + v_blocked.cwiseProduct(mu)).cwiseMax(0.0).cwiseQuotient(area);
   // Held rows of F (g / A_i) and of Fᵀ (g / A_j), in column order, straight into their
   // arrays (counted first: the 50,102-node run's peak was this step's growing copies).
-  std::vector<double>().swap(rp.g_hat);
-  std::vector<double>().swap(rp.var);
   std::vector<int> outer(static_cast<size_t>(n) + 1, 0);
   for (Eigen::Index i = 0; i < n; ++i) {
     int count = 0;
-    for (auto q = rp.start[size_t(i)]; q < rp.start[size_t(i) + 1]; ++q) count += rp.g[size_t(q)] > 0;
+    for (auto q = rp.start[size_t(i)]; q < rp.start[size_t(i) + 1]; ++q) count += corrected(rp, size_t(q), i, mu) > 0;
     outer[size_t(i) + 1] = outer[size_t(i)] + count;
   }
   for (RowSparse* m : {&out.view_factors, &out.transposed}) {
@@ -249,13 +253,14 @@ ReciprocityCorrection enforceReciprocityOnRows(const Eigen::VectorXd& area, cons
     for (Eigen::Index i = 0; i < n; ++i) {
       int at = outer[size_t(i)];
       for (auto q = rp.start[size_t(i)]; q < rp.start[size_t(i) + 1]; ++q)
-        if (rp.g[size_t(q)] > 0) {
+        if (const double g = corrected(rp, size_t(q), i, mu); g > 0) {
           const int j = rp.partner[size_t(q)];
           m->innerIndexPtr()[at] = j;
-          m->valuePtr()[at++] = rp.g[size_t(q)] / area[transposed ? j : i];
+          m->valuePtr()[at++] = g / area[transposed ? j : i];
         }
     }
   }
+  rp = RowPairs();
   reportCorrection(relaid, rays, out, share);
   return out;
 }

@@ -11,13 +11,11 @@ namespace {
 
 constexpr Eigen::Index kRowBlock = 256;  // rows of B (and of σ_F) formed at a time
 
-// body(r, rows) for every row block of n rows, in parallel (solver/parallel.hpp); with the
-// rows shared out (`share`), each process the blocks b ≡ part (mod parts).
+// body(r, rows) for every row block of n rows, in parallel (solver/parallel.hpp).
 template <class Body>
-void forRowBlocks(Eigen::Index n, const Body& body, const RowShare& share = {}) {
+void forRowBlocks(Eigen::Index n, const Body& body) {
   const Eigen::Index blocks = (n + kRowBlock - 1) / kRowBlock;
   parallelFor(blocks, [&](long long b) {
-    if (!share.whole() && b % share.parts != share.part) return;
     const Eigen::Index r = static_cast<Eigen::Index>(b) * kRowBlock;
     body(r, std::min(kRowBlock, n - r));
   });
@@ -41,7 +39,7 @@ Eigen::MatrixXd receivedVariance(const Eigen::VectorXd& area, const SparseRowMat
 // at most 6e-8 of itself). V C, V and each column of X are scaled to a largest magnitude of
 // 1 first, so nothing leaves float's range (1e±38) however the model's areas are scaled; the
 // scales are put back in double.
-// Rows shared out: each process forms its blocks of rows (the others +0.0), then joined.
+// Rows shared out: each process forms the blocks k ≡ part (mod parts), the others +0.0, joined.
 Eigen::MatrixXd squaredCoreTimes(const LowRankBandSolver& band, const Eigen::MatrixXd& vectors,
                                  const Eigen::MatrixXd& x, const RowShare& share) {
   const Eigen::Index n = vectors.rows();
@@ -54,10 +52,13 @@ Eigen::MatrixXd squaredCoreTimes(const LowRankBandSolver& band, const Eigen::Mat
   for (Eigen::Index c = 0; c < x.cols(); ++c) x_scale[c] = scaleOf(x.col(c).cwiseAbs().maxCoeff());
   const Eigen::MatrixXf x_f = (x * x_scale.cwiseInverse().asDiagonal()).cast<float>();
   Eigen::MatrixXd out = share.whole() ? Eigen::MatrixXd(n, x.cols()) : Eigen::MatrixXd::Zero(n, x.cols());
-  forRowBlocks(n, [&](Eigen::Index r, Eigen::Index rows) {
+  const Eigen::Index blocks = (n + kRowBlock - 1) / kRowBlock;
+  parallelFor(blocks, [&](long long k) {
+    if (!share.whole() && k % share.parts != share.part) return;
+    const Eigen::Index r = static_cast<Eigen::Index>(k) * kRowBlock, rows = std::min(kRowBlock, n - r);
     const Eigen::MatrixXf b = vc_f.middleRows(r, rows) * vt_f;
     out.middleRows(r, rows) = (b.array().square().matrix() * x_f).cast<double>();
-  }, share);
+  });
   share.joinRows(out.data(), static_cast<size_t>(out.size()));
   const double b_scale = vc_scale * v_scale;
   return b_scale * b_scale * out * x_scale.asDiagonal();
