@@ -20,6 +20,11 @@ double floorVariance(const Eigen::VectorXd& area, const Eigen::VectorXd& rays, E
   return std::pow(area[i] / std::max(1.0, rays[i]), 2);
 }
 
+// One estimate's variance, (A_i σ_ij)², floored at one ray's worth (as enforceReciprocity).
+double entryVariance(const Eigen::VectorXd& area, const Eigen::VectorXd& rays, Eigen::Index row, double error) {
+  return std::max(std::pow(area[row] * error, 2), floorVariance(area, rays, row));
+}
+
 // Each held row's pairs, every partner j (itself too) in increasing order: the combined
 // estimate ĝ_ij of the conductance and its variance. A pair pinned at zero keeps ĝ = v = 0:
 // it then adds nothing to K or to the right-hand side, and its corrected value is 0 (20 B a
@@ -66,15 +71,20 @@ void combine(const Side& lo, const Side& hi, Eigen::Index lo_node, Eigen::Index 
   var = 1.0 / den;
 }
 
-// The held rows' pairs: own entries, and the partners' entries received from their holders
-// as (j · n + i, A_j F_ji, variance) triples, sorted into each row.
-RowPairs rowPairs(const Eigen::VectorXd& area, const ViewFactorEstimate& est, const Eigen::VectorXd& rays,
-                  const solver::RowShare& share) {
+// The partner entries of the held rows, from their rows' holders: (j · n + i, A_i F_ij, its
+// variance) triples, `order` sorting them by row (`first`: each row's start) and partner.
+struct Partners {
+  std::vector<double> received;
+  std::vector<std::int64_t> first;
+  std::vector<std::uint32_t> order;
+  std::int64_t key(size_t q) const { return static_cast<std::int64_t>(received[3 * q]); }
+};
+
+Partners partnerEntries(const Eigen::VectorXd& area, const ViewFactorEstimate& est, const Eigen::VectorXd& rays,
+                        const solver::RowShare& share) {
   const RowSparse &f = est.view_factors, &sigma = est.standard_error;
   const Eigen::Index n = area.size();
-  auto variance = [&](Eigen::Index row, double error) {
-    return std::max(std::pow(area[row] * error, 2), floorVariance(area, rays, row));
-  };
+  auto variance = [&](Eigen::Index row, double error) { return entryVariance(area, rays, row, error); };
   std::vector<std::vector<double>> send(static_cast<size_t>(share.parts));
   for (Eigen::Index i = 0; i < n; ++i)
     if (share.holds(i))
@@ -86,18 +96,21 @@ RowPairs rowPairs(const Eigen::VectorXd& area, const ViewFactorEstimate& est, co
         to.push_back(area[i] * f.valuePtr()[k]);
         to.push_back(variance(i, sigma.valuePtr()[k]));
       }
-  std::vector<double> received = share.whole() ? std::move(send[0]) : share.exchange(send);
+  Partners p;
+  p.received = share.whole() ? std::move(send[0]) : share.exchange(send);
   send.clear();
   send.shrink_to_fit();
   // Received triples by row (a counting sort), each row's by partner.
-  const size_t count = received.size() / 3;
-  auto key = [&](size_t q) { return static_cast<std::int64_t>(received[3 * q]); };
-  std::vector<std::int64_t> first(static_cast<size_t>(n) + 1, 0);
+  const size_t count = p.received.size() / 3;
+  auto key = [&](size_t q) { return p.key(q); };
+  std::vector<std::int64_t>& first = p.first;
+  first.assign(static_cast<size_t>(n) + 1, 0);
   for (size_t q = 0; q < count; ++q) ++first[static_cast<size_t>(key(q) / n) + 1];
   for (size_t i = 0; i < static_cast<size_t>(n); ++i) first[i + 1] += first[i];
   if (count >= std::numeric_limits<std::uint32_t>::max())
     throw std::length_error("shared reciprocity correction: more than 2^32 partner entries on one process");
-  std::vector<std::uint32_t> order(count);  // 4 B an entry: indices into `received`
+  std::vector<std::uint32_t>& order = p.order;
+  order.resize(count);  // 4 B an entry: indices into `received`
   {
     std::vector<std::int64_t> fill(first.begin(), first.end() - 1);
     for (size_t q = 0; q < count; ++q)
@@ -106,6 +119,21 @@ RowPairs rowPairs(const Eigen::VectorXd& area, const ViewFactorEstimate& est, co
   for (size_t i = 0; i < static_cast<size_t>(n); ++i)
     std::sort(order.begin() + first[i], order.begin() + first[i + 1],
               [&](std::uint32_t a, std::uint32_t b) { return key(a) < key(b); });
+  return p;
+}
+
+// The held rows' pairs: own entries, and the partners' entries received from their holders
+// as (j · n + i, A_j F_ji, variance) triples, sorted into each row.
+RowPairs rowPairs(const Eigen::VectorXd& area, const ViewFactorEstimate& est, const Eigen::VectorXd& rays,
+                  const solver::RowShare& share) {
+  const RowSparse &f = est.view_factors, &sigma = est.standard_error;
+  const Eigen::Index n = area.size();
+  auto variance = [&](Eigen::Index row, double error) { return entryVariance(area, rays, row, error); };
+  const Partners p = partnerEntries(area, est, rays, share);
+  const std::vector<double>& received = p.received;
+  const std::vector<std::int64_t>& first = p.first;
+  const std::vector<std::uint32_t>& order = p.order;
+  auto key = [&](size_t q) { return p.key(q); };
   // Each held row's own entries and received ones merged by partner: counted, then filled.
   auto mergeRow = [&](Eigen::Index i, const auto& visit) {
     Eigen::Index k = f.outerIndexPtr()[i];
@@ -201,6 +229,34 @@ Eigen::VectorXd multipliers(const RowPairs& rp, const Eigen::VectorXd& free_rhs,
   return mu;
 }
 
+// Held rows of F (g / A_i) and of Fᵀ (g / A_j), in column order, straight into their arrays
+// (counted first: the 50,102-node run's peak was this step's growing copies).
+void heldCorrectedRows(const RowPairs& rp, const Eigen::VectorXd& mu, const Eigen::VectorXd& area,
+                       ReciprocityCorrection& out) {
+  const Eigen::Index n = area.size();
+  std::vector<int> outer(static_cast<size_t>(n) + 1, 0);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    int count = 0;
+    for (auto q = rp.start[size_t(i)]; q < rp.start[size_t(i) + 1]; ++q) count += corrected(rp, size_t(q), i, mu) > 0;
+    outer[size_t(i) + 1] = outer[size_t(i)] + count;
+  }
+  for (RowSparse* m : {&out.view_factors, &out.transposed}) {
+    const bool transposed = m == &out.transposed;
+    m->resize(n, n);
+    m->resizeNonZeros(outer[size_t(n)]);
+    std::copy(outer.begin(), outer.end(), m->outerIndexPtr());
+    for (Eigen::Index i = 0; i < n; ++i) {
+      int at = outer[size_t(i)];
+      for (auto q = rp.start[size_t(i)]; q < rp.start[size_t(i) + 1]; ++q)
+        if (const double g = corrected(rp, size_t(q), i, mu); g > 0) {
+          const int j = rp.partner[size_t(q)];
+          m->innerIndexPtr()[at] = j;
+          m->valuePtr()[at++] = g / area[transposed ? j : i];
+        }
+    }
+  }
+}
+
 }  // namespace
 
 ReciprocityCorrection enforceReciprocityOnRows(const Eigen::VectorXd& area, const ViewFactorEstimate& est,
@@ -237,29 +293,7 @@ ReciprocityCorrection enforceReciprocityOnRows(const Eigen::VectorXd& area, cons
   ReciprocityCorrection out;
   out.space = (g_space + v_space.cwiseProduct(mu)).cwiseMax(0.0).cwiseQuotient(area);
   out.blocked = (g_blocked + v_blocked.cwiseProduct(mu)).cwiseMax(0.0).cwiseQuotient(area);
-  // Held rows of F (g / A_i) and of Fᵀ (g / A_j), in column order, straight into their
-  // arrays (counted first: the 50,102-node run's peak was this step's growing copies).
-  std::vector<int> outer(static_cast<size_t>(n) + 1, 0);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    int count = 0;
-    for (auto q = rp.start[size_t(i)]; q < rp.start[size_t(i) + 1]; ++q) count += corrected(rp, size_t(q), i, mu) > 0;
-    outer[size_t(i) + 1] = outer[size_t(i)] + count;
-  }
-  for (RowSparse* m : {&out.view_factors, &out.transposed}) {
-    const bool transposed = m == &out.transposed;
-    m->resize(n, n);
-    m->resizeNonZeros(outer[size_t(n)]);
-    std::copy(outer.begin(), outer.end(), m->outerIndexPtr());
-    for (Eigen::Index i = 0; i < n; ++i) {
-      int at = outer[size_t(i)];
-      for (auto q = rp.start[size_t(i)]; q < rp.start[size_t(i) + 1]; ++q)
-        if (const double g = corrected(rp, size_t(q), i, mu); g > 0) {
-          const int j = rp.partner[size_t(q)];
-          m->innerIndexPtr()[at] = j;
-          m->valuePtr()[at++] = g / area[transposed ? j : i];
-        }
-    }
-  }
+  heldCorrectedRows(rp, mu, area, out);
   rp = RowPairs();
   reportCorrection(relaid, rays, out, share);
   return out;

@@ -51,6 +51,11 @@ void keepHeldRows(Eigen::SparseMatrix<double, Eigen::RowMajor>& m, const solver:
   m.swap(held);
 }
 
+void keepHeldRows(geometry::ViewFactorEstimate& estimate, const solver::RowShare& share) {
+  keepHeldRows(estimate.view_factors, share);
+  keepHeldRows(estimate.standard_error, share);
+}
+
 void joinHeldRowVectors(geometry::ViewFactorResult& vf) {
   for (Eigen::VectorXd* v : {&vf.space, &vf.space_error, &vf.blocked, &vf.blocked_error})
     cluster::join(v->data(), static_cast<std::size_t>(v->size()));

@@ -5,6 +5,7 @@
 // matrices; vectors and the n × k eigenvectors stay whole on every rank.
 #include "cases/config/geometry_case.hpp"
 #include "geometry/rays/view_factors.hpp"
+#include "geometry/reciprocity.hpp"
 #include "solver/parallel.hpp"
 
 #include <Eigen/SparseCore>
@@ -26,6 +27,9 @@ solver::RowShare clusterRowShare();
 
 /// m without the rows `share` does not hold (swapped in place: no second full copy).
 void keepHeldRows(Eigen::SparseMatrix<double, Eigen::RowMajor>& m, const solver::RowShare& share);
+
+/// F and σ of `estimate` without the rows `share` does not hold (the vectors stay whole).
+void keepHeldRows(geometry::ViewFactorEstimate& estimate, const solver::RowShare& share);
 
 /// Each rank cast the rows it holds: the per-node vectors and ray counts joined on every
 /// rank, F and σ left as the held rows (seconds: the slowest rank's).

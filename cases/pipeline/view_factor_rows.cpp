@@ -135,11 +135,7 @@ void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, Geomet
   // An exact row's entries are good to the tolerance: that is its variance floor.
   rays.setConstant(1.0 / opt.tolerance);
   moveEstimate(ex, estimate);
-  if (shared) {
-    const solver::RowShare share = clusterRowShare();
-    keepHeldRows(estimate.view_factors, share);
-    keepHeldRows(estimate.standard_error, share);
-  }
+  if (shared) keepHeldRows(estimate, clusterRowShare());
   for (char row : ex.sampled_rows) r.exact->sampled_rows += row;
   if (ex.rows_for_memory > 0)
     progress << "radnet: view factors: " << ex.rows_for_memory << " row(s) cast as rays instead of integrated: "
