@@ -96,6 +96,10 @@ bench: build
 	# One process against two MPI ranks, bit for bit, and the cluster scaling model (issue 15; about 25 minutes).
 	/usr/bin/python3 bench/bench_mpi.py $(BUILD_DIR)/radnet docs/mpi-benchmark.md \
 	  bench/cases/satellite-1602.yaml bench/cases/satellite-1602-design.yaml bench/cases/satellite-6402.yaml
+	# The sparse network path against the dense one on the same G (issue 32; a minute).
+	./$(BUILD_DIR)/radnet run bench/cases/satellite-1602.yaml -o $(BUILD_DIR)/sd-1602.h5 -q
+	./$(BUILD_DIR)/radnet run bench/cases/satellite-6402.yaml -o $(BUILD_DIR)/sd-6402.h5 -q
+	./$(BUILD_DIR)/bench/bench_sparse_dense docs/sparse-dense-benchmark.md $(BUILD_DIR)/sd-1602.h5 $(BUILD_DIR)/sd-6402.h5
 	# Memory per rank with the rows shared out: 50,102 nodes at the defaults, 1 process and 2 ranks (issue 32; about 15 minutes).
 	/usr/bin/python3 bench/bench_mpi_memory.py $(BUILD_DIR)/radnet docs/mpi-memory-benchmark.md \
 	  bench/cases/satellite-50102.yaml --ranks 2 --defaults
