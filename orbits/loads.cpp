@@ -88,6 +88,24 @@ void directLoads(const geometry::RayCaster& caster, const Eigen::VectorXd& area,
   redirectedSunlight(caster, area, pos, opt, flux, out, p);
 }
 
+// Every position's direct irradiance (n × P, W/m²): `out`'s where this process computed
+// it, the rest (other processes' positions) computed here too, so that whatever reads it
+// (the sky kernel's targets) is the same on any number of processes.
+Eigen::MatrixXd directAtEveryPosition(const geometry::RayCaster& caster, const Eigen::VectorXd& area,
+                                      const std::vector<SweepPosition>& positions, const EnvironmentOptions& opt,
+                                      const EnvironmentLoads& out) {
+  if (opt.sun_positions.empty()) return out.direct;
+  EnvironmentLoads others;
+  others.direct = out.direct;
+  others.direct_stderr = out.direct_stderr;
+  for (int p = 0; p < static_cast<int>(positions.size()); ++p) {
+    const SweepPosition& pos = positions[static_cast<size_t>(p)];
+    if (pos.sunlit_fraction > 0 && !opt.sun_positions[static_cast<size_t>(p)])
+      directLoads(caster, area, pos, opt, others, p);
+  }
+  return others.direct;
+}
+
 // The mean and standard error of per-replica estimates.
 void replicaStatistics(const std::vector<double>& estimates, double& value, double& stderr_value) {
   const double m = static_cast<double>(estimates.size());
@@ -284,12 +302,13 @@ bool kernelServes(const std::vector<SweepPosition>& positions, bool earth_fixed,
 // a node, then more for the nodes over their target), cone rays only for the node-positions
 // still over (cast once per node when the Earth is fixed).
 void kernelPlanetLoads(const geometry::RayCaster& caster, const std::vector<SweepPosition>& positions, bool earth_fixed,
-                       double re, double smallest_cap_sin2, const EnvironmentOptions& opt, EnvironmentLoads& out) {
+                       double re, double smallest_cap_sin2, const EnvironmentOptions& opt, const Eigen::MatrixXd& direct,
+                       EnvironmentLoads& out) {
   geometry::SkyKernel local;
   geometry::SkyKernel& kernel = opt.sky_kernel_cache ? *opt.sky_kernel_cache : local;
   std::vector<PlanetView> views;
   for (const SweepPosition& pos : positions) views.push_back(planetView(pos, re, opt));
-  const KernelTargets targets = kernelLoads(caster, views, smallest_cap_sin2, opt, kernel, out);
+  const KernelTargets targets = kernelLoads(caster, views, smallest_cap_sin2, opt, direct, kernel, out);
   PlanetCast fallback;
   const size_t n = kernel.nodes.size();
   std::vector<char> have(n, 0), over(n, 0), need(n, 0);
@@ -328,13 +347,19 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
   out.direct_stderr = out.albedo_stderr = out.earth_ir_stderr = Eigen::MatrixXd::Zero(n, P);
   if (!opt.sun_positions.empty() && opt.sun_positions.size() != static_cast<size_t>(P))
     throw std::invalid_argument("environment loads: the position mask must have one entry per position");
-  double smallest_cap_sin2 = 1.0;
-  out.planet_kernel = kernelServes(positions, earth_fixed, re, opt, smallest_cap_sin2);
-  if (out.planet_kernel) kernelPlanetLoads(caster, positions, earth_fixed, re, smallest_cap_sin2, opt, out);
-  PlanetCast cast;
+  // The direct load first: the sky kernel's targets are shares of each node's absorbed power.
   for (int p = 0; p < P; ++p) {
     const SweepPosition& pos = positions[static_cast<size_t>(p)];
     if (pos.sunlit_fraction > 0 && mine(opt.sun_positions, p)) directLoads(caster, area, pos, opt, out, p);  // no rays in the umbra
+  }
+  double smallest_cap_sin2 = 1.0;
+  out.planet_kernel = kernelServes(positions, earth_fixed, re, opt, smallest_cap_sin2);
+  if (out.planet_kernel)
+    kernelPlanetLoads(caster, positions, earth_fixed, re, smallest_cap_sin2, opt,
+                      directAtEveryPosition(caster, area, positions, opt, out), out);
+  PlanetCast cast;
+  for (int p = 0; p < P; ++p) {
+    const SweepPosition& pos = positions[static_cast<size_t>(p)];
     // Planet rays and paths: cast again unless the Earth sits where it did (reuse).
     const Eigen::Vector3d center = pos.planet_body * pos.planet_distance_m;
     if (!(earth_fixed && samePlace(cast, center))) {

@@ -36,6 +36,19 @@ struct SkyKernel;
 
 namespace radnet::orbits {
 
+/// Per node, the smallest α/ε and ε/α over every optical set some loads may serve (empty:
+/// not known, e.g. optics sampled or following temperature). With them the sky kernel's
+/// targets are shares of the absorbed power's lower bound α(D + A) + ε I rather than of
+/// each channel alone (orbits/sky_loads.hpp, KernelTargets).
+struct AbsorptanceRatios {
+  Eigen::VectorXd min_alpha_over_epsilon, min_epsilon_over_alpha;  ///< –
+  /// ≤ 1: the smallest ratio of one load's scale to another's (direct to albedo, IR to
+  /// albedo, direct to IR, albedo to IR) over the design cases that reuse these loads
+  /// scaled (a hot case's solar constant, albedo and IR): each cross term of the targets
+  /// is weighted by it, so they hold in every such case. 1 when none does.
+  double cross_weight = 1.0;
+};
+
 struct EnvironmentOptions {
   double albedo =
       0.30;  ///< Bond albedo, – (orbit-average Earth value; Gilmore, Spacecraft Thermal Control Handbook, ch. 2)
@@ -62,6 +75,7 @@ struct EnvironmentOptions {
   /// blocker lies inside the cap or outside it); a node whose kernel disagrees with it by
   /// more than 5σ keeps its own estimate.
   Eigen::VectorXd blocked_share, blocked_share_stderr;
+  AbsorptanceRatios absorptance;  ///< empty: not known
   std::uint64_t seed = 1;
   /// Positions whose direct load, and nodes whose planet loads (albedo, Earth IR, Earth view
   /// factor), this process computes (empty: all). The rest stay 0 for other processes to

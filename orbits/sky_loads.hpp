@@ -67,14 +67,21 @@ inline constexpr double kKernelFallbackRatio = 2.0;
 inline constexpr std::int64_t kMinPartlyBlockedRays = 4096;
 
 /// What each node's albedo and planet IR may be off by (1σ, W/m²) at any position of the
-/// sweep: half the loads' relative error times the node's largest load of that kind over
-/// the sweep (at least that of a tenth of the planet's cap). The budget is a share of each
-/// node's absorbed power against its orbit maximum, which is at least α × the largest
-/// albedo and ε × the largest planet IR: an albedo σ and an IR σ within half the share each
-/// keep the absorbed power's within the share for any optical properties (the two add: they
-/// share the blocked sky). Against the sweep's largest, not each position's own value: a
-/// node's small loads where it barely sees the planet need no more rays than its large ones
-/// (the old per-position target cast 3× the rays on the 1,602-node satellite).
+/// sweep. The budget is a share of each node's absorbed power against its orbit maximum
+/// Q_max, and Q_max ≥ max_p [α (D_p + A_p) + ε I_p] (direct, albedo and planet IR at
+/// position p: what the node absorbs of its own irradiance; reflections only add). An
+/// albedo σ with α σ_A ≤ ½ share Q_max and an IR σ with ε σ_I ≤ ½ share Q_max keep the
+/// absorbed power's within the share (the two added as if both peaked together and erred
+/// the same way: they share the blocked sky). Hence the targets
+///     σ_A ≤ ½ share max_p (D_p + A_p + r_ε I_p),   σ_I ≤ ½ share max_p (r_α (D_p + A_p) + I_p),
+/// r_α and r_ε the node's smallest α/ε and ε/α over every optical set the loads serve (0
+/// when not known: then the albedo's target holds for any optics and the IR's is a share of
+/// the node's largest IR, as before the direct load entered). Each at least the load of a
+/// tenth of the planet's cap. Against the sweep's largest, not each position's own value:
+/// a node's small loads where it barely sees the planet need no more rays than its large
+/// ones (the old per-position target cast 3× the rays on the 1,602-node satellite). A node
+/// in sunlight, whose orbit maximum the direct load sets, takes fewer rays than against its
+/// largest albedo and IR alone (1,602-node satellite, inertial: 8.6 M rays → 6.7 M).
 struct KernelTargets {
   std::vector<double> albedo, ir;  ///< per node, W/m²
   /// How far node i's σ at position p is over its target (≤ 1: within).
@@ -85,8 +92,9 @@ struct KernelTargets {
 /// An empty kernel is cast first: kSkyKernelFirstRays a node, then, in rounds, the nodes
 /// over their target again with more (up to kMaxPlanetRays). Returns the targets, for the
 /// caller to give the node-positions still over planet rays.
+/// `direct` (n × P, W/m²): every position's direct irradiance, for the targets.
 KernelTargets kernelLoads(const geometry::RayCaster& caster, const std::vector<PlanetView>& views,
-                          double smallest_cap_sin2, const EnvironmentOptions& opt, geometry::SkyKernel& kernel,
-                          EnvironmentLoads& out);
+                          double smallest_cap_sin2, const EnvironmentOptions& opt, const Eigen::MatrixXd& direct,
+                          geometry::SkyKernel& kernel, EnvironmentLoads& out);
 
 }  // namespace radnet::orbits

@@ -5,21 +5,34 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 namespace radnet::orbits {
 
 namespace {
 
+// Each node's smallest α/ε (or ε/α) over the optical sets, 0 where not known.
+double ratioOf(const Eigen::VectorXd& ratios, Eigen::Index i) {
+  return ratios.size() > i && std::isfinite(ratios[i]) ? std::max(0.0, ratios[i]) : 0.0;
+}
+
 KernelTargets kernelTargets(const EnvironmentLoads& out, const std::vector<PlanetView>& views,
-                            double smallest_cap_sin2, const EnvironmentOptions& opt) {
+                            double smallest_cap_sin2, const EnvironmentOptions& opt, const Eigen::MatrixXd& direct) {
   const double share = 0.5 * opt.relative_error, floor_view = 0.1 * smallest_cap_sin2;
   double flux = 0.0;
   for (const PlanetView& view : views) flux = std::max(flux, view.solar_flux_w_m2);
   const double floor_albedo = floor_view * opt.albedo * flux, floor_ir = floor_view * opt.planet_ir.maxExitance(flux);
+  if (direct.rows() != out.albedo.rows() || direct.cols() != out.albedo.cols())
+    throw std::invalid_argument("sky kernel targets: the direct irradiance must be n × P");
+  const double w = std::clamp(opt.absorptance.cross_weight, 0.0, 1.0);
   KernelTargets t;
   for (Eigen::Index i = 0; i < out.albedo.rows(); ++i) {
-    t.albedo.push_back(share * std::max(out.albedo.row(i).maxCoeff(), floor_albedo));
-    t.ir.push_back(share * std::max(out.earth_ir.row(i).maxCoeff(), floor_ir));
+    const Eigen::ArrayXd d = direct.row(i).transpose(), a = out.albedo.row(i).transpose();
+    const Eigen::ArrayXd ir = out.earth_ir.row(i).transpose();
+    const double r_alpha = w * ratioOf(opt.absorptance.min_alpha_over_epsilon, i);
+    const double r_epsilon = w * ratioOf(opt.absorptance.min_epsilon_over_alpha, i);
+    t.albedo.push_back(share * std::max((w * d + a + r_epsilon * ir).maxCoeff(), floor_albedo));
+    t.ir.push_back(share * std::max((r_alpha * (d + a) + ir).maxCoeff(), floor_ir));
   }
   return t;
 }
@@ -106,8 +119,8 @@ double KernelTargets::over(const EnvironmentLoads& out, Eigen::Index i, int p) c
 }
 
 KernelTargets kernelLoads(const geometry::RayCaster& caster, const std::vector<PlanetView>& views,
-                          double smallest_cap_sin2, const EnvironmentOptions& opt, geometry::SkyKernel& kernel,
-                          EnvironmentLoads& out) {
+                          double smallest_cap_sin2, const EnvironmentOptions& opt, const Eigen::MatrixXd& direct,
+                          geometry::SkyKernel& kernel, EnvironmentLoads& out) {
   const bool fresh = kernel.nodes.empty();
   if (fresh) {
     geometry::SkyKernelOptions k;
@@ -124,7 +137,7 @@ KernelTargets kernelLoads(const geometry::RayCaster& caster, const std::vector<P
                         Eigen::MatrixXd::Zero(out.albedo.rows(), out.albedo.cols())};
   skyKernelSweep(kernel, views, unobstructed, opt.planet_nodes, opt.blocked_share, opt.blocked_share_stderr, out,
                  &binning);
-  const KernelTargets targets = kernelTargets(out, views, smallest_cap_sin2, opt);
+  const KernelTargets targets = kernelTargets(out, views, smallest_cap_sin2, opt, direct);
   if (fresh) refineKernel(caster, views, unobstructed, opt, targets, kernel, out, binning);
   return targets;
 }

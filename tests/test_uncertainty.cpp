@@ -36,12 +36,15 @@ std::vector<double> absorbed(hid_t f) {
 }
 
 Coverage compare(const std::string& example, const std::string& vf_test, const std::string& vf_ref,
-                 const std::string& dataset, const std::string& sigma_dataset) {
+                 const std::string& dataset, const std::string& sigma_dataset, const std::string& attitude = "") {
   TempDir dir;
   std::filesystem::create_directories(dir.path / "materials");
   dir.write("materials/common.yaml", slurp(source("cases/examples/materials/common.yaml")));
-  dir.write("test.yaml", variant(example, vf_test, ""));
-  dir.write("ref.yaml", variant(example, vf_ref, "shadow_samples: 16384, planet_rays: 131072, "));
+  const auto turned = [&](std::string text) {
+    return attitude.empty() ? text : std::regex_replace(text, std::regex("attitude: \\{mode: nadir\\}"), attitude);
+  };
+  dir.write("test.yaml", turned(variant(example, vf_test, "")));
+  dir.write("ref.yaml", turned(variant(example, vf_ref, "shadow_samples: 16384, planet_rays: 131072, ")));
   REQUIRE(runRadnet("run test.yaml -o test.h5", dir).exit_code == 0);
   REQUIRE(runRadnet("run ref.yaml -o ref.h5", dir).exit_code == 0);
   const hid_t t = H5Fopen((dir.path / "test.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
@@ -83,6 +86,41 @@ TEST_CASE("uncertainty: the CubeSat's absorbed power lies within its reported 2�
 TEST_CASE("uncertainty: the satellite (mast, dish and wings shadowing each other) within its 2σ") {
   checkCoverage(compare("satellite.yaml", "{method: monte_carlo, rays: 4000, seed: 1}",
                         "{method: monte_carlo, rays: 400000, seed: 7}", "", "/uncertainty/absorbed_power"));
+}
+
+TEST_CASE("uncertainty: the Sun-pointing satellite's sky-kernel loads within 2σ of 131,072 planet rays a node") {
+  // The kernel's targets are shares of each node's absorbed power (direct sunlight
+  // included, orbits/sky_loads.hpp): what it reports must still cover its error, against
+  // the second method (planet rays into the cone, cast at every position).
+  checkCoverage(compare("satellite.yaml", "{method: monte_carlo, rays: 4000, seed: 1}",
+                        "{method: monte_carlo, rays: 400000, seed: 7}", "", "/uncertainty/absorbed_power",
+                        "attitude: {mode: sun}"));
+}
+
+TEST_CASE("error budget: design cases that reuse the kernel's loads under other optics stay within the loads' share") {
+  // The hot case reuses the cold case's irradiances scaled (same orbit and attitude) under
+  // end-of-life optics: the kernel's targets take every optical set's α/ε and the cases'
+  // scale factors, so neither case's loads exceed their share of the budget.
+  TempDir dir;
+  std::filesystem::create_directories(dir.path / "materials");
+  dir.write("materials/common.yaml", slurp(source("cases/examples/materials/common.yaml")));
+  std::string text = variant("satellite.yaml", "{method: monte_carlo, rays: 4000, seed: 1}", "");
+  text = std::regex_replace(text, std::regex("attitude: \\{mode: nadir\\}"), "attitude: {mode: inertial, quaternion: [1, 0, 0, 0]}");
+  text += "optics:\n  eol: {white_paint: {absorptivity: 0.45}, solar_cell: {absorptivity: 0.94, emissivity: 0.80}}\n"
+          "cases:\n  cold: {environment: {solar_constant: 1322, albedo: 0.25, earth_ir: 218}}\n"
+          "  hot: {environment: {solar_constant: 1414, albedo: 0.35, earth_ir: 258}, optics: eol}\n";
+  dir.write("cases.yaml", text);
+  const Run run = runRadnet("run cases.yaml -o cases.h5", dir);
+  REQUIRE(run.exit_code == 0);
+  CHECK(run.err.find("no rays cast") != std::string::npos);  // the hot case did reuse the loads
+  const hid_t f = H5Fopen((dir.path / "cases.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const double loads = readDoubleAttribute(f, "/report", "absorbed_uncertainty_loads_max_relative");
+  const double share = readDoubleAttribute(f, "/report", "budget_load_relative_error");
+  const double over = readDoubleAttribute(f, "/report", "nodes_over_budget");
+  H5Fclose(f);
+  CHECK(loads > 0);
+  CHECK(loads <= share);
+  CHECK(over == 0);
 }
 
 TEST_CASE("uncertainty: the CubeSat's temperatures lie within their reported 2σ of the reference's") {

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <ostream>
 #include <sstream>
 
@@ -29,14 +30,17 @@ struct LoadReuse {
   const SweepResult* from = nullptr;
   double direct = 1.0, albedo = 1.0, earth_ir = 1.0;
 };
+// The scales of a case's direct, albedo and planet IR loads that a reusing case multiplies.
+std::array<double, 3> loadFactors(const OrbitSettings& o) {
+  const orbits::EnvironmentOptions& e = o.environment;
+  const double s = o.sweep.solar_constant_w_m2;
+  return std::array<double, 3>{s, s * (e.albedo_by_latitude.empty() ? e.albedo : 1.0),
+                               e.planet_ir.uniform() ? e.planet_ir.uniform_w_m2 : 1.0};
+}
+
 LoadReuse findReuse(const GeometryCase& c, int k, const std::vector<CaseRun>& runs) {
   const DesignCase& d = c.design_cases[static_cast<size_t>(k)];
-  const auto factors = [](const OrbitSettings& o) {
-    const orbits::EnvironmentOptions& e = o.environment;
-    const double s = o.sweep.solar_constant_w_m2;
-    return std::array<double, 3>{s, s * (e.albedo_by_latitude.empty() ? e.albedo : 1.0),
-                                 e.planet_ir.uniform() ? e.planet_ir.uniform_w_m2 : 1.0};
-  };
+  const auto factors = loadFactors;
   const auto day_night = [](const OrbitSettings& o) { return !o.environment.planet_ir.uniform(); };
   for (int j = 0; j < k; ++j) {
     const DesignCase& e = c.design_cases[static_cast<size_t>(j)];
@@ -51,6 +55,38 @@ LoadReuse findReuse(const GeometryCase& c, int k, const std::vector<CaseRun>& ru
     return {&*runs[static_cast<size_t>(j)].sweep, to[0] / from[0], to[1] / from[1], to[2] / from[2]};
   }
   return {};
+}
+
+// What the sky kernel's targets of case k's loads may lean on (orbits/loads.hpp,
+// AbsorptanceRatios): each node's smallest α/ε and ε/α over every optical set (a later case
+// may reuse the loads under other optics), none when optics are sampled or follow
+// temperature; the cross terms weighted down by how much any case with the same load
+// signature scales one load against another.
+orbits::AbsorptanceRatios absorptanceRatios(const GeometryCase& c, int k) {
+  orbits::AbsorptanceRatios r;
+  const DesignCase& d = c.design_cases[static_cast<size_t>(k)];
+  bool curves = false;
+  for (const auto& [name, m] : c.materials) curves = curves || m.hasCurves();
+  if (!curves && !c.optical_uncertainty && !c.optical_sets.empty()) {
+    const Eigen::Index n = c.optical_sets[0].surface_absorptivity.size();
+    r.min_alpha_over_epsilon = r.min_epsilon_over_alpha = Eigen::VectorXd::Constant(n, HUGE_VAL);
+    for (const OpticalSet& set : c.optical_sets)
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const double a = set.surface_absorptivity[i], e = set.surface_emissivity[i];
+        // 0 where a value is 0 (no cross term: as if not known)
+        r.min_alpha_over_epsilon[i] = std::min(r.min_alpha_over_epsilon[i], e > 0 ? a / e : 0.0);
+        r.min_epsilon_over_alpha[i] = std::min(r.min_epsilon_over_alpha[i], a > 0 ? e / a : 0.0);
+      }
+  }
+  const std::array<double, 3> from = loadFactors(*d.orbit);  // direct, albedo, IR
+  for (const DesignCase& e : c.design_cases) {
+    if (!e.orbit || e.load_signature != d.load_signature) continue;
+    const std::array<double, 3> to = loadFactors(*e.orbit);
+    if (!(from[0] > 0 && from[1] > 0 && from[2] > 0 && to[0] > 0 && to[1] > 0 && to[2] > 0)) continue;
+    const double dr = to[0] / from[0], ar = to[1] / from[1], ir = to[2] / from[2];
+    r.cross_weight = std::min({r.cross_weight, dr / ar, ir / ar, dr / ir, ar / ir});
+  }
+  return r;
 }
 
 // One design case's sweep on its optical set's cores (every rank: the loads are shared out
@@ -76,9 +112,10 @@ void sweepCase(const DesignContext& ctx, int k, GeometryRunResult& r, std::vecto
   // the same angles); each position is solved in its configuration.
   const LoadReuse reuse = ctx.articulated ? LoadReuse{} : findReuse(c, k, runs);
   const SetNetworks nets = networksOf(ctx, d.optics);
+  const orbits::AbsorptanceRatios absorptance = absorptanceRatios(c, k);
   run.sweep = runSweep({*d.orbit, ctx.caster, nets.radiative, *bc.solar, *bc.ir, ctx.solver, nets.view_factor_stderr,
                         reuse.from, reuse.direct, reuse.albedo, reuse.earth_ir, ctx.articulated, d.optics,
-                        &nets.lost_view_factor_stderr},
+                        &nets.lost_view_factor_stderr, &absorptance},
                        t, show_progress, progress);
 }
 

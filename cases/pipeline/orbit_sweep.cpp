@@ -95,6 +95,7 @@ orbits::EnvironmentLoads loadPositions(const SweepInputs& in, const geometry::Ra
   env.solar_specular = in.radiative.solar_specular;
   env.ir_specular = in.radiative.ir_specular;
   env.sky_kernel_cache = &sky_kernel;
+  if (in.absorptance) env.absorptance = *in.absorptance;
   // Each node's blocked share from the view factors (1 − F_space: every other node and
   // inactive surface), where they are this caster's geometric ones: not with mirrors or
   // windows (the network's F̃ is then E^s κ) nor turning parts (each configuration's own).

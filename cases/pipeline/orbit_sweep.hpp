@@ -31,6 +31,9 @@ struct SweepInputs {
   /// σ of F_space + F_blocked per node (null: not known): with the network's F_space, what
   /// the view factors tell the sky kernel of each node's blocked share (orbits/sky_loads.hpp).
   const Eigen::VectorXd* lost_view_factor_stderr = nullptr;
+  /// Each node's smallest α/ε and ε/α over the optical sets these loads serve (null: not
+  /// known): the sky kernel's targets lean on the absorbed power with them (orbits/loads.hpp).
+  const orbits::AbsorptanceRatios* absorptance = nullptr;
 };
 
 /// @throws NumericalError when a band solve fails

@@ -122,15 +122,53 @@ double blockedSigma(const SkyCounts& c) {
   return std::sqrt(std::max(0.0, (sum2 - kReplicas * mean * mean) / (kReplicas - 1)) / kReplicas);
 }
 
+// Every triangle vertex of the scene and their bounding box: what the test below reads.
+struct SceneExtent {
+  std::vector<Vec3> vertices;
+  Vec3 lo = Vec3::Constant(HUGE_VAL), hi = Vec3::Constant(-HUGE_VAL);
+  double tolerance = 0.0;  ///< m: what counts as on a plane (round-off of coplanar neighbours)
+
+  explicit SceneExtent(const Scene& scene) {
+    vertices.reserve(3 * scene.faces().size());
+    for (const Face& f : scene.faces())
+      for (const Vec3& v : f.v) vertices.push_back(v), lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+    tolerance = vertices.empty() ? 0.0 : 1e-9 * std::max(1.0, (hi - lo).norm());
+  }
+};
+
+// Whether nothing of the scene lies in front of any of the node's triangles: every vertex
+// on or behind each triangle's plane (facing the node's side). A ray leaving such a node
+// meets nothing, so its kernel is exactly empty and costs no ray (a wing's outer face, a
+// bus face nothing overhangs: half the nodes of the bench satellites). The box first (its
+// farthest corner along the normal), then the vertices, stopping at the first in front.
+bool nothingInFront(const Scene& scene, const Node& node, const SceneExtent& extent) {
+  for (const int f : node.faces) {
+    const Face& face = scene.faces()[static_cast<size_t>(f)];
+    const Vec3 n = node.side * face.normal;
+    const Vec3 corner((n.x() > 0 ? extent.hi : extent.lo).x(), (n.y() > 0 ? extent.hi : extent.lo).y(),
+                      (n.z() > 0 ? extent.hi : extent.lo).z());
+    const double plane = n.dot(face.v[0]) + extent.tolerance;
+    if (n.dot(corner) <= plane) continue;
+    for (const Vec3& v : extent.vertices)
+      if (n.dot(v) > plane) return false;
+  }
+  return true;
+}
+
 // Rays from one node, doubling per replica until the counted share's σ meets the target
 // (or to a count per node). With `before` (the same seed's first points, cast earlier) the
 // stream resumes after them and only the new rays are traced; `cast` counts those.
 NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& opt, const NodeSky* before,
-                    std::int64_t& cast) {
-  const NodeSampler sampler(caster.scene(), node);
+                    const SceneExtent& extent, std::int64_t& cast) {
   const bool fixed = !opt.node_rays.empty();
   const std::int64_t asked = fixed ? opt.node_rays[static_cast<size_t>(node)] : opt.max_rays_per_node;
   const std::int64_t cap = std::max<std::int64_t>(1, (asked + kReplicas - 1) / kReplicas);
+  if (nothingInFront(caster.scene(), caster.scene().nodes()[static_cast<size_t>(node)], extent)) {
+    NodeSky open;  // what the asked rays would all find, none traced
+    open.rays = cap * kReplicas;
+    return open;
+  }
+  const NodeSampler sampler(caster.scene(), node);
   SkyCounts c = before && before->rays % kReplicas == 0 && before->rays / kReplicas <= cap ? countsOf(*before) : SkyCounts{};
   std::vector<Sobol4> streams;
   for (int r = 0; r < kReplicas; ++r) {
@@ -157,7 +195,7 @@ NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& o
   for (const std::int64_t b : c.blocked) blocked += double(b);
   const bool counts_open = blocked > 0.5 * double(c.per_replica * kReplicas);
   // The earlier rays kept only their minority: if the majority turned, cast them all again.
-  if (start > 0 && counts_open != c.counts_open) return castNodeSky(caster, node, opt, nullptr, cast);
+  if (start > 0 && counts_open != c.counts_open) return castNodeSky(caster, node, opt, nullptr, extent, cast);
   c.counts_open = counts_open;
   for (int r = 0; r < kReplicas; ++r)
     for (const SkyRay& ray : rays[static_cast<size_t>(r)]) {
@@ -205,6 +243,7 @@ SkyKernel skyKernel(const RayCaster& caster, const SkyKernelOptions& opt) {
   if (opt.prefix && opt.prefix->nodes.size() != static_cast<size_t>(n))
     throw std::invalid_argument("sky kernel: the earlier kernel must have one entry per node");
   std::int64_t rays = 0, cast = 0;
+  const SceneExtent extent(caster.scene());
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : rays, cast)
 #endif
@@ -212,7 +251,7 @@ SkyKernel skyKernel(const RayCaster& caster, const SkyKernelOptions& opt) {
     if (!opt.nodes.empty() && !opt.nodes[static_cast<size_t>(i)]) continue;
     if (!opt.node_rays.empty() && opt.node_rays[static_cast<size_t>(i)] <= 0) continue;
     const NodeSky* before = opt.prefix ? &opt.prefix->nodes[static_cast<size_t>(i)] : nullptr;
-    kernel.nodes[static_cast<size_t>(i)] = castNodeSky(caster, i, opt, before, cast);
+    kernel.nodes[static_cast<size_t>(i)] = castNodeSky(caster, i, opt, before, extent, cast);
     rays += kernel.nodes[static_cast<size_t>(i)].rays;
   }
   kernel.rays = rays;
