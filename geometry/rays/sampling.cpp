@@ -89,8 +89,11 @@ NodeSampler::NodeSampler(const Scene& scene, int node) : scene_(scene) {
   side_ = n.side;
   double acc = 0.0;
   for (int f : faces_) {
-    acc += scene.faces()[static_cast<size_t>(f)].area_m2;
+    const Face& face = scene.faces()[static_cast<size_t>(f)];
+    acc += face.area_m2;
     cdf_.push_back(acc);
+    const Vec3 normal = side_ * face.normal, edge = face.v[1] - face.v[0];
+    tangent_.push_back((edge - edge.dot(normal) * normal).normalized());
   }
   for (double& c : cdf_) c /= acc;
   cdf_.back() = 1.0;
@@ -101,6 +104,11 @@ NodeSampler::NodeSampler(const Scene& scene, int node) : scene_(scene) {
 }
 
 NodeSampler::Ray NodeSampler::mapPoint(double u0, double u1) const {
+  size_t local = 0;
+  return mapPointOn(u0, u1, local);
+}
+
+NodeSampler::Ray NodeSampler::mapPointOn(double u0, double u1, size_t& local) const {
   // u0 lies in [j/m, (j+1)/m] up to the rounding of u0·m, so the triangle std::upper_bound
   // finds over all of cdf_ lies between guide_[j − 1] and guide_[j + 2].
   const long m = static_cast<long>(cdf_.size());
@@ -119,6 +127,7 @@ NodeSampler::Ray NodeSampler::mapPoint(double u0, double u1) const {
   ray.point = (1.0 - r) * f.v[0] + r * (1.0 - u1) * f.v[1] + r * u1 * f.v[2];
   ray.normal = side_ * f.normal;
   ray.face = faces_[idx];
+  local = idx;
   return ray;
 }
 
@@ -136,10 +145,9 @@ Vec3 cosineDirection(const std::array<double, 4>& u, const Vec3& n, const Vec3& 
 }  // namespace
 
 NodeSampler::Ray NodeSampler::map(const std::array<double, 4>& u) const {
-  Ray ray = mapPoint(u[0], u[1]);
-  const Face& f = scene_.faces()[static_cast<size_t>(ray.face)];
-  const Vec3 edge = f.v[1] - f.v[0];
-  ray.direction = cosineDirection(u, ray.normal, (edge - edge.dot(ray.normal) * ray.normal).normalized());
+  size_t local = 0;
+  Ray ray = mapPointOn(u[0], u[1], local);
+  ray.direction = cosineDirection(u, ray.normal, tangent_[local]);
   return ray;
 }
 

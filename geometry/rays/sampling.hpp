@@ -69,7 +69,12 @@ class NodeSampler {
   /// guide_[j]: the first triangle whose cdf_ exceeds j / m, m = faces_.size() (Chen & Asau's
   /// guide table: the triangle for u is searched among a few, not all; the same triangle).
   std::vector<std::int32_t> guide_;
+  /// Per triangle: its first edge's unit direction in its plane, the tangent frame's first
+  /// axis (a property of the triangle, kept rather than normalised again for every ray).
+  std::vector<Vec3> tangent_;
   double side_ = 1.0;
+  /// The point of mapPoint and the triangle's index among the node's (for tangent_).
+  Ray mapPointOn(double u0, double u1, size_t& local) const;
 };
 
 /// Where a ray from `origin` along unit `dir` first meets a sphere (t > 0), if it does.
