@@ -61,6 +61,11 @@ bench: build
 	./$(BUILD_DIR)/bench/bench_view_factors docs/view-factor-benchmark.md
 	./$(BUILD_DIR)/bench/bench_ray_caster docs/ray-caster-benchmark.md
 	./$(BUILD_DIR)/bench/bench_loads docs/loads-benchmark.md bench/cases/satellite-1602.yaml bench/cases/satellite-6402.yaml
+	# The loads stage against an older build, nadir, Sun-pointing and inertial (issue 31; about 10 minutes):
+	# make bench BASELINE=path/to/older/radnet
+	if [ -n "$(BASELINE)" ]; then /usr/bin/python3 bench/bench_loads_builds.py $(BASELINE) $(BUILD_DIR)/radnet \
+	  docs/loads-build-comparison.md bench/cases/satellite-1602.yaml bench/cases/satellite-6402.yaml \
+	  --once bench/cases/satellite-19202.yaml; fi
 	/usr/bin/python3 bench/bench_articulation.py $(BUILD_DIR)/radnet docs/articulation-benchmark.md \
 	  bench/cases/tracking-wings-2102.yaml bench/cases/tracking-wings-2006.yaml bench/cases/steered-dish-1602.yaml
 	./$(BUILD_DIR)/bench/bench_thermal docs/thermal-benchmark.md

@@ -152,6 +152,35 @@ TEST_CASE("sky kernel: a plate beside a wall and under an awning agrees with pla
   CHECK(k.earth_ir.cwiseAbs().sum() > 0);
 }
 
+TEST_CASE("sky kernel: a partly blocked node's σ carries one ray's share of the sky at the planet's peak") {
+  // Where a node sees the planet and something blocks part of its sky, the kernel resolves
+  // that sky to one ray's share (1/N of the cosine-weighted hemisphere): σ is at least that
+  // share at the planet's largest radiance, per channel (orbits/sky_loads.cpp, nodeLoads);
+  // a node nothing blocks keeps σ = 0 (exact), and so does a node that cannot see the planet.
+  const geometry::Scene s = testing::plateUnderRoof();
+  geometry::RayCaster caster(s);
+  const auto ps = tumblingPositions(12, 21);
+  geometry::SkyKernel kernel;
+  orbits::EnvironmentOptions opt;
+  opt.sky_kernel_cache = &kernel;
+  const orbits::EnvironmentLoads k = orbits::environmentLoads(caster, testing::nodeAreas(s), ps, false, kR, opt);
+  REQUIRE(k.planet_kernel);
+  int partly = 0;
+  for (Eigen::Index i = 0; i < k.albedo.rows(); ++i) {
+    const geometry::NodeSky& sky = kernel.nodes[static_cast<size_t>(i)];
+    const bool blocked = sky.blocked_fraction > 0 && sky.blocked_fraction < 1;
+    partly += blocked;
+    for (Eigen::Index p = 0; p < k.albedo.cols(); ++p) {
+      INFO(s.nodes()[static_cast<size_t>(i)].name << " position " << p << ", " << sky.rays << " rays");
+      const double albedo_peak = opt.albedo * ps[static_cast<size_t>(p)].solar_flux_w_m2, ir_peak = 237.0;
+      if (blocked && k.albedo(i, p) > 0) CHECK(k.albedo_stderr(i, p) >= albedo_peak / double(sky.rays) * (1 - 1e-12));
+      if (blocked && k.earth_ir(i, p) > 0) CHECK(k.earth_ir_stderr(i, p) >= ir_peak / double(sky.rays) * (1 - 1e-12));
+      if (k.earth_view_factor(i, p) == 0) CHECK(k.earth_ir_stderr(i, p) == 0.0);
+    }
+  }
+  CHECK(partly >= 2);
+}
+
 TEST_CASE("sky kernel: every node meets its target, half the loads' share of its absorbed power's lower bound") {
   // The refined kernel's promise (orbits/sky_loads.hpp, KernelTargets): at every position
   // α σ_A and ε σ_I each within 0.5 × relative_error × max over the sweep of α (D + A) + ε I
