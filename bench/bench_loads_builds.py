@@ -8,8 +8,13 @@ builds' absorbed powers differ against their combined σ (99th percentile and la
 abs(Δ)/σ over node-positions with σ > 0; the builds share their first rays, so the two are
 not independent and the differences are smaller than independent runs' would be).
 
-usage: bench_loads_builds.py BASELINE_RADNET RADNET OUT.md CASE.yaml... [--repeats R]
+usage: bench_loads_builds.py BASELINE_RADNET RADNET OUT.md CASE.yaml... [--repeats R] [--reference]
        [--attitudes nadir,sun,inertial] [--once CASE.yaml...]  (--once: one repeat, nadir and inertial)
+
+--reference: each case Sun-pointing and inertial is also run by RADNET at solver.accuracy 0.001 (ten
+times the default's), and both builds' absorbed powers are read against it: abs(Δ)/σ (σ of the
+build and of the reference combined) should exceed 4 at about 0.006 % of node-positions for
+Gaussian errors.
 """
 import os
 import platform
@@ -29,11 +34,14 @@ ATTITUDES = {
 }
 
 
-def variant(path, attitude):
-    """The case at default settings in the given attitude, beside it (its includes resolve)."""
+def variant(path, attitude, accuracy=None):
+    """The case at default settings in the given attitude, beside it (its includes resolve);
+    with `accuracy`, solver.accuracy set to it (the reference run)."""
     text = re.sub(r"^solver:[^\n]*\n?(  [^\n]*(\n|$))*", "", open(path).read(), flags=re.M)
     if ATTITUDES[attitude]:
         text = re.sub(r"^attitude:.*$", ATTITUDES[attitude], text, flags=re.M)
+    if accuracy:
+        text = text.rstrip("\n") + "\nsolver: {accuracy: %g}\n" % accuracy
     fd, name = tempfile.mkstemp(suffix="-loads.yaml", dir=os.path.dirname(os.path.abspath(path)))
     with os.fdopen(fd, "w") as f:
         f.write(text)
@@ -57,7 +65,15 @@ def number(rep, key):
     return float(v[()] if hasattr(v, "shape") else v)
 
 
-def compare(base_radnet, radnet, path, attitude, repeats, rows):
+def calibration(q, sigma, qr, sr):
+    """abs(Δ)/σ against the reference (σ both combined): 99th percentile, largest, share over 4."""
+    combined = np.hypot(sigma, sr)
+    mask = combined > 0
+    r = np.abs(q - qr)[mask] / combined[mask]
+    return "%.2f / %.2f / %.3f" % (np.percentile(r, 99), r.max(), 100 * (r > 4).mean())
+
+
+def compare(base_radnet, radnet, path, attitude, repeats, rows, reference=False):
     case = variant(path, attitude)
     tmp = tempfile.mkdtemp()
     try:
@@ -82,6 +98,15 @@ def compare(base_radnet, radnet, path, attitude, repeats, rows):
                                       100 * number(rn, "absorbed_uncertainty_loads_max_relative")),
                      "%d / %d" % (number(rb, "nodes_over_budget"), number(rn, "nodes_over_budget")),
                      "%.2f / %.2f" % (np.percentile(ratio, 99), ratio.max()) if ratio.size else "–"])
+        if reference and attitude != "nadir":
+            ref_case = variant(path, attitude, accuracy=0.001)
+            try:
+                _, qr, sr, _ = run(radnet, ref_case, os.path.join(tmp, "ref.h5"))
+            finally:
+                os.unlink(ref_case)
+            rows[-1] += [calibration(qb, sb, qr, sr), calibration(qn, sn, qr, sr)]
+        else:
+            rows[-1] += ["–", "–"]
         print(" | ".join(rows[-1]), flush=True)
     finally:
         os.unlink(case)
@@ -90,14 +115,27 @@ def compare(base_radnet, radnet, path, attitude, repeats, rows):
         os.rmdir(tmp)
 
 
+def machine():
+    """The processor's model name, as /proc/cpuinfo gives it."""
+    try:
+        for line in open("/proc/cpuinfo"):
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine()
+
+
 def main():
     args = sys.argv[1:]
     if len(args) < 4:
         raise SystemExit(__doc__)
     base_radnet, radnet, out = args[:3]
-    cases, once, repeats, attitudes, k = [], [], 2, ["nadir", "sun", "inertial"], 3
+    cases, once, repeats, attitudes, k, reference = [], [], 2, ["nadir", "sun", "inertial"], 3, False
     while k < len(args):
-        if args[k] == "--repeats":
+        if args[k] == "--reference":
+            reference, k = True, k + 1
+        elif args[k] == "--repeats":
             repeats, k = int(args[k + 1]), k + 2
         elif args[k] == "--attitudes":
             attitudes, k = args[k + 1].split(","), k + 2
@@ -110,13 +148,14 @@ def main():
     t0 = time.monotonic()
     for path in cases:
         for attitude in attitudes:
-            compare(base_radnet, radnet, path, attitude, repeats, rows)
+            compare(base_radnet, radnet, path, attitude, repeats, rows, reference)
     for path in once:
         for attitude in ("nadir", "inertial"):
             compare(base_radnet, radnet, path, attitude, 1, rows)
     head = ["case", "nodes", "triangles", "attitude", "baseline loads (s)", "loads (s)", "faster",
             "ms a position", "kernel rays (M), base / new", "planet rays (M)", "loads' σ, % of orbit max",
-            "nodes over budget", "abs(Δ)/σ 99 % / largest"]
+            "nodes over budget", "abs(Δ)/σ 99 % / largest", "baseline vs reference: 99 % / largest / % over 4",
+            "this build vs reference"]
     with open(out, "w") as f:
         f.write("# Loads stage: this build against a baseline build\n\n")
         f.write("Generated by `bench/bench_loads_builds.py %s %s %s ...` in %.0f s. Machine: %s, %d cores, "
@@ -125,7 +164,7 @@ def main():
                 "best of the repeats (--once cases: one run). abs(Δ)/σ: the two builds' absorbed power per "
                 "node-position against both σ combined (they share their first rays: not independent).\n\n"
                 % (os.path.basename(base_radnet), os.path.basename(radnet), os.path.basename(out),
-                   time.monotonic() - t0, platform.processor() or platform.machine(), os.cpu_count()))
+                   time.monotonic() - t0, machine(), os.cpu_count()))
         f.write("| " + " | ".join(head) + " |\n|" + "---|" * len(head) + "\n")
         for r in rows:
             f.write("| " + " | ".join(r) + " |\n")
