@@ -152,13 +152,13 @@ constexpr double kSampledRowsMargin = 1.25;
 
 // A dense network's matrices. The estimate's F, σ_F, the corrected F and its column-major copy
 // stay sparse at 12 B a non-zero until the network is built, beside its dense F and A F: at 83 %
-// density (the 3,456-node closed room) they are most of the 82 n² bytes measured, which 24 n²
-// missed.
+// density (the 3,456-node closed room) they are most of the 67 n² bytes measured (82 n² before
+// the dense exchange factors were solved in place), which 24 n² missed.
 double denseNetworkBytes(const GeometryCase& c, double n, double facing_share, double extra_sets) {
   double estimate_entries = std::max(facing_share * n * n, n);
   if (c.view_factors.method == ViewFactorMethod::MonteCarlo)
     estimate_entries = std::min(estimate_entries, n * static_cast<double>(c.view_factors.monte_carlo.rays_per_node));
-  return 8.0 * n * n * (7.0 + extra_sets) + 4.0 * 12.0 * estimate_entries;
+  return 8.0 * n * n * (5.0 + extra_sets) + 4.0 * 12.0 * estimate_entries;
 }
 
 // F's non-zeros: every facing pair, or at most the rays of each row (monte_carlo); when that is
@@ -184,10 +184,10 @@ WorkEstimate estimateWork(const GeometryCase& c) {
   w.scene_bytes = kSceneBytesPerTriangle * triangles;
   const double thermal_nodes = c.thermal ? static_cast<double>(c.thermal->nodeCount()) : n;
   // A dense network (or temperatures with a dense GR: the thermal solver then holds GR and
-  // its Jacobian densely): seven n × n matrices of 8 bytes (GR, its working copy and the LU of
-  // I − S G, G, and F, A F and its transpose while the network is built); one more GR per
-  // further optical set; and the sparse estimate's matrices. Measured peaks: 24 n² bytes for a 3,872-node enclosure of 12 %
-  // density, 82 n² for the 3,456-node closed room (83 %). A sparse one: F, its raw estimate and σ, G and GR's
+  // its Jacobian densely): five n × n matrices of 8 bytes (F, A F and its transpose while the
+  // network is built; G beside I − S G factored in place and the solve, then GR); one more GR
+  // per further optical set; and the sparse estimate's matrices. Measured peaks: 24 n² bytes
+  // for a 3,872-node enclosure of 12 % density, 67 n² for the 3,456-node closed room (83 %). A sparse one: F, its raw estimate and σ, G and GR's
   // direct part at 12 B a non-zero, twice over while the correction builds them, and n × k
   // vectors (the 19,202-node satellite, F 1.3 % non-zero: 1.2 GB peak, 63 kB a node).
   const double extra_sets = static_cast<double>(c.optical_sets.size() - 1);
