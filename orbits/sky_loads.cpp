@@ -119,8 +119,8 @@ struct KnownShare {
 // (other geometry, a clipped row) leave the kernel's own estimate. `binning` (in: the
 // binning variance) comes back as the estimate's share of it, the part more rays leave.
 void countedLoad(const std::array<Table, kChannels>& estimates, const Eigen::ArrayXd& replica_share,
-                 const KnownShare& known, bool counts_open, const Rows& peak, Rows& counted, Rows& variance,
-                 Rows& binning) {
+                 const KnownShare& known, bool counts_open, const Rows& peak, int first_channel, Rows& counted,
+                 Rows& variance, Rows& binning) {
   constexpr int m = geometry::kSkyReplicas;
   const auto spread = [m](const Table& e) {
     const Eigen::ArrayXd sum = e.colwise().sum().transpose().array();
@@ -133,7 +133,7 @@ void countedLoad(const std::array<Table, kChannels>& estimates, const Eigen::Arr
   const bool have = std::isfinite(t) && t >= 0.0;
   const bool ratio = have && t > 0 && s > 0 && std::abs(s - t) <= 5.0 * std::sqrt(var_s + var_t) + 1e-3;
   variance = binning;
-  for (int c = 0; c < kChannels; ++c) {
+  for (int c = first_channel; c < kChannels; ++c) {
     const Table& e = estimates[static_cast<size_t>(c)];
     if (!ratio) {
       variance.row(c) += spread(e).transpose();
@@ -160,8 +160,11 @@ void countedLoad(const std::array<Table, kChannels>& estimates, const Eigen::Arr
 // σ: the spread of the 32 replicas' own estimates (each from its counted rays' bins) and
 // the binning error. Each bin's radiance over the block is one row: the sums run along them.
 void nodeLoads(const geometry::NodeSky& sky, const std::vector<int>& slot, const BlockTables& t,
-               const UnobstructedLoads& unobstructed, int p0, const KnownShare& known, Rows& value, Rows& sigma,
-               Rows& binning_sigma) {
+               const UnobstructedLoads& unobstructed, int p0, const KnownShare& known, double uniform_ir,
+               Rows& value, Rows& sigma, Rows& binning_sigma) {
+  // A uniform planet IR is the view factor's radiance times its flux in every direction, so
+  // the view factor's sums are the IR's over that flux: only two channels are summed.
+  const int c0 = uniform_ir > 0 ? 1 : 0;
   const Eigen::Index B = t.mean[0].cols();
   Rows free = Rows::Zero(kChannels, B), counted = Rows::Zero(kChannels, B), binning = Rows::Zero(kChannels, B);
   for (const auto& [k, share] : sky.normals)
@@ -170,7 +173,7 @@ void nodeLoads(const geometry::NodeSky& sky, const std::vector<int>& slot, const
   for (size_t j = 0; j < sky.bins.size(); ++j) {
     const Eigen::Index u = slot[static_cast<size_t>(sky.bins[j])];
     const double w = M_PI * sky.weights[j];  // E = π × mean of L over cosine-weighted rays
-    for (int c = 0; c < kChannels; ++c) {
+    for (int c = c0; c < kChannels; ++c) {
       counted.row(c) += w * t.mean[static_cast<size_t>(c)].row(u).array();
       binning.row(c) += (w * t.half[static_cast<size_t>(c)].row(u).array()).square();
     }
@@ -179,17 +182,17 @@ void nodeLoads(const geometry::NodeSky& sky, const std::vector<int>& slot, const
   constexpr int m = geometry::kSkyReplicas;
   const double per_replica = static_cast<double>(sky.rays) / m;
   std::array<Table, kChannels> estimates;
-  for (Table& e : estimates) e = Table::Zero(m, B);
+  for (int c = c0; c < kChannels; ++c) estimates[static_cast<size_t>(c)] = Table::Zero(m, B);
   Eigen::ArrayXd replica_share = Eigen::ArrayXd::Zero(m);
   for (const geometry::NodeSky::ReplicaCount& e : sky.replica_counts) {
     const Eigen::Index u = slot[static_cast<size_t>(e.bin)];
     const double share = e.count / per_replica;
     replica_share[e.replica] += share;
-    for (int c = 0; c < kChannels; ++c)
+    for (int c = c0; c < kChannels; ++c)
       estimates[static_cast<size_t>(c)].row(e.replica) += M_PI * share * t.mean[static_cast<size_t>(c)].row(u);
   }
   Rows variance;
-  countedLoad(estimates, replica_share, known, sky.counts_open, t.peak, counted, variance, binning);
+  countedLoad(estimates, replica_share, known, sky.counts_open, t.peak, c0, counted, variance, binning);
   // One ray's worth: a blocker thinner than the rays' spacing can lie inside the planet's
   // cap between them, unseen by every replica, and their spread then says nothing of it.
   // The kernel resolves the sky to one ray's share of the node's cosine-weighted hemisphere
@@ -198,8 +201,13 @@ void nodeLoads(const geometry::NodeSky& sky, const std::vector<int>& slot, const
   // 4,096 rays reported 2.2e-5 W for an error of 1.0e-3 W, two rays' worth of its IR.)
   if (sky.blocked_fraction > 0 && sky.blocked_fraction < 1) {
     const double per_ray = M_PI / static_cast<double>(sky.rays);
-    for (int c = 0; c < kChannels; ++c)
+    for (int c = c0; c < kChannels; ++c)
       variance.row(c) += ((free.row(c) > 0).cast<double>() * per_ray * t.peak.row(c)).square();
+  }
+  if (c0 == 1) {
+    counted.row(0) = counted.row(2) / uniform_ir;
+    variance.row(0) = variance.row(2) / (uniform_ir * uniform_ir);
+    binning.row(0) = binning.row(2) / (uniform_ir * uniform_ir);
   }
   value = sky.counts_open ? counted : Rows(free - counted);
   // What reaches a node is never below 0 nor above what reaches it unobstructed.
@@ -265,6 +273,9 @@ void skyKernelSweep(const geometry::SkyKernel& kernel, const std::vector<PlanetV
   std::vector<int> slot(SkyBins::kBins, -1);
   for (size_t k = 0; k < used.size(); ++k) slot[static_cast<size_t>(used[k])] = static_cast<int>(k);
   const int n = static_cast<int>(kernel.nodes.size()), P = static_cast<int>(views.size());
+  double uniform_ir = P > 0 && views[0].ir.uniform() ? views[0].ir.uniform_w_m2 : 0.0;
+  for (const PlanetView& v : views)
+    if (!v.ir.uniform() || v.ir.uniform_w_m2 != uniform_ir) uniform_ir = 0.0;
   // Blocks of positions bound the tables' memory (6 × used bins × kBlock doubles, ≤ 38 MB).
   constexpr int kBlock = 32;
   BlockTables t;
@@ -280,7 +291,7 @@ void skyKernelSweep(const geometry::SkyKernel& kernel, const std::vector<PlanetV
       Rows value, sigma, binning_sigma;
       KnownShare known;
       if (blocked_share.size() == n) known = {blocked_share[i], blocked_share_stderr[i]};
-      nodeLoads(sky, slot, t, unobstructed, p0, known, value, sigma, binning_sigma);
+      nodeLoads(sky, slot, t, unobstructed, p0, known, uniform_ir, value, sigma, binning_sigma);
       if (binning)
         for (int q = 0; q < B; ++q)
           binning->albedo(i, p0 + q) = binning_sigma(1, q), binning->ir(i, p0 + q) = binning_sigma(2, q);
