@@ -10,6 +10,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -223,6 +224,40 @@ TEST_CASE("sky kernel: every node meets its target, half the loads' share of its
       INFO(s.nodes()[static_cast<size_t>(i)].name << " position " << p);
       CHECK(alpha[i] * k.albedo_stderr(i, p) <= albedo_target * (1 + 1e-12));
       CHECK(epsilon[i] * k.earth_ir_stderr(i, p) <= ir_target * (1 + 1e-12));
+    }
+  }
+}
+
+TEST_CASE("sky kernel: with a cross weight the targets hold for loads a reusing case scales") {
+  // A later design case reuses the irradiances with the direct load scaled by 0.6 against
+  // the albedo and IR (a lower solar constant, a higher albedo and IR): the cross weight
+  // min(d/a, i/a, d/i, a/i) = 0.6 keeps α σ_A and ε σ_I within half the share of that case's
+  // own absorbed-power bound, every loaded quantity (and its σ) scaled as the case does.
+  geometry::Scene s;
+  s.addSurface("floor", "floor", geometry::rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 3, 3), "floor", "");
+  s.addSurface("wall", "wall", geometry::rectangle(Vec3(0, 0, 0), Vec3(0, 0, 0.6), Vec3(0, 1, 0), 2, 2), "wall.back",
+               "wall");
+  geometry::RayCaster caster(s);
+  const auto ps = tumblingPositions(24, 5);
+  const Eigen::Index n = static_cast<Eigen::Index>(s.nodes().size());
+  const Eigen::VectorXd alpha = Eigen::VectorXd::Constant(n, 0.9), epsilon = Eigen::VectorXd::Constant(n, 0.3);
+  const double d = 0.6, a = 1.0, ir = 1.0;  // the reusing case's factors on direct, albedo, IR
+  orbits::EnvironmentOptions opt;
+  opt.absorptance.min_alpha_over_epsilon = alpha.cwiseQuotient(epsilon);
+  opt.absorptance.min_epsilon_over_alpha = epsilon.cwiseQuotient(alpha);
+  opt.absorptance.cross_weight = std::min({d / a, ir / a, d / ir, a / ir});
+  const orbits::EnvironmentLoads k = orbits::environmentLoads(caster, testing::nodeAreas(s), ps, false, kR, opt);
+  REQUIRE(k.planet_kernel);
+  double cap_sin2 = 1.0;
+  for (const auto& pos : ps) cap_sin2 = std::min(cap_sin2, std::pow(kR / pos.planet_distance_m, 2));
+  const double share = 0.5 * opt.relative_error, floor_view = 0.1 * cap_sin2;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double absorbed =
+        (alpha[i] * (d * k.direct.row(i) + a * k.albedo.row(i)) + epsilon[i] * ir * k.earth_ir.row(i)).maxCoeff();
+    for (Eigen::Index p = 0; p < k.albedo.cols(); ++p) {
+      INFO(s.nodes()[static_cast<size_t>(i)].name << " position " << p);
+      CHECK(alpha[i] * a * k.albedo_stderr(i, p) <= share * std::max(absorbed, alpha[i] * a * floor_view * 0.3 * 1361.0) * (1 + 1e-12));
+      CHECK(epsilon[i] * ir * k.earth_ir_stderr(i, p) <= share * std::max(absorbed, epsilon[i] * ir * floor_view * 237.0) * (1 + 1e-12));
     }
   }
 }

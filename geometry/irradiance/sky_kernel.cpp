@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <stdexcept>
 
 namespace radnet::geometry {
@@ -175,11 +176,11 @@ bool nothingInFront(const Scene& scene, const Node& node, const SceneExtent& ext
 // (or to a count per node). With `before` (the same seed's first points, cast earlier) the
 // stream resumes after them and only the new rays are traced; `cast` counts those.
 NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& opt, const NodeSky* before,
-                    const SceneExtent& extent, std::int64_t& cast) {
+                    const SceneExtent* extent, std::int64_t& cast) {
   const bool fixed = !opt.node_rays.empty();
   const std::int64_t asked = fixed ? opt.node_rays[static_cast<size_t>(node)] : opt.max_rays_per_node;
   const std::int64_t cap = std::max<std::int64_t>(1, (asked + kReplicas - 1) / kReplicas);
-  if (nothingInFront(caster.scene(), caster.scene().nodes()[static_cast<size_t>(node)], extent)) {
+  if (extent && nothingInFront(caster.scene(), caster.scene().nodes()[static_cast<size_t>(node)], *extent)) {
     NodeSky open;  // what the asked rays would all find, none traced
     open.rays = cap * kReplicas;
     return open;
@@ -259,7 +260,10 @@ SkyKernel skyKernel(const RayCaster& caster, const SkyKernelOptions& opt) {
   if (opt.prefix && opt.prefix->nodes.size() != static_cast<size_t>(n))
     throw std::invalid_argument("sky kernel: the earlier kernel must have one entry per node");
   std::int64_t rays = 0, cast = 0;
-  const SceneExtent extent(caster.scene());
+  // A resumed cast re-casts nodes whose first rays met something: none is free, so the
+  // extent (the scene's hull) is formed only for a first cast.
+  std::optional<SceneExtent> extent;
+  if (!opt.prefix) extent.emplace(caster.scene());
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : rays, cast)
 #endif
@@ -267,7 +271,7 @@ SkyKernel skyKernel(const RayCaster& caster, const SkyKernelOptions& opt) {
     if (!opt.nodes.empty() && !opt.nodes[static_cast<size_t>(i)]) continue;
     if (!opt.node_rays.empty() && opt.node_rays[static_cast<size_t>(i)] <= 0) continue;
     const NodeSky* before = opt.prefix ? &opt.prefix->nodes[static_cast<size_t>(i)] : nullptr;
-    kernel.nodes[static_cast<size_t>(i)] = castNodeSky(caster, i, opt, before, extent, cast);
+    kernel.nodes[static_cast<size_t>(i)] = castNodeSky(caster, i, opt, before, extent ? &*extent : nullptr, cast);
     rays += kernel.nodes[static_cast<size_t>(i)].rays;
   }
   kernel.rays = rays;
