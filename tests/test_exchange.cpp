@@ -91,6 +91,32 @@ TEST_CASE("open network: absorbed + lost to space = emitted, and GR sums to εA"
   }
 }
 
+TEST_CASE("exact GR by the symmetric in-place Cholesky equals E G (I − S G)⁻¹ E, a black node takes the LU") {
+  // 333 nodes: the in-place inverse and Gram product run over two full 128-blocks and a
+  // partial one. ε from 0.02 to 0.99 (ρ down to 0.01: the diagonal's cancellation 1e-14 of εA).
+  const int n = 333;
+  const solver::Network net = test::randomNetwork(n, 41, 0.3, 0.3);
+  Eigen::VectorXd eps = test::uniformIn(n, 0.02, 0.99, 8);
+  const Eigen::MatrixXd g = net.denseConductance();
+  const auto reference = [&](const Eigen::VectorXd& e) {
+    const Eigen::VectorXd s = (Eigen::VectorXd::Ones(n) - e).cwiseQuotient(net.area());
+    const Eigen::MatrixXd m = Eigen::MatrixXd::Identity(n, n) - s.asDiagonal() * g;
+    return Eigen::MatrixXd(e.asDiagonal() * g * m.fullPivLu().solve(Eigen::MatrixXd(e.asDiagonal())));
+  };
+  const double scale = eps.cwiseProduct(net.area()).maxCoeff();
+  const solver::ExchangeFactors chol = solver::exchangeFactorsDense(net, eps);
+  REQUIRE(chol.status == solver::Status::Converged);
+  CHECK(chol.method == "dense Cholesky");
+  // Both are backward stable on I − S G (condition ≤ 1/min ε here): 1e-12 of the largest εA.
+  CHECK((chol.gr - reference(eps)).cwiseAbs().maxCoeff() <= 1e-12 * scale);
+  CHECK(chol.gr == chol.gr.transpose());
+  CHECK(((chol.gr.rowwise().sum() + chol.gr_space) - eps.cwiseProduct(net.area())).cwiseAbs().maxCoeff() <= 1e-13 * scale);
+  eps[17] = 1.0;  // no S⁻¹ for a black node: the LU, the same answer
+  const solver::ExchangeFactors lu = solver::exchangeFactorsDense(net, eps);
+  CHECK(lu.method == "dense LU");
+  CHECK((lu.gr - reference(eps)).cwiseAbs().maxCoeff() <= 1e-12 * scale);
+}
+
 TEST_CASE("planet IR as an external irradiance: a black plate facing it alone absorbs εAE") {
   Eigen::MatrixXd f = Eigen::MatrixXd::Zero(1, 1);
   const solver::Network net({"plate"}, Eigen::VectorXd::Constant(1, 2.0), f);

@@ -7,6 +7,8 @@
 namespace radnet::solver {
 namespace {
 
+constexpr double kSymmetricMinReflectance = 1e-3;  // smallest ρ for the symmetric form (exchangeFactorsDense)
+
 // GR ← (GR + GRᵀ)/2 in place, returning max |GR_ij − GR_ji|. By 64 × 64 tiles: the
 // transposed side of a large matrix is cache-hostile element by element, and an in-place
 // `g = 0.5 * (g + g.transpose())` would read entries it has already overwritten.
@@ -48,12 +50,94 @@ void addDirectExchange(Eigen::MatrixXd& gr, const Network& net, const Eigen::Vec
   gr += emissivity.asDiagonal() * net.denseConductance() * emissivity.asDiagonal();
 }
 
+// L⁻¹ in place of a lower-triangular L (LAPACK's dtrtri, blocked from the last block
+// column back): each block column below the diagonal becomes −L₂₂⁻¹ L₂₁ L₁₁⁻¹ from the
+// already inverted trailing block, then the diagonal block is inverted. The upper triangle
+// is not touched.
+void invertLowerInPlace(Eigen::Ref<Eigen::MatrixXd> a) {
+  constexpr Eigen::Index kBlock = 128;
+  const Eigen::Index n = a.rows();
+  for (Eigen::Index j = ((n - 1) / kBlock) * kBlock; j >= 0; j -= kBlock) {
+    const Eigen::Index jb = std::min(kBlock, n - j), below = n - j - jb;
+    if (below > 0) {
+      auto column = a.block(j + jb, j, below, jb);
+      column = a.block(j + jb, j + jb, below, below).triangularView<Eigen::Lower>() * column;  // (aliasing: a temporary)
+      a.block(j, j, jb, jb).triangularView<Eigen::Lower>().solveInPlace<Eigen::OnTheRight>(column);
+      column = -column;
+    }
+    const Eigen::MatrixXd inverse =
+        a.block(j, j, jb, jb).triangularView<Eigen::Lower>().solve(Eigen::MatrixXd::Identity(jb, jb));
+    a.block(j, j, jb, jb).triangularView<Eigen::Lower>() = inverse;
+  }
+}
+
+// Lᵀ L in place of a lower-triangular L, its lower triangle (LAPACK's dlauum, blocked by
+// rows): block row i of the product needs only L's blocks at or below row i, so the rows
+// are overwritten top down.
+void lowerGramInPlace(Eigen::Ref<Eigen::MatrixXd> a) {
+  constexpr Eigen::Index kBlock = 128;
+  const Eigen::Index n = a.rows();
+  for (Eigen::Index i = 0; i < n; i += kBlock) {
+    const Eigen::Index ib = std::min(kBlock, n - i), below = n - i - ib;
+    const Eigen::MatrixXd diagonal = a.block(i, i, ib, ib).triangularView<Eigen::Lower>();
+    auto left = a.block(i, 0, ib, i);
+    left = diagonal.transpose() * left;
+    const Eigen::MatrixXd gram = diagonal.transpose() * diagonal;
+    a.block(i, i, ib, ib).triangularView<Eigen::Lower>() = gram;
+    if (below > 0) {
+      const auto under = a.block(i + ib, i, below, ib);
+      left.noalias() += under.transpose() * a.block(i + ib, 0, below, i);
+      a.block(i, i, ib, ib).selfadjointView<Eigen::Lower>().rankUpdate(under.transpose());
+    }
+  }
+}
+
+// GR = E G (I − S G)⁻¹ E in one n × n matrix besides G, by symmetry. With every ρ_i > 0,
+// M = S⁻¹ − G is symmetric and diagonally dominant (S⁻¹_ii = A_i/ρ_i ≥ A_i ≥ Σ_j G_ij), so
+// positive definite, and G (I − S G)⁻¹ = S⁻¹ M⁻¹ S⁻¹ − S⁻¹: GR_ij = d_i (M⁻¹)_ij d_j −
+// δ_ij ε_i² A_i/ρ_i, d = ε A/ρ. M⁻¹ by Cholesky, L⁻¹ and L⁻ᵀ L⁻¹ all in place: n³ flops
+// against the LU's 2n³/3 plus 4n³ of solves and G X. False (`work` spent) when M is not
+// positive definite numerically.
+bool symmetricExchange(const Network& net, const Eigen::VectorXd& emissivity, Eigen::MatrixXd& work) {
+  const Eigen::VectorXd rho = Eigen::VectorXd::Ones(net.size()) - emissivity;
+  work = net.denseConductance();
+  work = -work;
+  work.diagonal() += net.area().cwiseQuotient(rho);
+  {
+    Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Lower> llt(work);
+    if (llt.info() != Eigen::Success) return false;
+  }
+  invertLowerInPlace(work);
+  lowerGramInPlace(work);
+  const Eigen::VectorXd d = emissivity.cwiseProduct(net.area()).cwiseQuotient(rho);
+  const Eigen::Index n = work.rows();
+  for (Eigen::Index j = 0; j < n; ++j) {
+    work.col(j).tail(n - j) = d.tail(n - j).cwiseProduct(work.col(j).tail(n - j)) * d[j];
+    work(j, j) -= emissivity[j] * emissivity[j] * net.area()[j] / rho[j];
+  }
+  constexpr Eigen::Index kTile = 64;  // the upper triangle from the lower, tile by tile (as symmetrize)
+  for (Eigen::Index j0 = 0; j0 < n; j0 += kTile)
+    for (Eigen::Index i0 = j0; i0 < n; i0 += kTile)
+      for (Eigen::Index j = j0; j < std::min(n, j0 + kTile); ++j)
+        for (Eigen::Index i = std::max(i0, j + 1); i < std::min(n, i0 + kTile); ++i) work(j, i) = work(i, j);
+  return work.allFinite();
+}
+
 }  // namespace
 
 ExchangeFactors exchangeFactorsDense(const Network& net, const Eigen::VectorXd& emissivity) {
   checkRange(net, emissivity, "emissivity", 0.0, 1.0);
   const Eigen::VectorXd s = (Eigen::VectorXd::Ones(net.size()) - emissivity).cwiseQuotient(net.area());
   ExchangeFactors ex;
+  // ρ ≥ 1e-3 everywhere: the diagonal's cancellation in the symmetric form costs at most
+  // 1e-16/ρ of ε A (a black node, ρ = 0, has no S⁻¹ at all); else the LU.
+  if (emissivity.size() > 0 && emissivity.maxCoeff() <= 1.0 - kSymmetricMinReflectance &&
+      symmetricExchange(net, emissivity, ex.gr)) {
+    ex.method = "dense Cholesky";
+    finishFactors(ex, net, emissivity);
+    return ex;
+  }
+  ex.gr = Eigen::MatrixXd();
   ex.method = "dense LU";
   // Two n × n matrices at a time, not seven: I − S G factored in place, (I − S G)⁻¹ E solved
   // in place, then G X once the factor is gone (the 6,144-node room: seven were 2.1 GB).
