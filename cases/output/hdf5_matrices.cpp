@@ -92,7 +92,8 @@ void writeCsr(Hdf5Writer& h5, const std::string& group, const CsrRef& m, const s
                   samePattern(m, shared) ? shared.group : "");
 }
 
-void writeCsrOfDense(Hdf5Writer& h5, const std::string& group, const Eigen::MatrixXd& m, const std::string& units) {
+void writeCsrOfDense(Hdf5Writer& h5, const std::string& group, const Eigen::MatrixXd& m, const std::string& units,
+                     const Eigen::VectorXd& row_scale) {
   // Two passes over blocks of rows copied row-major (a row of the column-major matrix is
   // strided): count, then fill; no sparse copy of a matrix that may be 80 % non-zero.
   constexpr Eigen::Index kBlock = 256;
@@ -104,6 +105,8 @@ void writeCsrOfDense(Hdf5Writer& h5, const std::string& group, const Eigen::Matr
     Eigen::VectorXi indices(pass ? indptr.back() : 0);
     for (Eigen::Index r0 = 0; r0 < rows; r0 += kBlock) {
       block = m.middleRows(r0, std::min(kBlock, rows - r0));
+      if (row_scale.size())
+        for (Eigen::Index r = 0; r < block.rows(); ++r) block.row(r) *= row_scale[r0 + r];
       for (Eigen::Index r = 0; r < block.rows(); ++r) {
         auto k = static_cast<Eigen::Index>(indptr[static_cast<size_t>(r0 + r)]);
         Eigen::Index count = 0;
@@ -139,10 +142,10 @@ void writeNetworkMatrix(Hdf5Writer& h5, const std::string& name, const CsrRef& m
 }
 
 void writeDenseNetworkMatrix(Hdf5Writer& h5, const std::string& name, const Eigen::MatrixXd& m, const std::string& units,
-                        bool dense) {
-  if (dense) h5.writeMatrix("/network/" + name, m, units);
+                        bool dense, const Eigen::VectorXd& row_scale) {
+  if (dense) h5.writeMatrix("/network/" + name, m, units, row_scale);
   // Held dense: a network with 25 % or more of F non-zero (policy::storeSparse).
-  if (csrAlso(m.rows(), double(m.size()), dense)) writeCsrOfDense(h5, "/network/sparse/" + name, m, units);
+  if (csrAlso(m.rows(), double(m.size()), dense)) writeCsrOfDense(h5, "/network/sparse/" + name, m, units, row_scale);
   if (!dense) h5.link("/network/sparse/" + name, "/network/" + name);
 }
 

@@ -41,14 +41,15 @@ struct CsrPattern {
 /// (rows, cols), `format` "csr" and `units`. Row r scaled by row_scale[r] (empty: 1).
 void writeCsr(Hdf5Writer& h5, const std::string& group, const CsrRef& m, const std::string& units,
               const Eigen::VectorXd& row_scale = {}, const CsrPattern& shared = {});
-/// The non-zero entries of a dense matrix as a CSR group.
-void writeCsrOfDense(Hdf5Writer& h5, const std::string& group, const Eigen::MatrixXd& m, const std::string& units);
+/// The non-zero entries of a dense matrix as a CSR group, row r scaled by row_scale[r] (empty: 1).
+void writeCsrOfDense(Hdf5Writer& h5, const std::string& group, const Eigen::MatrixXd& m, const std::string& units,
+                     const Eigen::VectorXd& row_scale = {});
 
 /// /network/<name> (n,n) when `dense`, and /network/sparse/<name> always.
 void writeNetworkMatrix(Hdf5Writer& h5, const std::string& name, const CsrRef& m, const std::string& units,
                         bool dense, const Eigen::VectorXd& row_scale = {}, const CsrPattern& shared = {});
 void writeDenseNetworkMatrix(Hdf5Writer& h5, const std::string& name, const Eigen::MatrixXd& m, const std::string& units,
-                        bool dense);
+                        bool dense, const Eigen::VectorXd& row_scale = {});
 
 /// GR of an optical set or configuration under `prefix` (ending in '/'): `gr_space` (n),
 /// `radiative_exchange_factors/{direct, basis, core}` always (k = 0 and `direct` the whole GR

@@ -28,7 +28,10 @@ class Hdf5Writer {
   /// (rows×cols) dataset in row-major order as HDF5 expects; intermediate groups are created.
   /// Matrices of more than 4096 entries are chunked and deflate-compressed; from 512 × 512
   /// on, chunks are compressed on all cores (solver/parallel.hpp threads).
-  void writeMatrix(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m, const std::string& units);
+  /// `row_scale` (empty: 1) multiplies each row as it is written (F = A⁻¹ G from the dense G
+  /// itself, without an n × n copy).
+  void writeMatrix(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m, const std::string& units,
+                   const Eigen::VectorXd& row_scale = {});
   /// The same dataset from a sparse matrix, each row scaled by `row_scale` (empty: 1), never
   /// formed densely (F = A⁻¹ G of a 6,402-node network is 3.7 % non-zero: 330 MB dense).
   /// A compressed row-major matrix or a Map of one (a symmetric column-major matrix's arrays

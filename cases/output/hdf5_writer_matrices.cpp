@@ -15,7 +15,7 @@ using namespace hdf5_detail;  // check, checkId, createLinkProps, Handle
 }  // namespace
 
 void Hdf5Writer::writeMatrix(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m,
-                             const std::string& units) {
+                             const std::string& units, const Eigen::VectorXd& row_scale) {
   if (m.rows() >= 2 * kMatrixChunk && m.cols() >= 2 * kMatrixChunk && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
     writeChunkedMatrix(
         path, m.rows(), m.cols(),
@@ -23,6 +23,8 @@ void Hdf5Writer::writeMatrix(const std::string& path, const Eigen::Ref<const Eig
           const Eigen::Index rows = std::min<Eigen::Index>(kMatrixChunk, m.rows() - row0);
           const Eigen::Index cols = std::min<Eigen::Index>(kMatrixChunk, m.cols() - col0);
           block.topLeftCorner(rows, cols) = m.block(row0, col0, rows, cols);
+          if (row_scale.size())
+            for (Eigen::Index r = 0; r < rows; ++r) block.row(r).head(cols) *= row_scale[row0 + r];
         },
         units);
     return;
@@ -36,6 +38,8 @@ void Hdf5Writer::writeMatrix(const std::string& path, const Eigen::Ref<const Eig
       const Eigen::Index rows = std::min(kTile, m.rows() - i), cols = std::min(kTile, m.cols() - j);
       data.block(i, j, rows, cols) = m.block(i, j, rows, cols);
     }
+  if (row_scale.size())
+    for (Eigen::Index r = 0; r < data.rows(); ++r) data.row(r) *= row_scale[r];
   const unsigned long long dims[2] = {static_cast<unsigned long long>(m.rows()),
                                       static_cast<unsigned long long>(m.cols())};
   writeArray(path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, dims, data.data(), units);

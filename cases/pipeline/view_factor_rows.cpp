@@ -58,13 +58,18 @@ std::unique_ptr<solver::Network> buildNetwork(const GeometryCase& c, const Eigen
     Eigen::SparseMatrix<double, Eigen::RowMajor>().swap(correction.transposed);
     return net;
   }
-  const Eigen::SparseMatrix<double> f = correction.view_factors;
-  // Nothing reads it after the network, and f is its column-major copy. Swapped out: an
-  // assignment would keep Eigen's storage allocated.
-  Eigen::SparseMatrix<double, Eigen::RowMajor>().swap(correction.view_factors);
-  if (solver::policy::storeSparse(f.nonZeros(), n))
+  // Nothing reads the correction's F after the network: swapped out once copied (an
+  // assignment would keep Eigen's storage allocated).
+  if (solver::policy::storeSparse(correction.view_factors.nonZeros(), n)) {
+    const Eigen::SparseMatrix<double> f = correction.view_factors;  // the column-major form the network takes
+    Eigen::SparseMatrix<double, Eigen::RowMajor>().swap(correction.view_factors);
     return std::make_unique<solver::Network>(c.node_names, area, f, correction.blocked, tol);
-  return std::make_unique<solver::Network>(c.node_names, area, Eigen::MatrixXd(f), correction.blocked, tol);
+  }
+  // Dense: F laid out once, and G formed in its storage (the 6,144-node room: one n × n
+  // matrix beside the sparse F, not three).
+  Eigen::MatrixXd dense = correction.view_factors;
+  Eigen::SparseMatrix<double, Eigen::RowMajor>().swap(correction.view_factors);
+  return std::make_unique<solver::Network>(c.node_names, area, std::move(dense), correction.blocked, tol);
 }
 
 // Moves F, σ and the per-node vectors of `from` into `to`. Eigen 3.4's sparse matrices

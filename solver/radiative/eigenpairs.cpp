@@ -185,8 +185,7 @@ EigenPairs lanczosOnNetwork(const Network& net, int nev, const EigenRequest& req
                                    net.share()};
     out = nextPairs(deflated, n, nev - found.rank(), req, found, reached_null);
   } else {
-    const Eigen::MatrixXd g = net.denseConductance();
-    const Spectra::DenseSymMatProd<double> op(g);
+    const Spectra::DenseSymMatProd<double> op(net.heldDenseConductance());
     DeflatedProduct<Spectra::DenseSymMatProd<double>> deflated{op, found, {}};
     out = nextPairs(deflated, n, nev - found.rank(), req, found, reached_null);
   }

@@ -47,7 +47,7 @@ void addDirectExchange(Eigen::MatrixXd& gr, const Network& net, const Eigen::Vec
         gr(it.row(), it.col()) += emissivity[it.row()] * it.value() * emissivity[it.col()];
     return;
   }
-  gr += emissivity.asDiagonal() * net.denseConductance() * emissivity.asDiagonal();
+  gr += emissivity.asDiagonal() * net.heldDenseConductance() * emissivity.asDiagonal();
 }
 
 // L⁻¹ in place of a lower-triangular L (LAPACK's dtrtri, blocked from the last block

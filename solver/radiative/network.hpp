@@ -60,6 +60,9 @@ class Network {
   /// @throws NetworkError naming the bad value when the data are invalid
   Network(std::vector<std::string> names, Eigen::VectorXd area_m2, const Eigen::MatrixXd& view_factors,
           Eigen::VectorXd blocked = {}, NetworkTolerances tolerances = {});
+  /// The same, G formed in F's own storage (no n × n copy).
+  Network(std::vector<std::string> names, Eigen::VectorXd area_m2, Eigen::MatrixXd&& view_factors,
+          Eigen::VectorXd blocked = {}, NetworkTolerances tolerances = {});
 
   /// Sparse form: the same contract, for networks where most pairs cannot see each other.
   Network(std::vector<std::string> names, Eigen::VectorXd area_m2, const Eigen::SparseMatrix<double>& view_factors,
@@ -85,6 +88,9 @@ class Network {
 
   /// Symmetric conductance G = ½(AF + (AF)ᵀ), m². Dense copy (built on demand for sparse networks).
   Eigen::MatrixXd denseConductance() const;
+  /// The dense network's own G, m², without a copy (n × n: 288 MiB at 6,144 nodes).
+  /// @throws std::logic_error for a sparse network
+  const Eigen::MatrixXd& heldDenseConductance() const;
   /// Symmetric conductance in sparse storage (valid only when isSparse()); compressed, so its
   /// column-major arrays, read as rows, are its CSR (G = Gᵀ). Shared rows: the held rows
   /// (columns) only.
