@@ -15,9 +15,28 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 
+#include <utility>
+
 namespace radnet::geometry {
 
 struct ReciprocityCorrection {
+  ReciprocityCorrection() = default;
+  ReciprocityCorrection(const ReciprocityCorrection&) = default;
+  ReciprocityCorrection& operator=(const ReciprocityCorrection&) = default;
+  /// Moves swap the matrices: Eigen 3.4's sparse matrices have no move of their own, and a
+  /// copy of the 6,144-node room's corrected F is 0.38 GB at the stage's peak.
+  ReciprocityCorrection(ReciprocityCorrection&& other) noexcept { *this = std::move(other); }
+  ReciprocityCorrection& operator=(ReciprocityCorrection&& other) noexcept {
+    view_factors.swap(other.view_factors);
+    transposed.swap(other.transposed);
+    space.swap(other.space);
+    blocked.swap(other.blocked);
+    max_change = other.max_change, max_change_sigma = other.max_change_sigma;
+    worst_from = other.worst_from, worst_to = other.worst_to;
+    max_closure_error = other.max_closure_error;
+    return *this;
+  }
+
   Eigen::SparseMatrix<double, Eigen::RowMajor> view_factors;  ///< corrected F: A F symmetric, rows closed
   /// Rows shared out (RowShare): the held rows of Fᵀ (row i: F_ji), which G's held rows need
   /// besides F's; empty otherwise.
