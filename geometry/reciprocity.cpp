@@ -329,7 +329,10 @@ ReciprocityCorrection enforceReciprocity(const Eigen::VectorXd& area, const View
   ReciprocityCorrection out;
   out.space = (g_space + v_space.cwiseProduct(mu)).cwiseMax(0.0).cwiseQuotient(area);
   out.blocked = (g_blocked + v_blocked.cwiseProduct(mu)).cwiseMax(0.0).cwiseQuotient(area);
-  out.view_factors = correctedRows(pairs, mu, area);
+  {  // swapped in: an assignment copies (Eigen 3.4), 0.38 GB at the stage's peak on the 6,144-node room
+    RowSparse corrected = correctedRows(pairs, mu, area);
+    out.view_factors.swap(corrected);
+  }
   std::vector<Pair>().swap(pairs);  // before the report: 0.38 GB on the 6,144-node room
   reportCorrection(*shared, rays, out);  // σ on F's pattern (absent entries 0)
   return out;
