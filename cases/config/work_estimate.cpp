@@ -150,15 +150,21 @@ constexpr double kSparseCopies = 10.0, kBytesPerSparseEntry = 12.0 * kSparseCopi
 constexpr double kSampleRowsAboveBytes = 2e9;
 constexpr double kSampledRowsMargin = 1.25;
 
-// A dense network's matrices. The estimate's F, σ_F, the corrected F and its column-major copy
-// stay sparse at 12 B a non-zero until the network is built, beside its dense F and A F: at 83 %
-// density (the 3,456-node closed room) they are most of the 67 n² bytes measured (82 n² before
-// the dense exchange factors were solved in place), which 24 n² missed.
+// A dense network's matrices, the larger of two moments. The correction: the estimate's F and
+// σ_F, the pairs (24 B each, half an entry's worth of 12 B twice) and the corrected F, all at
+// 12 B a non-zero. The solve and the file: F and σ_F still held beside three n × n matrices
+// (G, and I − S G with its solve in the LU; the Cholesky needs one fewer), one GR per further
+// optical set, and up to kDenseOutputMaxNodes the CSR copy being written (12 B a non-zero).
+// Measured: the 6,144-node room (83 % of F non-zero) peaks at 1.56 GB in the correction (this
+// says 1.66), the 3,456-node one at 0.68 GB writing its CSR copies (this says 0.64).
 double denseNetworkBytes(const GeometryCase& c, double n, double facing_share, double extra_sets) {
   double estimate_entries = std::max(facing_share * n * n, n);
   if (c.view_factors.method == ViewFactorMethod::MonteCarlo)
     estimate_entries = std::min(estimate_entries, n * static_cast<double>(c.view_factors.monte_carlo.rays_per_node));
-  return 8.0 * n * n * (5.0 + extra_sets) + 4.0 * 12.0 * estimate_entries;
+  const double correction = 4.0 * 12.0 * estimate_entries;
+  const double csr_copy = n <= double(kDenseOutputMaxNodes) ? 12.0 * estimate_entries : 0.0;
+  const double solve = 2.0 * 12.0 * estimate_entries + 8.0 * n * n * (3.0 + extra_sets) + csr_copy;
+  return std::max(correction, solve);
 }
 
 // F's non-zeros: every facing pair, or at most the rays of each row (monte_carlo); when that is
@@ -184,10 +190,8 @@ WorkEstimate estimateWork(const GeometryCase& c) {
   w.scene_bytes = kSceneBytesPerTriangle * triangles;
   const double thermal_nodes = c.thermal ? static_cast<double>(c.thermal->nodeCount()) : n;
   // A dense network (or temperatures with a dense GR: the thermal solver then holds GR and
-  // its Jacobian densely): five n × n matrices of 8 bytes (F, A F and its transpose while the
-  // network is built; G beside I − S G factored in place and the solve, then GR); one more GR
-  // per further optical set; and the sparse estimate's matrices. Measured peaks: 24 n² bytes
-  // for a 3,872-node enclosure of 12 % density, 67 n² for the 3,456-node closed room (83 %). A sparse one: F, its raw estimate and σ, G and GR's
+  // its Jacobian densely): denseNetworkBytes. Measured peaks: 24 n² bytes for a 3,872-node
+  // enclosure of 12 % density (an earlier build), 42 n² for the 6,144-node closed room (83 %). A sparse one: F, its raw estimate and σ, G and GR's
   // direct part at 12 B a non-zero, twice over while the correction builds them, and n × k
   // vectors (the 19,202-node satellite, F 1.3 % non-zero: 1.2 GB peak, 63 kB a node).
   const double extra_sets = static_cast<double>(c.optical_sets.size() - 1);

@@ -105,7 +105,8 @@ bool symmetricExchange(const Network& net, const Eigen::VectorXd& emissivity, Ei
   work.diagonal() += net.area().cwiseQuotient(rho);
   {
     Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Lower> llt(work);
-    if (llt.info() != Eigen::Success) return false;
+    // Near singular (a closed cavity of ε → 0): the LU's own test and status decide.
+    if (llt.info() != Eigen::Success || llt.rcond() < 1e-14) return false;
   }
   invertLowerInPlace(work);
   lowerGramInPlace(work);
