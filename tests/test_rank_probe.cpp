@@ -198,9 +198,10 @@ TEST_CASE("a-posteriori rank: beyond the dense-GR size a flat spectrum hands GR 
   REQUIRE(pairs.status == solver::Status::Converged);
   INFO("rank " << pairs.rank() << " (" << pairs.rank_rule << "), GR error " << pairs.probe_exchange_error);
   CHECK(pairs.rank() < settings.max_rank);
-  CHECK(pairs.rank_rule.find("GR by dense LU") != std::string::npos);
+  CHECK(pairs.rank_rule.find("GR exact (dense)") != std::string::npos);
   const solver::ExchangeFactors ex = solver::policy::exchangeFactors(net, pairs, eps, settings);
-  CHECK(ex.method == "dense LU");
+  CHECK(ex.method == "dense Cholesky");  // every ε < 1: the symmetric exact form
+  CHECK_FALSE(ex.from_pairs);
 }
 
 TEST_CASE("a-posteriori rank: the cap wins over the probes, and says so") {

@@ -41,7 +41,7 @@ std::string rankWarning(const solver::EigenPairs& pairs, const solver::SolverSet
   }
   if (pairs.rank_rule != "rank cap") return "";
   const bool gr_short = pairs.probe_exchange_error > settings.tolerance &&
-                        pairs.vectors.rows() > solver::policy::kDenseBandSolveMaxNodes;  // else GR by dense LU
+                        pairs.vectors.rows() > solver::policy::kDenseBandSolveMaxNodes;  // else GR exact (dense)
   const bool band_short = !settings.refineEnabled() && pairs.probe_residual > settings.tolerance;
   if (!gr_short && !band_short) return "";
   std::ostringstream w;

@@ -127,7 +127,7 @@ int RankProbe::operator()(const EigenPairs& found) {
   const RankMeasure all = measure(found, nev);
   if (!meets(all)) {
     // The band solves are refined to the budget whatever the rank, and GR may fall back to
-    // dense LU: when what misses its target falls more slowly than 1/k from the last run
+    // the exact dense form (Cholesky or LU): when what misses its target falls more slowly than 1/k from the last run
     // (twice the pairs not halving it: a flat spectrum, as in a closed room), more pairs cost
     // more Lanczos time than they save. GR from the pairs with no fallback is never given up
     // this way. The ranks' ratio matters since the runs do not always double (nextRank).
@@ -147,7 +147,7 @@ int RankProbe::operator()(const EigenPairs& found) {
     if (!flat) return 0;
     rule_ = "a posteriori: spectrum flat (what misses its target fell more slowly than 1/k)";
     if (!band_ok) rule_ += ", refinement finishes the band solves";
-    if (!exchange_ok) rule_ += ", GR by dense LU";
+    if (!exchange_ok) rule_ += ", GR exact (dense)";
     return nev;
   }
   // The smallest rank that still meets the targets, halving from the pairs found.
