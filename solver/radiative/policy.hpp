@@ -39,6 +39,10 @@ inline constexpr double kRefinedStartResidual = 1e-2;
 /// a sparse product with G plus the thin low-rank products about 4e9). Only their ratio
 /// decides; a dense product with G runs at the dense rate.
 inline constexpr double kDenseFlopsPerSecond = 4e10;
+/// Lanczos on a dense G, per pair found and per n² entry of G, s: a few products with G a
+/// pair, each reading all of it from memory (measured: the 6,144-node room's runs at 16, 32
+/// and 200 pairs together took 11.7 s, 1.25e-9 s per pair and entry).
+inline constexpr double kDenseLanczosSecondsPerPairEntry = 1.25e-9;
 inline constexpr double kSparseFlopsPerSecond = 4e9;
 /// Dense LU of I − S G for a band solve only up to this many nodes (8 n² bytes each for
 /// I − S G and, for a sparse network, a dense copy of G: 1 GiB at the limit).

@@ -1,5 +1,7 @@
 #include "solver/radiative/rank_probe.hpp"
 
+#include "solver/radiative/policy.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -99,10 +101,15 @@ RankMeasure RankProbe::measure(const EigenPairs& found, int k) {
 }
 
 int RankProbe::nextRank(int nev) const {
+  if (history_.size() < 2) return 2 * nev;
+  return nextRank(nev, history_.back(), history_.size() - 2);
+}
+
+// `now` measured at nev pairs, history_[before_at] the run before it.
+int RankProbe::nextRank(int nev, const RankMeasure& now, size_t before_at) const {
   double needed = nev;
-  if (history_.size() >= 2 && history_.back().rank == nev) {
-    const RankMeasure& now = history_.back();
-    const RankMeasure& before = history_[history_.size() - 2];
+  if (before_at < history_.size() && now.rank == nev) {
+    const RankMeasure& before = history_[before_at];
     // error ∝ k^slope between the last two ranks; the rank where it meets its target.
     const auto extrapolate = [&](double e_now, double e_before, double target) {
       if (!(e_now > target) || !(e_before > e_now) || !std::isfinite(e_before)) return;
@@ -138,12 +145,24 @@ int RankProbe::operator()(const EigenPairs& found) {
     };
     const bool exchange_ok = targets_.exchange_error <= 0 || all.exchange_error <= targets_.exchange_error;
     const bool band_ok = all.band_residual <= targets_.band_residual;
-    const bool flat = !history_.empty() &&
-                      (band_ok || (targets_.band_refined &&
-                                   stalled(all.band_residual, before.band_residual, targets_.band_residual))) &&
+    const bool band_done = band_ok || (targets_.band_refined &&
+                                       stalled(all.band_residual, before.band_residual, targets_.band_residual));
+    const bool flat = !history_.empty() && band_done &&
                       (exchange_ok || (targets_.exchange_fallback &&
                                        stalled(all.exchange_error, before.exchange_error, targets_.exchange_error)));
+    // Only GR wants more pairs and the exact dense GR can take over: the pairs the GR error's
+    // decay asks for cost more Lanczos time on a dense G than the exact GR (n³ flops) does.
+    const bool costly = !flat && !history_.empty() && band_done && targets_.exchange_fallback && !net_.isSparse() &&
+                        double(nextRank(nev, all, history_.size() - 1) - nev) * double(net_.size()) * net_.size() *
+                                policy::kDenseLanczosSecondsPerPairEntry >
+                            std::pow(double(net_.size()), 3) / policy::kDenseFlopsPerSecond;
     history_.push_back(all);
+    if (costly) {
+      rule_ = "a posteriori: more pairs would cost more than the exact GR";
+      if (!band_ok) rule_ += ", refinement finishes the band solves";
+      rule_ += ", GR exact (dense)";
+      return nev;
+    }
     if (!flat) return 0;
     rule_ = "a posteriori: spectrum flat (what misses its target fell more slowly than 1/k)";
     if (!band_ok) rule_ += ", refinement finishes the band solves";

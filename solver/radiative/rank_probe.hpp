@@ -60,6 +60,8 @@ class RankProbe {
   /// measurements' power-law decay (error ∝ k^slope) meets the targets, with 20 % margin; at
   /// least 2 nev (the EigenRequest::next hook).
   int nextRank(int nev) const;
+  /// The same from `now` (measured at nev pairs) and the run history_[before_at] before it.
+  int nextRank(int nev, const RankMeasure& now, size_t before_at) const;
   /// Measures the first k pairs (k ≤ found.rank()).
   RankMeasure measure(const EigenPairs& found, int k);
   /// Why the last accepted rank was accepted ("" before one was).
