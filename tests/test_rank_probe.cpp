@@ -220,3 +220,29 @@ TEST_CASE("a-posteriori rank: the cap wins over the probes, and says so") {
     CHECK(pairs.probe_residual > settings.tolerance);  // measured at the kept rank: the warning's input
   }
 }
+
+TEST_CASE("a-posteriori rank: on a dense G, GR alone short and more pairs dearer than the exact GR stops the growth") {
+  // A smooth kernel along a chain (G_ij ∝ exp(−((i − j)/20)²)): a spectrum that decays (the
+  // GR error falls faster than 1/k, so not flat) but needs about n/10 pairs for a tight GR,
+  // whose Lanczos time on the dense G is above the n³ of the exact GR: the rank stops short,
+  // GR is exact (dense Cholesky, every ε < 1), not from the pairs.
+  const int n = solver::policy::kDenseExchangeMaxNodes + 1;
+  Eigen::MatrixXd f(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) f(i, j) = std::exp(-std::pow((i - j) / 20.0, 2));
+  f /= 1.05 * f.rowwise().sum().maxCoeff();  // rows sum to at most 1/1.05: the rest is space
+  const solver::Network net(test::nodeNames(n), Eigen::VectorXd::Ones(n), f);
+  const Eigen::VectorXd eps = test::uniformIn(n, 0.9, 0.95, 11);  // ρ ≤ 0.1: the bands are met early, GR is not
+  solver::SolverSettings settings;
+  settings.tolerance = 1e-8;
+  settings.method = solver::EigenMethod::Lanczos;
+  const Eigen::VectorXd rho = Eigen::VectorXd::Ones(n) - eps;
+  const solver::EigenPairs pairs = solver::policy::decomposeForBands(net, rho, settings, {eps});
+  REQUIRE(pairs.status == solver::Status::Converged);
+  INFO("rank " << pairs.rank() << " (" << pairs.rank_rule << "), GR error " << pairs.probe_exchange_error);
+  CHECK(pairs.rank_rule.find("more pairs would cost more than the exact GR") != std::string::npos);
+  CHECK(pairs.probe_exchange_error > settings.tolerance);  // the pairs alone were short
+  const solver::ExchangeFactors ex = solver::policy::exchangeFactors(net, pairs, eps, settings);
+  CHECK(ex.method == "dense Cholesky");
+  CHECK_FALSE(ex.from_pairs);
+}
