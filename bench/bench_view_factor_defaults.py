@@ -161,7 +161,8 @@ def read_view3d(path, n):
 
 def run_view3d(exe, vs3, out):
     t0 = time.time()
-    p = subprocess.run([exe, vs3, out], capture_output=True, text=True)
+    # in the model's temporary directory: View3D writes its View3D.log where it runs
+    p = subprocess.run([exe, vs3, out], capture_output=True, text=True, cwd=os.path.dirname(vs3) or ".")
     wall = time.time() - t0
     m = re.search(r"([0-9.e+-]+) seconds to compute view factors", p.stdout + p.stderr)
     return wall, float(m.group(1)) if m else float("nan")
