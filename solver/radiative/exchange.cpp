@@ -7,8 +7,6 @@
 namespace radnet::solver {
 namespace {
 
-constexpr double kSymmetricMinReflectance = 1e-3;  // smallest ρ for the symmetric form (exchangeFactorsDense)
-
 // GR ← (GR + GRᵀ)/2 in place, returning max |GR_ij − GR_ji|. By 64 × 64 tiles: the
 // transposed side of a large matrix is cache-hostile element by element, and an in-place
 // `g = 0.5 * (g + g.transpose())` would read entries it has already overwritten.
@@ -132,7 +130,7 @@ ExchangeFactors exchangeFactorsDense(const Network& net, const Eigen::VectorXd& 
   ExchangeFactors ex;
   // ρ ≥ 1e-3 everywhere: the diagonal's cancellation in the symmetric form costs at most
   // 1e-16/ρ of ε A (a black node, ρ = 0, has no S⁻¹ at all); else the LU.
-  if (emissivity.size() > 0 && emissivity.maxCoeff() <= 1.0 - kSymmetricMinReflectance &&
+  if (emissivity.size() > 0 && emissivity.maxCoeff() <= 1.0 - kSymmetricExchangeMinReflectance &&
       symmetricExchange(net, emissivity, ex.gr)) {
     ex.method = "dense Cholesky";
     finishFactors(ex, net, emissivity);

@@ -152,10 +152,14 @@ int RankProbe::operator()(const EigenPairs& found) {
                                        stalled(all.exchange_error, before.exchange_error, targets_.exchange_error)));
     // Only GR wants more pairs and the exact dense GR can take over: the pairs the GR error's
     // decay asks for cost more Lanczos time on a dense G than the exact GR (n³ flops) does.
+    // The exact GR: n³ flops by Cholesky, about 4.7 n³ by the LU when a node is (nearly) black.
+    double exact_flops = std::pow(double(net_.size()), 3);
+    for (const Eigen::VectorXd& eps : targets_.emissivities)
+      if (eps.size() && eps.maxCoeff() > 1.0 - kSymmetricExchangeMinReflectance) exact_flops *= 4.7;
     const bool costly = !flat && !history_.empty() && band_done && targets_.exchange_fallback && !net_.isSparse() &&
                         double(nextRank(nev, all, history_.size() - 1) - nev) * double(net_.size()) * net_.size() *
                                 policy::kDenseLanczosSecondsPerPairEntry >
-                            std::pow(double(net_.size()), 3) / policy::kDenseFlopsPerSecond;
+                            std::min(exact_flops, 4.7 * std::pow(double(net_.size()), 3)) / policy::kDenseFlopsPerSecond;
     history_.push_back(all);
     if (costly) {
       rule_ = "a posteriori: more pairs would cost more than the exact GR";
