@@ -46,6 +46,16 @@ orbits::PlanetView viewAt(const orbits::SweepPosition& pos, const orbits::Enviro
   return v;
 }
 
+// A 1 m² floor of 3 × 3 nodes and a 0.6 m wall of 2 × 2 along one edge, both sides of the
+// wall active: half the floor's sky is blocked toward the wall.
+geometry::Scene floorAndWall() {
+  geometry::Scene s;
+  s.addSurface("floor", "floor", geometry::rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 3, 3), "floor", "");
+  s.addSurface("wall", "wall", geometry::rectangle(Vec3(0, 0, 0), Vec3(0, 0, 0.6), Vec3(0, 1, 0), 2, 2), "wall.back",
+               "wall");
+  return s;
+}
+
 }  // namespace
 
 TEST_CASE("sky bins: every direction falls in the bin whose corners enclose it") {
@@ -188,10 +198,7 @@ TEST_CASE("sky kernel: every node meets its target, half the loads' share of its
   // (what the node absorbs of its own irradiance, a lower bound of its orbit-maximum
   // absorbed power; or the floor of a tenth of the cap), after 1,024 rays and the rounds of
   // re-casting; none of this scene's node-positions needs the planet rays' fallback.
-  geometry::Scene s;
-  s.addSurface("floor", "floor", geometry::rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 3, 3), "floor", "");
-  s.addSurface("wall", "wall", geometry::rectangle(Vec3(0, 0, 0), Vec3(0, 0, 0.6), Vec3(0, 1, 0), 2, 2), "wall.back",
-               "wall");
+  const geometry::Scene s = floorAndWall();
   geometry::RayCaster caster(s);
   const auto ps = tumblingPositions(24, 5);
   // A black floor under a low-ε coating, a white wall: the ratios far from 1 both ways.
@@ -233,10 +240,7 @@ TEST_CASE("sky kernel: with a cross weight the targets hold for loads a reusing 
   // the albedo and IR (a lower solar constant, a higher albedo and IR): the cross weight
   // min(d/a, i/a, d/i, a/i) = 0.6 keeps α σ_A and ε σ_I within half the share of that case's
   // own absorbed-power bound, every loaded quantity (and its σ) scaled as the case does.
-  geometry::Scene s;
-  s.addSurface("floor", "floor", geometry::rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 3, 3), "floor", "");
-  s.addSurface("wall", "wall", geometry::rectangle(Vec3(0, 0, 0), Vec3(0, 0, 0.6), Vec3(0, 1, 0), 2, 2), "wall.back",
-               "wall");
+  const geometry::Scene s = floorAndWall();
   geometry::RayCaster caster(s);
   const auto ps = tumblingPositions(24, 5);
   const Eigen::Index n = static_cast<Eigen::Index>(s.nodes().size());

@@ -7,20 +7,14 @@
 namespace radnet::solver {
 namespace {
 
-// GR ← (GR + GRᵀ)/2 in place, returning max |GR_ij − GR_ji|. By 64 × 64 tiles: the
-// transposed side of a large matrix is cache-hostile element by element, and an in-place
+// GR ← (GR + GRᵀ)/2 in place, returning max |GR_ij − GR_ji|. By tiles: an in-place
 // `g = 0.5 * (g + g.transpose())` would read entries it has already overwritten.
 double symmetrize(Eigen::Ref<Eigen::MatrixXd> g) {
-  constexpr Eigen::Index kTile = 64;
-  const Eigen::Index n = g.rows();
   double worst = 0.0;
-  for (Eigen::Index j0 = 0; j0 < n; j0 += kTile)
-    for (Eigen::Index i0 = j0; i0 < n; i0 += kTile)
-      for (Eigen::Index j = j0; j < std::min(n, j0 + kTile); ++j)
-        for (Eigen::Index i = std::max(i0, j + 1); i < std::min(n, i0 + kTile); ++i) {
-          worst = std::max(worst, std::abs(g(i, j) - g(j, i)));
-          g(i, j) = g(j, i) = 0.5 * (g(i, j) + g(j, i));
-        }
+  forEachLowerPairByTiles(g.rows(), [&](Eigen::Index i, Eigen::Index j) {
+    worst = std::max(worst, std::abs(g(i, j) - g(j, i)));
+    g(i, j) = g(j, i) = 0.5 * (g(i, j) + g(j, i));
+  });
   return worst;
 }
 
@@ -98,8 +92,12 @@ void lowerGramInPlace(Eigen::Ref<Eigen::MatrixXd> a) {
 // positive definite numerically.
 bool symmetricExchange(const Network& net, const Eigen::VectorXd& emissivity, Eigen::MatrixXd& work) {
   const Eigen::VectorXd rho = Eigen::VectorXd::Ones(net.size()) - emissivity;
-  work = net.denseConductance();
-  work = -work;
+  if (net.isSparse()) {
+    work = net.denseConductance();
+    work = -work;
+  } else {
+    work = -net.heldDenseConductance();  // one pass over G, no copy of it first
+  }
   work.diagonal() += net.area().cwiseQuotient(rho);
   {
     Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Lower> llt(work);
@@ -114,11 +112,7 @@ bool symmetricExchange(const Network& net, const Eigen::VectorXd& emissivity, Ei
     work.col(j).tail(n - j) = d.tail(n - j).cwiseProduct(work.col(j).tail(n - j)) * d[j];
     work(j, j) -= emissivity[j] * emissivity[j] * net.area()[j] / rho[j];
   }
-  constexpr Eigen::Index kTile = 64;  // the upper triangle from the lower, tile by tile (as symmetrize)
-  for (Eigen::Index j0 = 0; j0 < n; j0 += kTile)
-    for (Eigen::Index i0 = j0; i0 < n; i0 += kTile)
-      for (Eigen::Index j = j0; j < std::min(n, j0 + kTile); ++j)
-        for (Eigen::Index i = std::max(i0, j + 1); i < std::min(n, i0 + kTile); ++i) work(j, i) = work(i, j);
+  forEachLowerPairByTiles(n, [&](Eigen::Index i, Eigen::Index j) { work(j, i) = work(i, j); });  // the upper triangle
   return work.allFinite();
 }
 

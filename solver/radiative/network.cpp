@@ -147,17 +147,13 @@ Network::Network(std::vector<std::string> names, Eigen::VectorXd area_m2, Eigen:
   checkRowSums(names_, view_factors.rowwise().sum(), blocked_, tol.row_sum);
 
   // G = ½ (A F + (A F)ᵀ) in F's own storage: A F by rows, then each pair averaged once by
-  // 64 × 64 tiles (no n × n temporaries: 288 MiB each at 6,144 nodes).
+  // tiles (no n × n temporaries: 288 MiB each at 6,144 nodes).
   g_dense_.swap(view_factors);
   g_dense_ = area_.asDiagonal() * g_dense_;
-  constexpr int kTile = 64;
-  for (int j0 = 0; j0 < n; j0 += kTile)
-    for (int i0 = j0; i0 < n; i0 += kTile)
-      for (int j = j0; j < std::min(n, j0 + kTile); ++j)
-        for (int i = std::max(i0, j + 1); i < std::min(n, i0 + kTile); ++i) {
-          noteDefect(reciprocity_, area_, i, j, g_dense_(i, j), g_dense_(j, i));
-          g_dense_(i, j) = g_dense_(j, i) = 0.5 * (g_dense_(i, j) + g_dense_(j, i));
-        }
+  forEachLowerPairByTiles(n, [&](Eigen::Index i, Eigen::Index j) {
+    noteDefect(reciprocity_, area_, int(i), int(j), g_dense_(i, j), g_dense_(j, i));
+    g_dense_(i, j) = g_dense_(j, i) = 0.5 * (g_dense_(i, j) + g_dense_(j, i));
+  });
   finish(g_dense_.rowwise().sum().cwiseQuotient(area_), tol);
 }
 

@@ -9,6 +9,7 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -130,6 +131,19 @@ class Network {
   ReciprocityReport reciprocity_;
   RowShare share_;
 };
+
+/// Calls pair(i, j) once for every i > j of an n × n matrix, by 64 × 64 tiles: the
+/// transposed side of a large matrix is cache-hostile element by element (symmetrising G
+/// and GR in place, copying a triangle to the other). The order is column-major within
+/// each tile, tiles down each block column.
+template <class Pair>
+void forEachLowerPairByTiles(Eigen::Index n, Pair&& pair) {
+  constexpr Eigen::Index kTile = 64;
+  for (Eigen::Index j0 = 0; j0 < n; j0 += kTile)
+    for (Eigen::Index i0 = j0; i0 < n; i0 += kTile)
+      for (Eigen::Index j = j0; j < std::min(n, j0 + kTile); ++j)
+        for (Eigen::Index i = std::max(i0, j + 1); i < std::min(n, i0 + kTile); ++i) pair(i, j);
+}
 
 /// Checks that every entry of a per-node property lies in [lo, hi] and is finite.
 /// @throws NetworkError naming the node, the property and the value.
