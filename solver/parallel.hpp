@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include <malloc.h>
 #include <sched.h>
 
 #include <algorithm>
@@ -26,6 +27,12 @@
 #include <vector>
 
 namespace radnet::solver {
+
+/// Hands the pages the allocator holds free back to the system. glibc keeps what was freed
+/// inside its heaps (the worker threads' arenas above all, which the main thread's later
+/// allocations do not reuse) resident: after the exact pairs of the 6,144-node room 0.3 GB
+/// stayed to the end of the run. Called where a large working set has just been freed.
+inline void releaseFreedMemory() { malloc_trim(0); }
 
 inline unsigned threadCount() {
   if (const char* env = std::getenv("OMP_NUM_THREADS")) {

@@ -15,6 +15,8 @@ ALLOWED_PROJECT = [
     ("geometry/scene/", ["geometry/scene/", "solver/units.hpp"]),
     ("geometry/rays/", ["geometry/rays/", "geometry/scene/", "geometry/reciprocity.hpp", "solver/units.hpp"]),
     ("geometry/exact/", ["geometry/exact/", "geometry/scene/", "geometry/reciprocity.hpp", "solver/units.hpp"]),
+    ("geometry/correction/", ["geometry/correction/", "geometry/reciprocity.hpp", "solver/units.hpp",
+                              "solver/parallel.hpp"]),
     ("geometry/irradiance/", ["geometry/irradiance/", "geometry/rays/", "geometry/scene/", "solver/units.hpp"]),
     ("geometry/", ["geometry/reciprocity.hpp", "solver/units.hpp", "solver/parallel.hpp"]),
     ("solver/radiative/", ["solver/radiative/", "solver/units.hpp", "solver/status.hpp", "solver/parallel.hpp"]),

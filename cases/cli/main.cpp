@@ -13,6 +13,7 @@
 #include "cases/pipeline/distributed.hpp"
 #include "cases/pipeline/geometry_run.hpp"
 #include "cases/pipeline/network_run.hpp"
+#include "cases/cli/check_command.hpp"
 #include "cases/cli/read_commands.hpp"
 #include "cases/cli/tuned_process.hpp"
 #include "cases/cli/warning_tap.hpp"
@@ -28,6 +29,7 @@
 #include <iostream>
 #include <chrono>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -39,7 +41,6 @@ namespace {
 
 using namespace radnet::cases;
 
-constexpr int kExitCheckFailed = 1;
 constexpr int kExitBadInput = 2;
 constexpr int kExitNumerical = 3;
 constexpr int kExitOutput = 4;
@@ -170,11 +171,17 @@ int runCommand(const RunOptions& o) {
     printImportedSummary(*c.imported, r, std::cout, o.all_nodes);
   } else {
     applyRunOptions(o, *c.geometry);
-    const GeometryRunResult r = runGeometryCase(*c.geometry, !o.quiet && writer, progress);
+    // Opened before the run, which writes its raw view factors there as soon as they are
+    // final instead of holding them to the end (a failed run removes the temporary file).
+    std::optional<Hdf5Writer> h5;
+    if (writer) h5.emplace(out);
+    const GeometryRunResult r =
+        runGeometryCase(*c.geometry, !o.quiet && writer, progress, h5 ? rawEstimateInto(*h5) : RawEstimateWriter());
     const auto t0 = std::chrono::steady_clock::now();
     // Rows shared out over MPI ranks: the others join each block of the file's matrices.
-    writer ? writeGeometryResult(*c.geometry, r, out, tap.warnings()) : writeSharedMatrices(nullptr, r);
-    write_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    h5 ? writeGeometryResult(*c.geometry, r, *h5, out, tap.warnings()) : writeSharedMatrices(nullptr, r);
+    write_s = r.raw_estimate_write_seconds +
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     printGeometrySummary(*c.geometry, r, std::cout, o.all_nodes);
   }
   // Said even under -q: a quiet run's warnings are in the file, and the user is told so.
@@ -228,49 +235,6 @@ int runCommands(RunOptions o) {
     o.case_path = path;
     worst = std::max(worst, guarded([&] { return runCommand(o); }));
   }
-  return worst;
-}
-
-// One case of `radnet check`: runs it when it has an `expect:` block; counts failures.
-int checkCase(const std::string& path, int& checked, int& failed_total) {
-  const LoadedCase c = loadCase(path);
-  checkSameCase(path, c);  // under MPI: every rank read the same files
-  std::cout << "== " << path << "\n";
-  if (c.expectations().empty()) {
-    std::cout << "SKIP (no 'expect:' block)\n";
-    return 0;
-  }
-  ++checked;
-  std::ostringstream sink;
-  int failed = 0;
-  if (c.network) {
-    const NetworkRunResult r = runNetworkCase(*c.network, sink);
-    failed = evaluateExpectations(
-        c.expectations(), [&](const Expectation& x) { return lookupResult(r, x); }, std::cout);
-  } else if (c.imported) {
-    const ImportRunResult r = runImportedCase(*c.imported, sink);
-    failed = evaluateExpectations(
-        c.expectations(), [&](const Expectation& x) { return lookupResult(r, x); }, std::cout);
-  } else {
-    const GeometryRunResult r = runGeometryCase(*c.geometry, false, sink);
-    failed = evaluateExpectations(
-        c.expectations(), [&](const Expectation& x) { return lookupResult(r, x); }, std::cout);
-  }
-  failed_total += failed;
-  return failed ? kExitCheckFailed : 0;
-}
-
-// Every case runs; the worst outcome decides the exit code.
-int checkCommand(const std::vector<std::string>& paths) {
-  int worst = 0, failed_total = 0, checked = 0;
-  for (const auto& path : paths)
-    worst = std::max(worst, guarded([&] { return checkCase(path, checked, failed_total); }));
-  if (checked == 0 && worst == 0) {
-    std::cerr << "radnet check: none of the cases has an 'expect:' block: nothing was checked\n";
-    return kExitBadInput;
-  }
-  std::cout << (failed_total == 0 && worst == 0 ? "all checks passed" : "checks FAILED") << " (" << checked
-            << " case(s) checked)\n";
   return worst;
 }
 
@@ -379,7 +343,7 @@ int radnetMain(int argc, char** argv) {
           std::cout << "radnet: wrote " << file << "\n";
       return 0;
     });
-  return checkCommand(check_cases);
+  return checkCommand(check_cases, [](const std::function<int()>& body) { return guarded(body); });
 }
 
 }  // namespace

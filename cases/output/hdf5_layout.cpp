@@ -97,15 +97,27 @@ void writeGeometry(Hdf5Writer& h5, const geometry::Scene& scene, const geometry:
   h5.attribute("/geometry", "seam_largest_area_change", seams.largest_area_change);
 }
 
+namespace {
+
+void writeRawMatrices(Hdf5Writer& h5, const Eigen::SparseMatrix<double, Eigen::RowMajor>& raw_f,
+                      const Eigen::SparseMatrix<double, Eigen::RowMajor>& sigma, bool dense) {
+  writeNetworkMatrix(h5, "view_factors_raw", raw_f, "1", dense);
+  // σ is estimated entry by entry with the raw F: the same pattern (checked).
+  writeNetworkMatrix(h5, "view_factor_stderr", sigma, "1", dense, {}, CsrPattern("/network/sparse/view_factors_raw", raw_f));
+}
+
+}  // namespace
+
+void writeRawViewFactors(Hdf5Writer& h5, const geometry::ViewFactorEstimate& raw, bool dense) {
+  writeRawMatrices(h5, raw.view_factors, raw.standard_error, dense);
+}
+
 void writeViewFactorEstimate(Hdf5Writer& h5, const GeometryRunResult& r, ViewFactorMethod method,
                              const OutputSettings& output) {
   const bool dense = output.denseMatrices(r.radiative.network->size(), !r.radiative.network->isSparse());
-  if (r.radiative.network->share().whole()) {  // else by writeSharedMatrices
-    writeNetworkMatrix(h5, "view_factors_raw", r.raw_view_factors, "1", dense);
-    // σ is estimated entry by entry with the raw F: the same pattern (checked).
-    writeNetworkMatrix(h5, "view_factor_stderr", r.view_factor_stderr, "1", dense, {},
-                       CsrPattern("/network/sparse/view_factors_raw", r.raw_view_factors));
-  }
+  // Else written during the run, or by writeSharedMatrices (rows shared out).
+  if (!r.raw_estimate_written && r.radiative.network->share().whole())
+    writeRawMatrices(h5, r.raw_view_factors, r.view_factor_stderr, dense);
   h5.writeVector("/network/blocked_view_factor", r.radiative.network->blockedFraction(), "1");
   h5.attribute("/network", "correction_max_change", r.correction.max_change);
   h5.attribute("/network", "correction_max_change_sigma", r.correction.max_change_sigma);

@@ -29,6 +29,9 @@ Eigen::MatrixXd padNodes(const Eigen::MatrixXd& values, Eigen::Index rows);
 void writeGeometry(Hdf5Writer& h5, const geometry::Scene& scene, const geometry::SeamReport& seams,
                    const Eigen::VectorXi& triangle_node);
 /// /network/{view_factor_stderr, view_factors_raw, blocked_view_factor} and how F was made.
+/// The raw F (`view_factors_raw`) and σ_F (`view_factor_stderr`, on the raw F's pattern) under
+/// /network, with their (n, n) datasets when `dense` (runGeometryCase writes them early).
+void writeRawViewFactors(Hdf5Writer& h5, const geometry::ViewFactorEstimate& raw, bool dense);
 void writeViewFactorEstimate(Hdf5Writer& h5, const GeometryRunResult& r, ViewFactorMethod method,
                              const OutputSettings& output);
 /// /orbit, /loads and /solution/exitance_solar of a sweep (zero for lumped nodes, up to

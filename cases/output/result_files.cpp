@@ -53,6 +53,15 @@ void writeImportedResult(const ImportedCase& c, const ImportRunResult& r, const 
 void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, const std::string& path,
                          const std::vector<std::string>& warnings) {
   Hdf5Writer h5(path);
+  writeGeometryResult(c, r, h5, path, warnings);
+}
+
+RawEstimateWriter rawEstimateInto(Hdf5Writer& h5) {
+  return [&h5](const geometry::ViewFactorEstimate& raw, bool dense) { writeRawViewFactors(h5, raw, dense); };
+}
+
+void writeGeometryResult(const GeometryCase& c, const GeometryRunResult& r, Hdf5Writer& h5, const std::string& path,
+                         const std::vector<std::string>& warnings) {
   writeMeta(h5, c.name, c.yaml_text, c.included);
   writeNodes(h5, r.radiative, r.thermal);
   writeRadiativeNetwork(h5, r.radiative, c.output);

@@ -16,7 +16,9 @@
 #include "solver/radiative/policy.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <optional>
 #include <utility>
 #include <memory>
 #include <ostream>
@@ -128,10 +130,31 @@ struct DiffuseStage {
 
 // F by ray casting or the exact method, then the variance-weighted reciprocity and
 // closure correction (docs/geometry.md); with specular or transmissive surfaces, F̃ per band.
+// Whether a stage after the network reads σ_F (the sweeps' and temperatures' view-factor
+// uncertainty, the optical samples'): if not, a σ written out early is not held.
+bool stderrReadLater(const GeometryCase& c) {
+  return c.hasOrbit() || c.thermal.has_value() || c.optical_uncertainty.has_value();
+}
+
 void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, const Eigen::VectorXd& area,
-                     GeometryRunResult& r, bool show_progress, std::ostream& progress, DiffuseStage* diffuse) {
+                     GeometryRunResult& r, bool show_progress, std::ostream& progress, DiffuseStage* diffuse,
+                     const RawEstimateWriter& write_raw) {
   const Eigen::Index n = area.size();
   StageTimer timer(r.timings, Stage::ViewFactors);
+  // The raw estimate goes out as soon as it is final, its (n, n) datasets as the network
+  // will be held (from the corrected F's entries); the time is the output's, not this
+  // stage's. Not with shared rows (their holders join each block of the file at the end),
+  // specular bands or a diffuse F kept for other networks (they read the raw F again).
+  const bool early = write_raw && !sharesRows(c) && !c.hasSpecular() && !diffuse;
+  auto writeRaw = [&](const geometry::ViewFactorEstimate& raw, long long corrected_nonzeros) {
+    const auto t0 = std::chrono::steady_clock::now();
+    write_raw(raw, c.output.denseMatrices(static_cast<long>(n),
+                                          !solver::policy::storeSparse(corrected_nonzeros, static_cast<int>(n))));
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    timer.exclude(seconds);
+    r.raw_estimate_write_seconds += seconds;
+    r.raw_estimate_written = true;
+  };
   Eigen::VectorXd rays(n);
   geometry::ViewFactorEstimate estimate;
   const bool shared = sharesRows(c);
@@ -154,15 +177,30 @@ void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, c
     estimate = traced;
   } else if (shared) {
     r.correction = geometry::enforceReciprocityOnRows(area, estimate, rays, clusterRowShare());
+  } else if (early) {
+    // The corrected F laid over the raw one once that is written (the exact method's
+    // symmetric pattern); else corrected beside it and the raw F written then.
+    std::optional<geometry::ReciprocityCorrection> in_place = geometry::enforceReciprocityInPlace(
+        area, estimate, rays, [&](long long nonzeros) { writeRaw(estimate, nonzeros); });
+    if (in_place) {
+      r.correction = std::move(*in_place);
+    } else {
+      r.correction = geometry::enforceReciprocity(area, estimate, rays);
+      writeRaw(estimate, r.correction.view_factors.nonZeros());
+    }
   } else {
     r.correction = geometry::enforceReciprocity(area, estimate, rays);
   }
-  r.raw_view_factors.swap(estimate.view_factors);
+  if (r.raw_estimate_written)
+    Eigen::SparseMatrix<double, Eigen::RowMajor>().swap(estimate.view_factors);
+  else
+    r.raw_view_factors.swap(estimate.view_factors);
   r.view_factor_stderr.swap(estimate.standard_error);
   r.row_stderr_max = rowLargestStderr(r.view_factor_stderr, shared ? clusterRowShare() : solver::RowShare());
+  if (r.raw_estimate_written && !stderrReadLater(c)) solver::SparseRowMatrix().swap(r.view_factor_stderr);
   // What leaves to space or to inactive sides is uncertain too (it sets the GR to space).
   r.lost_view_factor_stderr = (estimate.space_error.array().square() + estimate.blocked_error.array().square()).sqrt();
-  releaseFreedMemory();
+  solver::releaseFreedMemory();
   timer.stop();
   progress << "radnet: view factors (" << toString(c.view_factors.method) << "): ";
   if (r.exact)
@@ -285,13 +323,14 @@ Eigen::VectorXd networkStage(const GeometryCase& c, const Eigen::VectorXd& area,
       r.radiative.solar_network = buildNetwork(c, bandArea(area, r.radiative.kappa_solar), *r.solar_correction);
   }
   r.radiative.network = buildNetwork(c, network_area, r.correction);
-  releaseFreedMemory();  // the correction's working memory (0.25 GB kept on the 6,144-node room)
+  solver::releaseFreedMemory();  // the correction's working memory (0.25 GB kept on the 6,144-node room)
   return network_area;
 }
 
 }  // namespace
 
-GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std::ostream& progress) {
+GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std::ostream& progress,
+                                  const RawEstimateWriter& write_raw) {
   GeometryRunResult r;
   const geometry::Scene& scene = c.scene;
   const int n = static_cast<int>(scene.nodes().size());
@@ -310,7 +349,7 @@ GeometryRunResult runGeometryCase(const GeometryCase& c, bool show_progress, std
                                       [](const OpticalSet& set) { return set.own_specular; });
   const bool turning = !c.articulation.drives.empty();
   DiffuseStage diffuse;
-  viewFactorStage(c, caster, area, r, show_progress, progress, own_optics || turning ? &diffuse : nullptr);
+  viewFactorStage(c, caster, area, r, show_progress, progress, own_optics || turning ? &diffuse : nullptr, write_raw);
   std::optional<ArticulatedBase> turning_base;
   if (turning) turning_base = turningBase(c, caster, area, diffuse.estimate, diffuse.rays, r, progress);
   const Eigen::VectorXd network_area = networkStage(c, area, r);

@@ -20,6 +20,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -194,9 +195,18 @@ struct ArticulationResult {
 };
 
 /// A geometry-form run.
+/// Writes the raw view-factor estimate (F before the correction and σ_F) into the output while
+/// the run goes on; `dense`: whether the (n, n) datasets go beside the CSR groups, as for the
+/// network the run will hold (OutputSettings::denseMatrices).
+using RawEstimateWriter = std::function<void(const geometry::ViewFactorEstimate& raw, bool dense)>;
+
 struct GeometryRunResult {
-  Eigen::SparseMatrix<double, Eigen::RowMajor> raw_view_factors;  ///< before the correction, –
-  solver::SparseRowMatrix view_factor_stderr;  ///< σ (rays) or the error estimate (exact), –
+  Eigen::SparseMatrix<double, Eigen::RowMajor> raw_view_factors;  ///< before the correction, – (empty once written)
+  /// σ (rays) or the error estimate (exact), –; empty once written when no later stage reads it
+  solver::SparseRowMatrix view_factor_stderr;
+  /// The raw F and σ_F went into the output during the run (runGeometryCase's write_raw).
+  bool raw_estimate_written = false;
+  double raw_estimate_write_seconds = 0.0;  ///< the time that took, s (not the view factors')
   Eigen::VectorXd row_stderr_max;  ///< each row's largest σ_F (whole when the rows are shared out), –
   Eigen::VectorXd lost_view_factor_stderr;  ///< σ of F_space + F_blocked per node, –
   geometry::ReciprocityCorrection correction;

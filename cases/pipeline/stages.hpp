@@ -55,6 +55,8 @@ class StageTimer {
   StageTimer& operator=(const StageTimer&) = delete;
   /// Records the time so far (once).
   void stop();
+  /// Leaves out `seconds` spent inside the stage on other work (the raw estimate written out).
+  void exclude(double seconds) { start_s_ += seconds; }
 
  private:
   StageTimings& timings_;

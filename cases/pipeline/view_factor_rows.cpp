@@ -8,7 +8,6 @@
 #include "solver/radiative/policy.hpp"
 #include "geometry/exact/view_factors.hpp"
 
-#include <malloc.h>
 
 #include <algorithm>
 #include <ostream>
@@ -74,11 +73,6 @@ std::unique_ptr<solver::Network> buildNetwork(const GeometryCase& c, const Eigen
   return std::make_unique<solver::Network>(c.node_names, area, std::move(dense), correction.blocked, tol);
 }
 
-// glibc keeps what the worker threads freed in their own arenas, which the main thread's
-// later allocations do not reuse: after the exact pairs of the 6,144-node room 0.3 GB stayed
-// resident to the end of the run. malloc_trim hands the free pages back.
-void releaseFreedMemory() { malloc_trim(0); }
-
 // Moves F, σ and the per-node vectors of `from` into `to`. Eigen 3.4's sparse matrices
 // have no move constructor (std::move copies them): swapped instead, since at 6,144 nodes F
 // and σ are 0.75 GB and a copy costs 1–1.5 s of fresh pages here.
@@ -119,7 +113,7 @@ void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, Geomet
     opt.gather = [](const std::vector<double>& mine) { return cluster::gatherAll(mine); };
   }
   geometry::ExactResult ex = geometry::exactViewFactors(c.scene, opt);
-  releaseFreedMemory();
+  solver::releaseFreedMemory();
   r.exact = ExactViewFactorStats{ex.patches,        ex.pairs_culled, ex.pairs_hidden, ex.pairs_unoccluded,
                                  ex.pairs_occluded, 0,               ex.seconds};
   r.exact->pairs_by_quadrature = ex.pairs_by_quadrature;

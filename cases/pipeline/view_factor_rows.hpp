@@ -22,8 +22,6 @@ geometry::ViewFactorResult castRays(const GeometryCase& c, const geometry::RayCa
                                    bool show_progress, std::ostream& progress, bool shared = false);
 
 /// Moves F, σ and the per-node vectors of `from` into `to` (swapped: no copy).
-/// Returns the pages the allocator holds free (the worker threads' arenas) to the system.
-void releaseFreedMemory();
 void moveEstimate(geometry::ViewFactorEstimate& from, geometry::ViewFactorEstimate& to);
 
 /// F by the exact method into `estimate`, with the rows `auto` leaves to sampling cast as

@@ -7,9 +7,14 @@
 
 namespace radnet::geometry {
 
+// 16 B: 15.7 M of them on a 6,144-node room wait to be summed into F and σ. The error
+// estimate keeps float's seven digits (it is a bound's order of magnitude, and sets weights).
 struct PairValue {
+  PairValue(int q_, double exchange_area_m2, double error_m2)
+      : q(q_), error(static_cast<float>(error_m2)), exchange_area(exchange_area_m2) {}
   int q;
-  double exchange_area, error;  // A_P F_PQ and its error estimate, m²
+  float error;           // the error estimate of exchange_area, m²
+  double exchange_area;  // A_P F_PQ, m²
 };
 
 struct PairCounts {
