@@ -169,8 +169,8 @@ def run_view3d(exe, vs3, out):
 
 
 def main():
-    radnet, out_md = sys.argv[1], sys.argv[2]
-    view3d = sys.argv[3] if len(sys.argv) > 3 else ""
+    radnet, out_md = os.path.abspath(sys.argv[1]), sys.argv[2]
+    view3d = os.path.abspath(sys.argv[3]) if len(sys.argv) > 3 else ""  # run in its temporary directory
     here = os.path.dirname(os.path.abspath(__file__))
     rows = []
     with tempfile.TemporaryDirectory() as tmp:

@@ -136,25 +136,57 @@ bool stderrReadLater(const GeometryCase& c) {
   return c.hasOrbit() || c.thermal.has_value() || c.optical_uncertainty.has_value();
 }
 
-void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, const Eigen::VectorXd& area,
-                     GeometryRunResult& r, bool show_progress, std::ostream& progress, DiffuseStage* diffuse,
-                     const RawEstimateWriter& write_raw) {
-  const Eigen::Index n = area.size();
-  StageTimer timer(r.timings, Stage::ViewFactors);
-  // The raw estimate goes out as soon as it is final, its (n, n) datasets as the network
-  // will be held (from the corrected F's entries); the time is the output's, not this
-  // stage's. Not with shared rows (their holders join each block of the file at the end),
-  // specular bands or a diffuse F kept for other networks (they read the raw F again).
-  const bool early = write_raw && !sharesRows(c) && !c.hasSpecular() && !diffuse;
-  auto writeRaw = [&](const geometry::ViewFactorEstimate& raw, long long corrected_nonzeros) {
+// What the view-factor stage did, for the progress stream.
+void printViewFactorStage(const GeometryCase& c, const GeometryRunResult& r, std::ostream& progress) {
+  progress << "radnet: view factors (" << toString(c.view_factors.method) << "): ";
+  if (r.exact)
+    progress << r.exact->pairs_unoccluded << " unoccluded and " << r.exact->pairs_occluded
+             << " occluded patch pairs exact (" << r.exact->pairs_by_quadrature << " by point rules, "
+             << r.exact->seconds << " s), " << r.exact->sampled_rows << " rows left to rays, ";
+  progress << r.total_rays << " rays"
+           << (r.rays_per_second > 0 ? " (" + std::to_string(static_cast<long long>(r.rays_per_second)) + " rays/s)"
+                                     : "")
+           << ", reciprocity/closure correction moved F by at most " << r.correction.max_change << " ("
+           << r.correction.max_change_sigma << " σ)\n";
+  if (c.hasSpecular())
+    progress << "radnet: specular/transmissive surfaces: " << r.specular_rows << " row(s) traced with specular "
+             << "reflection and transmission (" << r.specular_rays << " rays, "
+             << (r.solar_correction ? "IR and solar bands apart" : "one traced network for both bands") << ")\n";
+}
+
+// The correction with the raw estimate written out as soon as it is final, its (n, n)
+// datasets as the network will be held (from the corrected F's entries), the time the
+// output's, not the stage's: laid over the raw F once that is written (the exact method's
+// symmetric pattern), else beside it and the raw F written then.
+geometry::ReciprocityCorrection correctWritingRaw(const GeometryCase& c, const Eigen::VectorXd& area,
+                                                  geometry::ViewFactorEstimate& estimate, const Eigen::VectorXd& rays,
+                                                  const RawEstimateWriter& write_raw, StageTimer& timer,
+                                                  GeometryRunResult& r) {
+  const auto n = static_cast<int>(area.size());
+  auto writeRaw = [&](long long corrected_nonzeros) {
     const auto t0 = std::chrono::steady_clock::now();
-    write_raw(raw, c.output.denseMatrices(static_cast<long>(n),
-                                          !solver::policy::storeSparse(corrected_nonzeros, static_cast<int>(n))));
+    write_raw(estimate, c.output.denseMatrices(n, !solver::policy::storeSparse(corrected_nonzeros, n)));
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     timer.exclude(seconds);
     r.raw_estimate_write_seconds += seconds;
     r.raw_estimate_written = true;
   };
+  if (std::optional<geometry::ReciprocityCorrection> in_place =
+          geometry::enforceReciprocityInPlace(area, estimate, rays, writeRaw))
+    return std::move(*in_place);
+  geometry::ReciprocityCorrection beside = geometry::enforceReciprocity(area, estimate, rays);
+  writeRaw(beside.view_factors.nonZeros());
+  return beside;
+}
+
+void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, const Eigen::VectorXd& area,
+                     GeometryRunResult& r, bool show_progress, std::ostream& progress, DiffuseStage* diffuse,
+                     const RawEstimateWriter& write_raw) {
+  const Eigen::Index n = area.size();
+  StageTimer timer(r.timings, Stage::ViewFactors);
+  // Not with shared rows (their holders join each block of the file at the end), specular
+  // bands or a diffuse F kept for other networks (they read the raw F again).
+  const bool early = write_raw && !sharesRows(c) && !c.hasSpecular() && !diffuse;
   Eigen::VectorXd rays(n);
   geometry::ViewFactorEstimate estimate;
   const bool shared = sharesRows(c);
@@ -178,16 +210,7 @@ void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, c
   } else if (shared) {
     r.correction = geometry::enforceReciprocityOnRows(area, estimate, rays, clusterRowShare());
   } else if (early) {
-    // The corrected F laid over the raw one once that is written (the exact method's
-    // symmetric pattern); else corrected beside it and the raw F written then.
-    std::optional<geometry::ReciprocityCorrection> in_place = geometry::enforceReciprocityInPlace(
-        area, estimate, rays, [&](long long nonzeros) { writeRaw(estimate, nonzeros); });
-    if (in_place) {
-      r.correction = std::move(*in_place);
-    } else {
-      r.correction = geometry::enforceReciprocity(area, estimate, rays);
-      writeRaw(estimate, r.correction.view_factors.nonZeros());
-    }
+    r.correction = correctWritingRaw(c, area, estimate, rays, write_raw, timer, r);
   } else {
     r.correction = geometry::enforceReciprocity(area, estimate, rays);
   }
@@ -202,20 +225,7 @@ void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, c
   r.lost_view_factor_stderr = (estimate.space_error.array().square() + estimate.blocked_error.array().square()).sqrt();
   solver::releaseFreedMemory();
   timer.stop();
-  progress << "radnet: view factors (" << toString(c.view_factors.method) << "): ";
-  if (r.exact)
-    progress << r.exact->pairs_unoccluded << " unoccluded and " << r.exact->pairs_occluded
-             << " occluded patch pairs exact (" << r.exact->pairs_by_quadrature << " by point rules, "
-             << r.exact->seconds << " s), " << r.exact->sampled_rows << " rows left to rays, ";
-  progress << r.total_rays << " rays"
-           << (r.rays_per_second > 0 ? " (" + std::to_string(static_cast<long long>(r.rays_per_second)) + " rays/s)"
-                                     : "")
-           << ", reciprocity/closure correction moved F by at most " << r.correction.max_change << " ("
-           << r.correction.max_change_sigma << " σ)\n";
-  if (c.hasSpecular())
-    progress << "radnet: specular/transmissive surfaces: " << r.specular_rows << " row(s) traced with specular "
-             << "reflection and transmission (" << r.specular_rays << " rays, "
-             << (r.solar_correction ? "IR and solar bands apart" : "one traced network for both bands") << ")\n";
+  printViewFactorStage(c, r, progress);
 }
 
 // An optical set that changes ρs or τ: its own F̃ per band, traced from the diffuse F with

@@ -9,93 +9,127 @@
 
 namespace radnet::geometry {
 using namespace detail;
+namespace {
 
-std::optional<ReciprocityCorrection> enforceReciprocityInPlace(const Eigen::VectorXd& area, ViewFactorEstimate& est,
-                                                               const Eigen::VectorXd& rays,
-                                                               const std::function<void(long long)>& before_overwrite) {
-  RowSparse& f = est.view_factors;
-  if (!samePattern(f, est.standard_error)) return std::nullopt;
-  const int n = static_cast<int>(area.size());
-  const int* outer = f.outerIndexPtr();
-  const int* inner = f.innerIndexPtr();
-  double* value = f.valuePtr();
-  const double* error = est.standard_error.valuePtr();
-  // Each pair's variance, in pair order (upper entries row by row): 0 once pinned. Its
-  // estimate ĝ is combined again from F and σ where needed (8 B a pair instead of 24).
-  std::vector<int> upper_start(static_cast<size_t>(n));  // row i's first entry with column ≥ i
-  std::vector<size_t> first_pair(static_cast<size_t>(n) + 1, 0);  // row i's first pair's index
-  for (int i = 0; i < n; ++i) {
-    upper_start[static_cast<size_t>(i)] =
-        static_cast<int>(std::lower_bound(inner + outer[i], inner + outer[i + 1], i) - inner);
-    first_pair[static_cast<size_t>(i) + 1] =
-        first_pair[static_cast<size_t>(i)] + static_cast<size_t>(outer[i + 1] - upper_start[static_cast<size_t>(i)]);
-  }
-  const size_t pair_count = first_pair.back();
-  std::vector<double> var;
-  var.reserve(pair_count);
-  if (!forEachSymmetricPair(f, [&](int i, int j, int k, int k_ji) {
-        var.push_back(combinedPair(area, rays, value, error, i, j, k, k_ji).var);
-      }))
-    return std::nullopt;
-  auto free_pairs = [&](auto&& fn) {
-    size_t u = 0;
-    forEachSymmetricPair(f, [&](int i, int j, int k, int k_ji) {
-      if (var[u++] != 0.0) fn(combinedPair(area, rays, value, error, i, j, k, k_ji));
-    });
-  };
-  auto couplings = [&](int block, int blocks, auto&& fn) {  // rows holding a block's share of the pairs
-    auto rowAt = [&](int b) {
-      const size_t pair = pair_count * size_t(b) / size_t(blocks);
-      return static_cast<int>(std::lower_bound(first_pair.begin(), first_pair.end() - 1, pair) - first_pair.begin());
-    };
-    const int last = block + 1 == blocks ? n : rowAt(block + 1);
-    for (int i = rowAt(block); i < last; ++i) {
-      size_t u = first_pair[static_cast<size_t>(i)];
-      for (int k = upper_start[static_cast<size_t>(i)]; k < outer[i + 1]; ++k, ++u)
-        if (var[u] != 0.0 && inner[k] != i) fn(i, inner[k], var[u]);
+// The pairs of a symmetric compressed pattern read where they lie in F and σ: each pair's
+// variance is kept (in pair order: upper entries row by row, 0 once pinned, 8 B a pair
+// instead of the list's 24), its estimate ĝ combined again from F and σ where a pass needs it.
+class PairsInPlace {
+ public:
+  PairsInPlace(const Eigen::VectorXd& area, const Eigen::VectorXd& rays, ViewFactorEstimate& est)
+      : area_(area), rays_(rays), f_(est.view_factors), error_(est.standard_error.valuePtr()),
+        n_(static_cast<int>(area.size())), upper_start_(static_cast<size_t>(n_)),
+        first_pair_(static_cast<size_t>(n_) + 1, 0) {
+    const int* outer = f_.outerIndexPtr();
+    const int* inner = f_.innerIndexPtr();
+    for (int i = 0; i < n_; ++i) {
+      const size_t row = static_cast<size_t>(i);
+      upper_start_[row] = static_cast<int>(std::lower_bound(inner + outer[i], inner + outer[i + 1], i) - inner);
+      first_pair_[row + 1] = first_pair_[row] + static_cast<size_t>(outer[i + 1] - upper_start_[row]);
     }
-  };
-  long long corrected_nonzeros = 0;  // counted in the last round: the corrected F's entries
-  NodeTerms terms(area, est, rays);
-  const Eigen::VectorXd mu = pinnedMultipliers(area, terms, free_pairs, couplings, [&](const Eigen::VectorXd& m) {
+    var_.reserve(first_pair_.back());
+    symmetric_ = forEachSymmetricPair(f_, [&](int i, int j, int k, int k_ji) { var_.push_back(pair(i, j, k, k_ji).var); });
+  }
+  bool symmetric() const { return symmetric_; }
+
+  // closureMultipliers' visitors: the pairs not pinned, and their couplings by blocks of
+  // rows, each starting at the first row at or after its share of the pairs.
+  template <class Fn>
+  void freePairs(Fn&& fn) const {
+    size_t u = 0;
+    forEachSymmetricPair(f_, [&](int i, int j, int k, int k_ji) {
+      if (var_[u++] != 0.0) fn(pair(i, j, k, k_ji));
+    });
+  }
+  template <class Fn>
+  void couplings(int block, int blocks, Fn&& fn) const {
+    const int* outer = f_.outerIndexPtr();
+    const int* inner = f_.innerIndexPtr();
+    const int last = block + 1 == blocks ? n_ : rowAt(block + 1, blocks);
+    for (int i = rowAt(block, blocks); i < last; ++i) {
+      size_t u = first_pair_[static_cast<size_t>(i)];
+      for (int k = upper_start_[static_cast<size_t>(i)]; k < outer[i + 1]; ++k, ++u)
+        if (var_[u] != 0.0 && inner[k] != i) fn(i, inner[k], var_[u]);
+    }
+  }
+  // Pins the pairs μ drives below zero; counts the corrected F's entries (the others').
+  bool pinNegative(const Eigen::VectorXd& mu) {
     bool changed = false;
     size_t u = 0;
-    corrected_nonzeros = 0;
-    forEachSymmetricPair(f, [&](int i, int j, int k, int k_ji) {
-      double& v = var[u++];
+    corrected_nonzeros_ = 0;
+    forEachSymmetricPair(f_, [&](int i, int j, int k, int k_ji) {
+      double& v = var_[u++];
       if (v == 0.0) return;
-      const double g = corrected(combinedPair(area, rays, value, error, i, j, k, k_ji), m);
+      const double g = corrected(pair(i, j, k, k_ji), mu);
       if (g < 0) {
         v = 0.0;
         changed = true;
       } else if (g > 0) {
-        corrected_nonzeros += i == j ? 1 : 2;
+        corrected_nonzeros_ += i == j ? 1 : 2;
       }
     });
     return changed;
-  });
-  // Only which pairs are pinned is read from here on (combinedPair gives ĝ and v again):
-  // a bit each instead of 8 B, before the estimate is written out.
-  std::vector<bool> pinned(pair_count);
-  for (size_t q = 0; q < pair_count; ++q) pinned[q] = var[q] == 0.0;
-  std::vector<double>().swap(var);
-  solver::releaseFreedMemory();  // glibc keeps the 0.13 GB resident otherwise
-  if (before_overwrite) before_overwrite(corrected_nonzeros);
+  }
+  long long correctedNonZeros() const { return corrected_nonzeros_; }
+
+  // The corrected F over the estimate's own values (then pruned of the pairs at zero), each
+  // entry's move noted in `out` as it is overwritten. Only which pairs are pinned is read
+  // from the variances: they are freed first (a bit a pair instead of 8 B).
+  void overwrite(const Eigen::VectorXd& mu, ReciprocityCorrection& out) {
+    std::vector<bool> pinned(var_.size());
+    for (size_t q = 0; q < var_.size(); ++q) pinned[q] = var_[q] == 0.0;
+    std::vector<double>().swap(var_);
+    solver::releaseFreedMemory();  // glibc keeps the 0.13 GB resident otherwise
+    double* value = f_.valuePtr();
+    size_t u = 0;
+    forEachSymmetricPair(f_, [&](int i, int j, int k, int k_ji) {
+      const double g = pinned[u++] ? 0.0 : corrected(pair(i, j, k, k_ji), mu);
+      if (g > 0) {
+        noteChange(i, j, g / area_[i], value[k], error_[k], rays_[i], out);
+        if (j != i) noteChange(j, i, g / area_[j], value[k_ji], error_[k_ji], rays_[j], out);
+      }
+      value[k] = g > 0 ? g / area_[i] : 0.0;
+      value[k_ji] = g > 0 ? g / area_[j] : 0.0;
+    });
+    f_.prune([](const Eigen::Index&, const Eigen::Index&, const double& v) { return v > 0.0; });
+  }
+
+ private:
+  Pair pair(int i, int j, int k, int k_ji) const { return combinedPair(area_, rays_, f_.valuePtr(), error_, i, j, k, k_ji); }
+  int rowAt(int block, int blocks) const {
+    const size_t share = first_pair_.back() * size_t(block) / size_t(blocks);
+    return static_cast<int>(std::lower_bound(first_pair_.begin(), first_pair_.end() - 1, share) - first_pair_.begin());
+  }
+
+  const Eigen::VectorXd &area_, &rays_;
+  RowSparse& f_;
+  const double* error_;
+  int n_;
+  std::vector<int> upper_start_;      // row i's first entry with column ≥ i
+  std::vector<size_t> first_pair_;    // row i's first pair's index (n + 1: the count last)
+  std::vector<double> var_;
+  bool symmetric_ = false;
+  long long corrected_nonzeros_ = 0;
+};
+
+}  // namespace
+
+std::optional<ReciprocityCorrection> enforceReciprocityInPlace(const Eigen::VectorXd& area, ViewFactorEstimate& est,
+                                                               const Eigen::VectorXd& rays,
+                                                               const std::function<void(long long)>& before_overwrite) {
+  if (!samePattern(est.view_factors, est.standard_error)) return std::nullopt;
+  PairsInPlace pairs(area, rays, est);
+  if (!pairs.symmetric()) return std::nullopt;
+  NodeTerms terms(area, est, rays);
+  const Eigen::VectorXd mu = pinnedMultipliers(
+      area, terms, [&](auto&& fn) { pairs.freePairs(fn); },
+      [&](int block, int blocks, auto&& fn) { pairs.couplings(block, blocks, fn); },
+      [&](const Eigen::VectorXd& m) { return pairs.pinNegative(m); });
+  if (before_overwrite) before_overwrite(pairs.correctedNonZeros());
   ReciprocityCorrection out;
   terms.corrected(mu, area, out);
-  size_t u = 0;
-  forEachSymmetricPair(f, [&](int i, int j, int k, int k_ji) {
-    const double g = pinned[u++] ? 0.0 : corrected(combinedPair(area, rays, value, error, i, j, k, k_ji), mu);
-    if (g > 0) {
-      noteChange(i, j, g / area[i], value[k], error[k], rays[i], out);
-      if (j != i) noteChange(j, i, g / area[j], value[k_ji], error[k_ji], rays[j], out);
-    }
-    value[k] = g > 0 ? g / area[i] : 0.0;
-    value[k_ji] = g > 0 ? g / area[j] : 0.0;
-  });
-  std::vector<bool>().swap(pinned);
-  f.prune([](const Eigen::Index&, const Eigen::Index&, const double& v) { return v > 0.0; });
-  out.view_factors.swap(f);
+  pairs.overwrite(mu, out);
+  out.view_factors.swap(est.view_factors);
   out.max_closure_error = largestClosureError(out);
   return out;
 }
