@@ -72,18 +72,22 @@ class PairsInPlace {
   }
   long long correctedNonZeros() const { return corrected_nonzeros_; }
 
-  // The corrected F over the estimate's own values (then pruned of the pairs at zero), each
-  // entry's move noted in `out` as it is overwritten. Only which pairs are pinned is read
-  // from the variances: they are freed first (a bit a pair instead of 8 B).
-  void overwrite(const Eigen::VectorXd& mu, ReciprocityCorrection& out) {
-    std::vector<bool> pinned(var_.size());
-    for (size_t q = 0; q < var_.size(); ++q) pinned[q] = var_[q] == 0.0;
+  // Once μ is known only which pairs are pinned is read from the variances (combinedPair
+  // gives v again): a bit a pair instead of 8 B, before the estimate is written out.
+  void keepOnlyPinned() {
+    pinned_.resize(var_.size());
+    for (size_t q = 0; q < var_.size(); ++q) pinned_[q] = var_[q] == 0.0;
     std::vector<double>().swap(var_);
     solver::releaseFreedMemory();  // glibc keeps the 0.13 GB resident otherwise
+  }
+
+  // The corrected F over the estimate's own values (then pruned of the pairs at zero), each
+  // entry's move noted in `out` as it is overwritten (after keepOnlyPinned).
+  void overwrite(const Eigen::VectorXd& mu, ReciprocityCorrection& out) {
     double* value = f_.valuePtr();
     size_t u = 0;
     forEachSymmetricPair(f_, [&](int i, int j, int k, int k_ji) {
-      const double g = pinned[u++] ? 0.0 : corrected(pair(i, j, k, k_ji), mu);
+      const double g = pinned_[u++] ? 0.0 : corrected(pair(i, j, k, k_ji), mu);
       if (g > 0) {
         noteChange(i, j, g / area_[i], value[k], error_[k], rays_[i], out);
         if (j != i) noteChange(j, i, g / area_[j], value[k_ji], error_[k_ji], rays_[j], out);
@@ -108,6 +112,7 @@ class PairsInPlace {
   std::vector<int> upper_start_;      // row i's first entry with column ≥ i
   std::vector<size_t> first_pair_;    // row i's first pair's index (n + 1: the count last)
   std::vector<double> var_;
+  std::vector<bool> pinned_;
   bool symmetric_ = false;
   long long corrected_nonzeros_ = 0;
 };
@@ -125,6 +130,7 @@ std::optional<ReciprocityCorrection> enforceReciprocityInPlace(const Eigen::Vect
       area, terms, [&](auto&& fn) { pairs.freePairs(fn); },
       [&](int block, int blocks, auto&& fn) { pairs.couplings(block, blocks, fn); },
       [&](const Eigen::VectorXd& m) { return pairs.pinNegative(m); });
+  pairs.keepOnlyPinned();
   if (before_overwrite) before_overwrite(pairs.correctedNonZeros());
   ReciprocityCorrection out;
   terms.corrected(mu, area, out);
