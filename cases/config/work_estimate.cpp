@@ -156,16 +156,17 @@ constexpr double kSampledRowsMargin = 1.25;
 // variances: 28 B), while `auto` may leave rows to rays, which breaks the symmetric pattern
 // that needs. The solve and the file: three n × n matrices (G, and I − S G with its solve in
 // the LU; the Cholesky needs one fewer), one GR per further optical set, up to
-// kDenseOutputMaxNodes the CSR copy being written (12 B a non-zero), and σ_F when a sweep or
-// temperatures read it (the raw F and σ_F are written out as soon as they are final).
-// Measured: the 6,144-node room (83 % of F non-zero, auto) peaks at 0.91 GB in the correction
-// (this says 1.66), the 3,456-node one at 0.52 GB (this says 0.48, the scene besides).
+// kDenseOutputMaxNodes the CSR copies being written (12 B a non-zero, two at a time), and σ_F
+// when a sweep or temperatures read it (the raw F and σ_F are written out as soon as they are
+// final). Measured: the 6,144-node room (83 % of F non-zero, auto) peaks at 0.91 GB in the
+// correction (this says 1.66), the 3,456-node one at 0.51 GB writing its CSR copies (this
+// says 0.53).
 double denseNetworkBytes(const GeometryCase& c, double n, double facing_share, double extra_sets) {
   double estimate_entries = std::max(facing_share * n * n, n);
   if (c.view_factors.method == ViewFactorMethod::MonteCarlo)
     estimate_entries = std::min(estimate_entries, n * static_cast<double>(c.view_factors.monte_carlo.rays_per_node));
   const double correction = (c.view_factors.method == ViewFactorMethod::Exact ? 28.0 : 48.0) * estimate_entries;
-  const double csr_copy = n <= double(kDenseOutputMaxNodes) ? 12.0 * estimate_entries : 0.0;
+  const double csr_copy = n <= double(kDenseOutputMaxNodes) ? 24.0 * estimate_entries : 0.0;
   const bool stderr_held = c.hasOrbit() || c.thermal.has_value() || c.optical_uncertainty.has_value();
   const double solve = (stderr_held ? 12.0 : 0.0) * estimate_entries + 8.0 * n * n * (3.0 + extra_sets) + csr_copy;
   return std::max(correction, solve);
