@@ -388,4 +388,15 @@ TEST_CASE("The correction laid over F in place equals the one beside it, and ref
                                         [&](long long) { called = true; }));
   CHECK_FALSE(called);
   CHECK(e.view_factors.nonZeros() == 3);
+  // A lower entry without its upper partner (F_30 given, F_03 not): refused too, whichever
+  // block of rows each falls in.
+  e.view_factors.setZero();
+  e.view_factors.insert(0, 1) = 0.5;
+  e.view_factors.insert(1, 0) = 0.5;
+  e.view_factors.insert(3, 0) = 0.4;
+  e.view_factors.makeCompressed();
+  e.standard_error = e.view_factors * 0.01;
+  CHECK_FALSE(enforceReciprocityInPlace(Eigen::VectorXd::Ones(n), e, Eigen::VectorXd::Constant(n, 1e6),
+                                        [&](long long) { called = true; }));
+  CHECK_FALSE(called);
 }

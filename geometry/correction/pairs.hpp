@@ -254,6 +254,19 @@ inline void noteChange(int i, int j, double after, double before, double sigma, 
   out.max_change_sigma = std::max(out.max_change_sigma, change / s);
 }
 
+// A part's report (noteChange's, over some of the entries) into `out`: the larger move, the
+// first in row order among equal ones, as if every entry had been noted into `out` itself.
+inline void mergeChange(const ReciprocityCorrection& part, ReciprocityCorrection& out) {
+  const bool earlier = out.worst_from < 0 || part.worst_from < out.worst_from ||
+                       (part.worst_from == out.worst_from && part.worst_to < out.worst_to);
+  if (part.worst_from >= 0 && (part.max_change > out.max_change || (part.max_change == out.max_change && earlier))) {
+    out.max_change = part.max_change;
+    out.worst_from = part.worst_from;
+    out.worst_to = part.worst_to;
+  }
+  out.max_change_sigma = std::max(out.max_change_sigma, part.max_change_sigma);
+}
+
 inline double largestClosureError(const ReciprocityCorrection& out) {
   double worst = 0.0;
   for (Eigen::Index i = 0; i < out.view_factors.outerSize(); ++i)

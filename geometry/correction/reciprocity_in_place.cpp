@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <functional>
+#include <numeric>
 #include <optional>
 #include <vector>
 
@@ -27,8 +28,14 @@ class PairsInPlace {
       upper_start_[row] = static_cast<int>(std::lower_bound(inner + outer[i], inner + outer[i + 1], i) - inner);
       first_pair_[row + 1] = first_pair_[row] + static_cast<size_t>(outer[i + 1] - upper_start_[row]);
     }
-    var_.reserve(first_pair_.back());
-    symmetric_ = forEachSymmetricPair(f_, [&](int i, int j, int k, int k_ji) { var_.push_back(pair(i, j, k, k_ji).var); });
+    var_.resize(first_pair_.back());
+    std::vector<char> block_symmetric(kCouplingBlocks, 1);
+    solver::parallelFor(kCouplingBlocks, [&](long long b) {
+      block_symmetric[size_t(b)] = forEachPairOfBlock(static_cast<int>(b), [&](size_t u, int i, int j, int k, int k_ji) {
+        var_[u] = pair(i, j, k, k_ji).var;
+      });
+    });
+    symmetric_ = std::all_of(block_symmetric.begin(), block_symmetric.end(), [](char s) { return s != 0; });
   }
   bool symmetric() const { return symmetric_; }
 
@@ -54,21 +61,21 @@ class PairsInPlace {
   }
   // Pins the pairs μ drives below zero; counts the corrected F's entries (the others').
   bool pinNegative(const Eigen::VectorXd& mu) {
-    bool changed = false;
-    size_t u = 0;
-    corrected_nonzeros_ = 0;
-    forEachSymmetricPair(f_, [&](int i, int j, int k, int k_ji) {
-      double& v = var_[u++];
-      if (v == 0.0) return;
-      const double g = corrected(pair(i, j, k, k_ji), mu);
-      if (g < 0) {
-        v = 0.0;
-        changed = true;
-      } else if (g > 0) {
-        corrected_nonzeros_ += i == j ? 1 : 2;
-      }
+    std::vector<long long> pinned(kCouplingBlocks, 0), entries(kCouplingBlocks, 0);
+    solver::parallelFor(kCouplingBlocks, [&](long long b) {
+      forEachPairOfBlock(static_cast<int>(b), [&](size_t u, int i, int j, int k, int k_ji) {
+        if (var_[u] == 0.0) return;
+        const double g = corrected(pair(i, j, k, k_ji), mu);
+        if (g < 0) {
+          var_[u] = 0.0;
+          ++pinned[size_t(b)];
+        } else if (g > 0) {
+          entries[size_t(b)] += i == j ? 1 : 2;
+        }
+      });
     });
-    return changed;
+    corrected_nonzeros_ = std::accumulate(entries.begin(), entries.end(), 0LL);
+    return std::accumulate(pinned.begin(), pinned.end(), 0LL) > 0;
   }
   long long correctedNonZeros() const { return corrected_nonzeros_; }
 
@@ -85,20 +92,59 @@ class PairsInPlace {
   // entry's move noted in `out` as it is overwritten (after keepOnlyPinned).
   void overwrite(const Eigen::VectorXd& mu, ReciprocityCorrection& out) {
     double* value = f_.valuePtr();
-    size_t u = 0;
-    forEachSymmetricPair(f_, [&](int i, int j, int k, int k_ji) {
-      const double g = pinned_[u++] ? 0.0 : corrected(pair(i, j, k, k_ji), mu);
-      if (g > 0) {
-        noteChange(i, j, g / area_[i], value[k], error_[k], rays_[i], out);
-        if (j != i) noteChange(j, i, g / area_[j], value[k_ji], error_[k_ji], rays_[j], out);
-      }
-      value[k] = g > 0 ? g / area_[i] : 0.0;
-      value[k_ji] = g > 0 ? g / area_[j] : 0.0;
+    std::vector<ReciprocityCorrection> part(kCouplingBlocks);  // each block's report, merged below
+    solver::parallelFor(kCouplingBlocks, [&](long long b) {
+      ReciprocityCorrection& mine = part[size_t(b)];
+      forEachPairOfBlock(static_cast<int>(b), [&](size_t u, int i, int j, int k, int k_ji) {
+        const double g = pinned_[u] ? 0.0 : corrected(pair(i, j, k, k_ji), mu);
+        if (g > 0) {
+          noteChange(i, j, g / area_[i], value[k], error_[k], rays_[i], mine);
+          if (j != i) noteChange(j, i, g / area_[j], value[k_ji], error_[k_ji], rays_[j], mine);
+        }
+        value[k] = g > 0 ? g / area_[i] : 0.0;
+        value[k_ji] = g > 0 ? g / area_[j] : 0.0;
+      });
     });
+    for (const ReciprocityCorrection& mine : part) mergeChange(mine, out);
     f_.prune([](const Eigen::Index&, const Eigen::Index&, const double& v) { return v > 0.0; });
   }
 
  private:
+  // Visits the pairs (index u in pair order, i, j ≥ i, k_ij, k_ji) of the rows holding block
+  // b's share of the pairs (couplings' blocks), with cursors of its own: rows j ≥ the block's
+  // first, each at its first entry from that column on, so the blocks can run at once (their
+  // pairs, and the entries they write, are disjoint). False at an entry without its partner,
+  // seen from this block: a lower entry of a row of the block, or of a later row, in the
+  // block's columns that no row of the block visited.
+  template <class Visit>
+  bool forEachPairOfBlock(int block, Visit&& visit) const {
+    const int* outer = f_.outerIndexPtr();
+    const int* inner = f_.innerIndexPtr();
+    const int first = rowAt(block, kCouplingBlocks);
+    const int last = block + 1 == kCouplingBlocks ? n_ : rowAt(block + 1, kCouplingBlocks);
+    std::vector<int> cursor(static_cast<size_t>(n_ - first));
+    for (int j = first; j < n_; ++j)
+      cursor[size_t(j - first)] = static_cast<int>(std::lower_bound(inner + outer[j], inner + outer[j + 1], first) - inner);
+    size_t u = first_pair_[static_cast<size_t>(first)];
+    for (int i = first; i < last; ++i) {
+      if (cursor[size_t(i - first)] != upper_start_[static_cast<size_t>(i)]) return false;
+      for (int k = upper_start_[static_cast<size_t>(i)]; k < outer[i + 1]; ++k, ++u) {
+        const int j = inner[k];
+        if (j == i) {
+          visit(u, i, i, k, k);
+          continue;
+        }
+        int& c = cursor[size_t(j - first)];
+        if (c >= outer[j + 1] || inner[c] != i) return false;
+        visit(u, i, j, k, c++);
+      }
+    }
+    for (int j = last; j < n_; ++j) {  // later rows' entries in this block's columns: all visited
+      const int c = cursor[size_t(j - first)];
+      if (c < outer[j + 1] && inner[c] < last) return false;
+    }
+    return true;
+  }
   Pair pair(int i, int j, int k, int k_ji) const { return combinedPair(area_, rays_, f_.valuePtr(), error_, i, j, k, k_ji); }
   int rowAt(int block, int blocks) const {
     const size_t share = first_pair_.back() * size_t(block) / size_t(blocks);
