@@ -128,8 +128,6 @@ struct DiffuseStage {
   Eigen::VectorXd rays;
 };
 
-// F by ray casting or the exact method, then the variance-weighted reciprocity and
-// closure correction (docs/geometry.md); with specular or transmissive surfaces, F̃ per band.
 // Whether a stage after the network reads σ_F (the sweeps' and temperatures' view-factor
 // uncertainty, the optical samples'): if not, a σ written out early is not held.
 bool stderrReadLater(const GeometryCase& c) {
@@ -179,17 +177,20 @@ geometry::ReciprocityCorrection correctWritingRaw(const GeometryCase& c, const E
   return beside;
 }
 
+// F by ray casting or the exact method, then the variance-weighted reciprocity and
+// closure correction (docs/geometry.md); with specular or transmissive surfaces, F̃ per band.
 void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, const Eigen::VectorXd& area,
                      GeometryRunResult& r, bool show_progress, std::ostream& progress, DiffuseStage* diffuse,
                      const RawEstimateWriter& write_raw) {
   const Eigen::Index n = area.size();
   StageTimer timer(r.timings, Stage::ViewFactors);
-  // Not with shared rows (their holders join each block of the file at the end), specular
-  // bands or a diffuse F kept for other networks (they read the raw F again).
-  const bool early = write_raw && !sharesRows(c) && !c.hasSpecular() && !diffuse;
   Eigen::VectorXd rays(n);
   geometry::ViewFactorEstimate estimate;
   const bool shared = sharesRows(c);
+  // The raw estimate written early: not with shared rows (their holders join each block of
+  // the file at the end), specular bands or a diffuse F kept for other networks (they read
+  // the raw F again).
+  const bool early = write_raw && !shared && !c.hasSpecular() && !diffuse;
   if (c.view_factors.method == ViewFactorMethod::MonteCarlo) {
     geometry::ViewFactorResult vf = castRays(c, caster, {}, show_progress, progress, shared);
     for (Eigen::Index i = 0; i < n; ++i) rays[i] = double(vf.rays[static_cast<size_t>(i)]);
