@@ -184,24 +184,36 @@ TEST_CASE("band solve to a tolerance: CG from the rank-k answer or dense LU, whi
   CHECK(many.refine_s / many.direct_s >= few.refine_s / few.direct_s);
 }
 
+namespace {
+
+// Lanczos pairs at `tolerance` for bands and GR (ε's), the rank rule naming `rule`, and GR
+// then exact: the dense Cholesky (every ε < 1), not from the pairs. Returns the pairs.
+solver::EigenPairs decomposedWithExactGR(const solver::Network& net, const Eigen::VectorXd& eps, double tolerance,
+                                         const std::string& rule) {
+  solver::SolverSettings settings;
+  settings.tolerance = tolerance;
+  settings.method = solver::EigenMethod::Lanczos;
+  const Eigen::VectorXd rho = Eigen::VectorXd::Ones(eps.size()) - eps;
+  const solver::EigenPairs pairs = solver::policy::decomposeForBands(net, rho, settings, {eps});
+  REQUIRE(pairs.status == solver::Status::Converged);
+  INFO("rank " << pairs.rank() << " (" << pairs.rank_rule << "), GR error " << pairs.probe_exchange_error);
+  CHECK(pairs.rank_rule.find(rule) != std::string::npos);
+  const solver::ExchangeFactors ex = solver::policy::exchangeFactors(net, pairs, eps, settings);
+  CHECK(ex.method == "dense Cholesky");
+  CHECK_FALSE(ex.from_pairs);
+  return pairs;
+}
+
+}  // namespace
+
 TEST_CASE("a-posteriori rank: beyond the dense-GR size a flat spectrum hands GR to dense LU, not to a short rank") {
   // n just above kDenseExchangeMaxNodes: GR would come from the pairs, but a random network's
   // flat spectrum cannot meet a tight tolerance at any affordable rank.
   const int n = solver::policy::kDenseExchangeMaxNodes + 1;
   const solver::Network net = test::randomNetwork(n, 43, 0.3, 0.2);
   const Eigen::VectorXd eps = test::uniformIn(n, 0.3, 0.9, 9);
-  solver::SolverSettings settings;
-  settings.tolerance = 1e-6;
-  settings.method = solver::EigenMethod::Lanczos;
-  const Eigen::VectorXd rho = Eigen::VectorXd::Ones(n) - eps;
-  const solver::EigenPairs pairs = solver::policy::decomposeForBands(net, rho, settings, {eps});
-  REQUIRE(pairs.status == solver::Status::Converged);
-  INFO("rank " << pairs.rank() << " (" << pairs.rank_rule << "), GR error " << pairs.probe_exchange_error);
-  CHECK(pairs.rank() < settings.max_rank);
-  CHECK(pairs.rank_rule.find("GR exact (dense)") != std::string::npos);
-  const solver::ExchangeFactors ex = solver::policy::exchangeFactors(net, pairs, eps, settings);
-  CHECK(ex.method == "dense Cholesky");  // every ε < 1: the symmetric exact form
-  CHECK_FALSE(ex.from_pairs);
+  const solver::EigenPairs pairs = decomposedWithExactGR(net, eps, 1e-6, "GR exact (dense)");
+  CHECK(pairs.rank() < solver::SolverSettings().max_rank);
 }
 
 TEST_CASE("a-posteriori rank: the cap wins over the probes, and says so") {
@@ -233,16 +245,7 @@ TEST_CASE("a-posteriori rank: on a dense G, GR alone short and more pairs dearer
   f /= 1.05 * f.rowwise().sum().maxCoeff();  // rows sum to at most 1/1.05: the rest is space
   const solver::Network net(test::nodeNames(n), Eigen::VectorXd::Ones(n), f);
   const Eigen::VectorXd eps = test::uniformIn(n, 0.9, 0.95, 11);  // ρ ≤ 0.1: the bands are met early, GR is not
-  solver::SolverSettings settings;
-  settings.tolerance = 1e-8;
-  settings.method = solver::EigenMethod::Lanczos;
-  const Eigen::VectorXd rho = Eigen::VectorXd::Ones(n) - eps;
-  const solver::EigenPairs pairs = solver::policy::decomposeForBands(net, rho, settings, {eps});
-  REQUIRE(pairs.status == solver::Status::Converged);
-  INFO("rank " << pairs.rank() << " (" << pairs.rank_rule << "), GR error " << pairs.probe_exchange_error);
-  CHECK(pairs.rank_rule.find("more pairs would cost more than the exact GR") != std::string::npos);
-  CHECK(pairs.probe_exchange_error > settings.tolerance);  // the pairs alone were short
-  const solver::ExchangeFactors ex = solver::policy::exchangeFactors(net, pairs, eps, settings);
-  CHECK(ex.method == "dense Cholesky");
-  CHECK_FALSE(ex.from_pairs);
+  const solver::EigenPairs pairs =
+      decomposedWithExactGR(net, eps, 1e-8, "more pairs would cost more than the exact GR");
+  CHECK(pairs.probe_exchange_error > 1e-8);  // the pairs alone were short
 }

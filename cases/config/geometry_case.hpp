@@ -118,6 +118,9 @@ struct GeometryCase {
   std::vector<std::string> warnings;  ///< accepted but suspicious input, printed when the run starts
   /// True when the cases have orbits (all of them or none): network and exchange factors only without.
   bool hasOrbit() const { return !design_cases.empty() && design_cases.front().orbit.has_value(); }
+  /// True when a stage after the network reads σ_F (the sweeps' and temperatures' view-factor
+  /// uncertainty, the optical samples'): otherwise a σ_F written out early is not held.
+  bool readsViewFactorErrors() const { return hasOrbit() || thermal.has_value() || optical_uncertainty.has_value(); }
   /// The materials with optical properties, sorted: the axis of the sensitivities (a
   /// material no surface is made of has a zero row).
   std::vector<std::string> opticalMaterials() const;

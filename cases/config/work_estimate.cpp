@@ -167,8 +167,7 @@ double denseNetworkBytes(const GeometryCase& c, double n, double facing_share, d
     estimate_entries = std::min(estimate_entries, n * static_cast<double>(c.view_factors.monte_carlo.rays_per_node));
   const double correction = (c.view_factors.method == ViewFactorMethod::Exact ? 28.0 : 48.0) * estimate_entries;
   const double csr_copy = n <= double(kDenseOutputMaxNodes) ? 24.0 * estimate_entries : 0.0;
-  const bool stderr_held = c.hasOrbit() || c.thermal.has_value() || c.optical_uncertainty.has_value();
-  const double solve = (stderr_held ? 12.0 : 0.0) * estimate_entries + 8.0 * n * n * (3.0 + extra_sets) + csr_copy;
+  const double solve = (c.readsViewFactorErrors() ? 12.0 : 0.0) * estimate_entries + 8.0 * n * n * (3.0 + extra_sets) + csr_copy;
   return std::max(correction, solve);
 }
 

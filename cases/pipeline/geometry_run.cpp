@@ -128,12 +128,6 @@ struct DiffuseStage {
   Eigen::VectorXd rays;
 };
 
-// Whether a stage after the network reads σ_F (the sweeps' and temperatures' view-factor
-// uncertainty, the optical samples'): if not, a σ written out early is not held.
-bool stderrReadLater(const GeometryCase& c) {
-  return c.hasOrbit() || c.thermal.has_value() || c.optical_uncertainty.has_value();
-}
-
 // What the view-factor stage did, for the progress stream.
 void printViewFactorStage(const GeometryCase& c, const GeometryRunResult& r, std::ostream& progress) {
   progress << "radnet: view factors (" << toString(c.view_factors.method) << "): ";
@@ -221,7 +215,7 @@ void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, c
     r.raw_view_factors.swap(estimate.view_factors);
   r.view_factor_stderr.swap(estimate.standard_error);
   r.row_stderr_max = rowLargestStderr(r.view_factor_stderr, shared ? clusterRowShare() : solver::RowShare());
-  if (r.raw_estimate_written && !stderrReadLater(c)) solver::SparseRowMatrix().swap(r.view_factor_stderr);
+  if (r.raw_estimate_written && !c.readsViewFactorErrors()) solver::SparseRowMatrix().swap(r.view_factor_stderr);
   // What leaves to space or to inactive sides is uncertain too (it sets the GR to space).
   r.lost_view_factor_stderr = (estimate.space_error.array().square() + estimate.blocked_error.array().square()).sqrt();
   solver::releaseFreedMemory();

@@ -117,10 +117,12 @@ void assemblePairRows(const std::vector<int>& patch_node, std::vector<std::vecto
     f.valuePtr()[at] = g / area[i];
     e.valuePtr()[at] = err / area[i];
   };
-  // The pair values are freed as they are read, and their pages handed back every sixteenth
-  // of the way: they sit in the worker threads' malloc arenas, which keep freed pages
-  // resident, and F and σ fill as they empty (on the 6,144-node room the values are 0.38 GB
-  // and F with σ 0.75 GB: 1.1 GB at once otherwise).
+  // The pair values are freed as they are read and, when they are large, their pages handed
+  // back every sixteenth of the way: they sit in the worker threads' malloc arenas, which keep
+  // freed pages resident, and F and σ fill as they empty (on the 6,144-node room the values
+  // are 0.25 GB and F with σ 0.75 GB: 1.0 GB at once otherwise).
+  constexpr double kHandBackBytes = 64e6;
+  const bool hand_back = double(total) / 2 * sizeof(PairValue) > kHandBackBytes;  // a value credits two entries
   const size_t trim_every = std::max<size_t>(1, values.size() / 16);
   for (size_t a = 0; a < values.size(); ++a) {
     for (const PairValue& v : values[a]) {
@@ -129,7 +131,7 @@ void assemblePairRows(const std::vector<int>& patch_node, std::vector<std::vecto
       credit(j, i, v.exchange_area, v.error);
     }
     std::vector<PairValue>().swap(values[a]);
-    if ((a + 1) % trim_every == 0) solver::releaseFreedMemory();
+    if (hand_back && (a + 1) % trim_every == 0) solver::releaseFreedMemory();
   }
 #ifdef _OPENMP
 #pragma omp parallel num_threads(threads)
