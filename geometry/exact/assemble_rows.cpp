@@ -121,8 +121,7 @@ void assemblePairRows(const std::vector<int>& patch_node, std::vector<std::vecto
   // back every sixteenth of the way: they sit in the worker threads' malloc arenas, which keep
   // freed pages resident, and F and σ fill as they empty (on the 6,144-node room the values
   // are 0.25 GB and F with σ 0.75 GB: 1.0 GB at once otherwise).
-  constexpr double kHandBackBytes = 64e6;
-  const bool hand_back = double(total) / 2 * sizeof(PairValue) > kHandBackBytes;  // a value credits two entries
+  const bool hand_back = double(total) / 2 * sizeof(PairValue) > 64e6;  // over 64 MB (a value credits two entries)
   const size_t trim_every = std::max<size_t>(1, values.size() / 16);
   for (size_t a = 0; a < values.size(); ++a) {
     for (const PairValue& v : values[a]) {
