@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <vector>
 
 namespace radnet::orbits {
 
@@ -46,42 +45,73 @@ const GaussRule& gaussRule() {
 
 // a + b cos(φ − phase), b ≥ 0, along one ring.
 struct Wave {
-  double a = 1.0, b = 0.0, phase = 0.0;
+  double a = 1.0, b = 0.0;
 };
 
-// Half-width of the arc about `phase` where the wave is positive: π (everywhere), < 0 (nowhere).
-double positiveHalfWidth(const Wave& w) {
-  if (w.b <= std::abs(w.a)) return w.a > 0 ? M_PI : -1.0;
-  return std::acos(std::clamp(-w.a / w.b, -1.0, 1.0));
+// Where a wave is positive: the arc |φ − phase| < half (half = π: everywhere; none: nowhere),
+// with half's cosine and sine (the arc's ends need no trigonometric call of their own).
+struct PositiveArc {
+  bool none = false;
+  double half = M_PI, cos_half = -1.0, sin_half = 0.0;
+};
+
+PositiveArc positiveArc(const Wave& w) {
+  if (w.b <= std::abs(w.a)) return w.a > 0 ? PositiveArc{} : PositiveArc{true};
+  const double c = std::clamp(-w.a / w.b, -1.0, 1.0);
+  return {false, std::acos(c), c, std::sqrt(std::max(0.0, 1.0 - c * c))};
 }
 
-// ∫ f g dφ over [x0, x1]: (A + B cos(φ−p))(a + b cos(φ−q)) expanded, cos cos = ½ cos(p−q) + ½ cos(2φ−p−q).
-double productIntegral(const Wave& f, const Wave& g, double x0, double x1) {
-  const auto antiderivative = [&](double x) {
-    return f.a * g.a * x + f.a * g.b * std::sin(x - g.phase) + g.a * f.b * std::sin(x - f.phase) +
-           0.5 * f.b * g.b * (std::cos(f.phase - g.phase) * x + 0.5 * std::sin(2.0 * x - f.phase - g.phase));
+// The phase of g's wave less f's, δ ∈ (−π, π], with its cosine and sine: the same on every
+// ring (only the waves' two parts scale from ring to ring).
+struct PhaseGap {
+  double delta = 0.0, cos_delta = 1.0, sin_delta = 0.0;
+};
+
+// An angle u (from f's phase) with its cosine and sine.
+struct Angle {
+  double u, c, s;
+};
+
+// ∫ max(0, f) max(0, g) dφ around the ring, φ measured from f's phase (u = φ − phase_f):
+// f = A + B cos u, g = a + b cos(u − δ). The product's antiderivative
+//     A a u + A b sin(u − δ) + a B sin u + ½ B b (u cos δ + ½ sin(2u − δ))
+// at the ends of f's positive arc against g's and its copies 2π apart; the ends' sines by
+// the angle-addition formulas from the arcs' and the gap's cosines and sines.
+double ringIntegral(const Wave& f, const Wave& g, const PhaseGap& gap) {
+  const PositiveArc hf = positiveArc(f), hg = positiveArc(g);
+  if (hf.none || hg.none) return 0.0;
+  const double cd = gap.cos_delta, sd = gap.sin_delta;
+  const auto antiderivative = [&](const Angle& x) {
+    const double sin_u_minus_delta = x.s * cd - x.c * sd;
+    const double sin_2u_minus_delta = 2.0 * x.s * x.c * cd - (x.c * x.c - x.s * x.s) * sd;
+    return f.a * g.a * x.u + f.a * g.b * sin_u_minus_delta + g.a * f.b * x.s +
+           0.5 * f.b * g.b * (cd * x.u + 0.5 * sin_2u_minus_delta);
   };
-  return antiderivative(x1) - antiderivative(x0);
-}
-
-// ∫ max(0, f) max(0, g) dφ around the ring: f's positive arc against g's and its copies 2π apart.
-double ringIntegral(const Wave& f, const Wave& g) {
-  const double hf = positiveHalfWidth(f), hg = positiveHalfWidth(g);
-  if (hf < 0 || hg < 0) return 0.0;
-  const double gc = f.phase + std::remainder(g.phase - f.phase, 2.0 * M_PI);
+  // g's arc ends, δ ∓ half (their cosines and sines shift by 2π unchanged).
+  const Angle g_lo{0.0, cd * hg.cos_half + sd * hg.sin_half, sd * hg.cos_half - cd * hg.sin_half};
+  const Angle g_hi{0.0, cd * hg.cos_half - sd * hg.sin_half, sd * hg.cos_half + cd * hg.sin_half};
   double sum = 0.0;
   for (const double shift : {-2.0 * M_PI, 0.0, 2.0 * M_PI}) {
-    const double lo = std::max(f.phase - hf, gc + shift - hg), hi = std::min(f.phase + hf, gc + shift + hg);
-    if (hi > lo) sum += productIntegral(f, g, lo, hi);
+    const double glo = gap.delta + shift - hg.half, ghi = gap.delta + shift + hg.half;
+    const Angle lo = -hf.half >= glo ? Angle{-hf.half, hf.cos_half, -hf.sin_half} : Angle{glo, g_lo.c, g_lo.s};
+    const Angle hi = hf.half <= ghi ? Angle{hf.half, hf.cos_half, hf.sin_half} : Angle{ghi, g_hi.c, g_hi.s};
+    if (hi.u > lo.u) sum += antiderivative(hi) - antiderivative(lo);
   }
   return sum;
 }
 
-// c·v and the phase and length of v's part normal to c in the ring frame (e1, e2).
-Wave ringWave(const Eigen::Vector3d& v, const Eigen::Vector3d& c, const Eigen::Vector3d& e1,
-              const Eigen::Vector3d& e2, double along_scale, double across_scale) {
-  const double x = v.dot(e1), y = v.dot(e2);
-  return {along_scale * v.dot(c), across_scale * std::hypot(x, y), std::atan2(y, x)};
+// c·v and the length of v's part normal to c, and that part's direction in the ring frame
+// (e1, e2) as its cosine and sine (zero part: along e1).
+struct RingVector {
+  Wave wave;
+  double cos_phase = 1.0, sin_phase = 0.0;
+};
+
+RingVector ringVector(const Eigen::Vector3d& v, const Eigen::Vector3d& c, const Eigen::Vector3d& e1,
+                      const Eigen::Vector3d& e2) {
+  const double x = v.dot(e1), y = v.dot(e2), across = std::hypot(x, y);
+  if (!(across > 0)) return {{v.dot(c), 0.0}, 1.0, 0.0};
+  return {{v.dot(c), across}, x / across, y / across};
 }
 
 // The day-night emission as floor + K max(0, cos z − c0) (W/m²); uniform: floor only.
@@ -107,10 +137,14 @@ PlanetChannels planetRadiance(const PlanetView& v, const Eigen::Vector3d& dir) {
   const double cos_t = dir.dot(c), cos_max = std::sqrt(std::max(0.0, 1.0 - v.capSin2()));
   if (cos_t < cos_max) return {};
   const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
-  const double gamma = gammaOfTheta(std::atan2(sin_t, cos_t), v.distance_m, v.radius_m);
-  const Eigen::Vector3d across = sin_t > 1e-300 ? Eigen::Vector3d((dir - cos_t * c) / sin_t) : c.unitOrthogonal();
-  const Eigen::Vector3d surface_normal = -std::cos(gamma) * c + std::sin(gamma) * across;
-  const double cos_z = surface_normal.dot(v.toward_sun);
+  // γ = asin(x) − θ by the sine rule, x = d sin θ / R: its cosine and sine by the
+  // angle-difference formulas (asin's cosine √(1 − x²) ≥ 0), no trigonometric call.
+  const double x = std::min(1.0, v.distance_m * sin_t / v.radius_m), cos_asin = std::sqrt(std::max(0.0, 1.0 - x * x));
+  const double cos_gamma = cos_asin * cos_t + x * sin_t, sin_gamma = x * cos_t - cos_asin * sin_t;
+  const double sun_center = v.toward_sun.dot(c);
+  const double sun_across = sin_t > 1e-300 ? (v.toward_sun.dot(dir) - cos_t * sun_center) / sin_t
+                                           : v.toward_sun.dot(c.unitOrthogonal());
+  const double cos_z = -cos_gamma * sun_center + sin_gamma * sun_across;
   return {1.0 / M_PI, v.albedo * v.solar_flux_w_m2 * std::max(0.0, cos_z) / M_PI,
           v.ir.exitance(cos_z, v.solar_flux_w_m2) / M_PI};
 }
@@ -140,32 +174,39 @@ PlanetChannels unobstructedPlanetLoads(const PlanetView& v, const Eigen::Vector3
   const bool warm = em.k > 0 && psi - gamma_max < std::acos(em.c0);
   if (sum.view <= 0 || (!lit && !warm)) return sum;
   const Eigen::Vector3d e1 = c.unitOrthogonal(), e2 = c.cross(e1);
+  const RingVector n_full = ringVector(normal, c, e1, e2), sun_full = ringVector(v.toward_sun, c, e1, e2);
+  const double cos_gap = sun_full.cos_phase * n_full.cos_phase + sun_full.sin_phase * n_full.sin_phase;
+  const double sin_gap = sun_full.sin_phase * n_full.cos_phase - sun_full.cos_phase * n_full.sin_phase;
+  const PhaseGap gap{std::atan2(sin_gap, cos_gap), cos_gap, sin_gap};
   // Where the rings' arcs change: the plane's horizon, the terminator (and the night floor).
-  std::vector<double> cuts{0.0, gamma_max};
-  const Wave n_full = ringWave(normal, c, e1, e2, 1.0, 1.0), sun_full = ringWave(v.toward_sun, c, e1, e2, 1.0, 1.0);
-  const double theta_max = std::asin(std::sqrt(v.capSin2())), theta_horizon = std::atan2(std::abs(n_full.a), n_full.b);
-  if (theta_horizon < theta_max) cuts.push_back(gammaOfTheta(theta_horizon, d, r));
+  std::array<double, 9> cuts{0.0, gamma_max};
+  size_t n_cuts = 2;
+  const double theta_max = std::asin(std::sqrt(v.capSin2()));
+  const double theta_horizon = std::atan2(std::abs(n_full.wave.a), n_full.wave.b);
+  if (theta_horizon < theta_max) cuts[n_cuts++] = gammaOfTheta(theta_horizon, d, r);
   for (const double c0 : {0.0, em.c0})
     for (const double g : {std::acos(c0) - psi, psi - std::acos(c0), psi + std::acos(c0)})
-      if (g > 0 && g < gamma_max) cuts.push_back(g);
-  std::sort(cuts.begin(), cuts.end());
+      if (g > 0 && g < gamma_max) cuts[n_cuts++] = g;
+  std::sort(cuts.begin(), cuts.begin() + static_cast<std::ptrdiff_t>(n_cuts));
   const GaussRule& rule = gaussRule();
-  for (size_t k = 0; k + 1 < cuts.size(); ++k) {
+  for (size_t k = 0; k + 1 < n_cuts; ++k) {
     const double g0 = cuts[k], g1 = cuts[k + 1];
     if (!(g1 > g0)) continue;
     for (int q = 0; q < kGaussOrder; ++q) {
       const double gamma = 0.5 * (g0 + g1) + 0.5 * (g1 - g0) * rule.x[static_cast<size_t>(q)];
       const double weight = 0.5 * (g1 - g0) * rule.w[static_cast<size_t>(q)];
-      // dω = sin θ (dθ/dγ) dγ dφ, θ = atan2(R sin γ, d − R cos γ).
-      const double theta = std::atan2(r * std::sin(gamma), d - r * std::cos(gamma));
-      const double dtheta = (r * d * std::cos(gamma) - r * r) / (d * d - 2.0 * d * r * std::cos(gamma) + r * r);
-      const double sin_theta = std::sin(theta), cos_theta = std::cos(theta);
+      // dω = sin θ (dθ/dγ) dγ dφ, θ = atan2(R sin γ, d − R cos γ): sin θ and cos θ are the
+      // two legs over the line of sight's length ρ.
+      const double cos_gamma = std::cos(gamma), sin_gamma = std::sin(gamma);
+      const double rho2 = d * d - 2.0 * d * r * cos_gamma + r * r, rho = std::sqrt(rho2);
+      const double sin_theta = r * sin_gamma / rho, cos_theta = (d - r * cos_gamma) / rho;
+      const double dtheta = (r * d * cos_gamma - r * r) / rho2;
       const double jacobian = weight * sin_theta * dtheta / M_PI;
       // The waves' phases are the same on every ring: only their two parts scale.
-      const Wave plane{n_full.a * cos_theta, n_full.b * sin_theta, n_full.phase};
-      const Wave sun{-sun_full.a * std::cos(gamma), sun_full.b * std::sin(gamma), sun_full.phase};
-      if (lit) sum.albedo += jacobian * v.albedo * v.solar_flux_w_m2 * ringIntegral(plane, sun);
-      if (warm) sum.ir += jacobian * em.k * ringIntegral(plane, Wave{sun.a - em.c0, sun.b, sun.phase});
+      const Wave plane{n_full.wave.a * cos_theta, n_full.wave.b * sin_theta};
+      const Wave sun{-sun_full.wave.a * cos_gamma, sun_full.wave.b * sin_gamma};
+      if (lit) sum.albedo += jacobian * v.albedo * v.solar_flux_w_m2 * ringIntegral(plane, sun, gap);
+      if (warm) sum.ir += jacobian * em.k * ringIntegral(plane, Wave{sun.a - em.c0, sun.b}, gap);
     }
   }
   return sum;

@@ -15,6 +15,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace radnet::orbits {
@@ -28,13 +29,24 @@ std::vector<int> usedSkyBins(const geometry::SkyKernel& kernel, const std::vecto
 /// over the sweep).
 /// The unobstructed loads (view factor, albedo, planet IR) of the kernel's normals at every
 /// position (normals × positions, per channel), each computed once however many sweeps read
-/// it: the rings cost some 3 µs a normal and position, and a curved part has a normal per
+/// it: the rings cost some 2 µs a normal and position (7 µs before their arcs' ends were
+/// taken by angle addition), and a curved part has a normal per
 /// facet (2,204 on the 1,602-node satellite, whose dish alone is 1,100).
 struct UnobstructedLoads {
-  std::array<Eigen::MatrixXd, 3> channel;
+  /// Row-major: a node's sums read a normal's positions.
+  std::array<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>, 3> channel;
   std::vector<char> have;  ///< per normal: computed
   /// Computes the normals the nodes `mask` leaves in use that are not there yet.
   void fill(const geometry::SkyKernel& kernel, const std::vector<PlanetView>& views, const std::vector<char>& mask);
+};
+
+struct RadianceTables;  // orbits/sky_loads.cpp
+
+/// What the rounds of one sweep share: the unobstructed loads (each normal and position
+/// computed once) and the radiance tables' memory (allocated once, not per round).
+struct SkySweepMemory {
+  UnobstructedLoads unobstructed;
+  std::shared_ptr<RadianceTables> tables;
 };
 
 /// The binning part of each node-position's albedo and IR σ (n × P, W/m²): what more rays
@@ -47,7 +59,7 @@ struct BinningErrors {
 /// its sky from the view factors and its σ, for the ratio estimate (EnvironmentOptions);
 /// `binning` (optional, sized n × P): the nodes' binning σ written there.
 void skyKernelSweep(const geometry::SkyKernel& kernel, const std::vector<PlanetView>& views,
-                    UnobstructedLoads& unobstructed, const std::vector<char>& mask,
+                    SkySweepMemory& memory, const std::vector<char>& mask,
                     const Eigen::VectorXd& blocked_share, const Eigen::VectorXd& blocked_share_stderr,
                     EnvironmentLoads& out, BinningErrors* binning = nullptr);
 

@@ -86,7 +86,7 @@ std::vector<std::int64_t> refinedRays(const geometry::SkyKernel& kernel, const E
 // Casts again, with what their error asks, the nodes over their target, and recomputes their
 // loads at every position; rounds until every node is within or at kMaxPlanetRays.
 void refineKernel(const geometry::RayCaster& caster, const std::vector<PlanetView>& views,
-                  UnobstructedLoads& unobstructed, const EnvironmentOptions& opt, const KernelTargets& targets,
+                  SkySweepMemory& memory, const EnvironmentOptions& opt, const KernelTargets& targets,
                   geometry::SkyKernel& kernel, EnvironmentLoads& out, BinningErrors& binning) {
   std::vector<char> candidates(kernel.nodes.size(), 0);
   for (size_t i = 0; i < candidates.size(); ++i) candidates[i] = opt.planet_nodes.empty() || opt.planet_nodes[i];
@@ -106,7 +106,7 @@ void refineKernel(const geometry::RayCaster& caster, const std::vector<PlanetVie
     }
     out.kernel_rays += more.cast_rays;
     out.kernel_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    skyKernelSweep(kernel, views, unobstructed, candidates, opt.blocked_share, opt.blocked_share_stderr, out, &binning);
+    skyKernelSweep(kernel, views, memory, candidates, opt.blocked_share, opt.blocked_share_stderr, out, &binning);
   }
 }
 
@@ -132,13 +132,13 @@ KernelTargets kernelLoads(const geometry::RayCaster& caster, const std::vector<P
     out.kernel_rays += kernel.cast_rays;
     out.kernel_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
-  UnobstructedLoads unobstructed;
+  SkySweepMemory memory;
   BinningErrors binning{Eigen::MatrixXd::Zero(out.albedo.rows(), out.albedo.cols()),
                         Eigen::MatrixXd::Zero(out.albedo.rows(), out.albedo.cols())};
-  skyKernelSweep(kernel, views, unobstructed, opt.planet_nodes, opt.blocked_share, opt.blocked_share_stderr, out,
+  skyKernelSweep(kernel, views, memory, opt.planet_nodes, opt.blocked_share, opt.blocked_share_stderr, out,
                  &binning);
   const KernelTargets targets = kernelTargets(out, views, smallest_cap_sin2, opt, direct);
-  if (fresh) refineKernel(caster, views, unobstructed, opt, targets, kernel, out, binning);
+  if (fresh) refineKernel(caster, views, memory, opt, targets, kernel, out, binning);
   return targets;
 }
 
