@@ -197,9 +197,10 @@ void nodeLoads(const geometry::NodeSky& sky, const std::vector<int>& slot, const
       binning.row(c) += (w * t.half[static_cast<size_t>(c)].row(u).head(B).array()).square();
     }
   }
-  // Replica r's estimate over the block: π Σ its counted rays' bin radiance / its rays.
+  // Replica r's estimate over the block: π Σ its counted rays' bin radiance × the share
+  // of the hemisphere each of its rays stands for.
   constexpr int m = geometry::kSkyReplicas;
-  const double per_replica = static_cast<double>(sky.rays) / m;
+  const double per_replica = static_cast<double>(sky.rays) / m / sky.ray_share;
   std::array<Table, kChannels> estimates;
   for (int c = c0; c < kChannels; ++c) estimates[static_cast<size_t>(c)] = Table::Zero(m, B);
   Eigen::ArrayXd replica_share = Eigen::ArrayXd::Zero(m);
@@ -218,8 +219,9 @@ void nodeLoads(const geometry::NodeSky& sky, const std::vector<int>& slot, const
   // (1/N), so a partly blocked node that sees the planet carries that share at the
   // planet's largest radiance in σ. (1,602-node satellite, Sun-pointing: a wing back at
   // 4,096 rays reported 2.2e-5 W for an error of 1.0e-3 W, two rays' worth of its IR.)
+  // Rays drawn in a sector each stand for its share of the hemisphere.
   if (sky.blocked_fraction > 0 && sky.blocked_fraction < 1) {
-    const double per_ray = M_PI / static_cast<double>(sky.rays);
+    const double per_ray = M_PI * sky.ray_share / static_cast<double>(sky.rays);
     for (int c = c0; c < kChannels; ++c)
       variance.row(c) += ((free.row(c) > 0).cast<double>() * per_ray * t.peak.row(c)).square();
   }

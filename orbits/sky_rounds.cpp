@@ -71,11 +71,14 @@ std::vector<std::int64_t> refinedRays(const geometry::SkyKernel& kernel, const E
     // reported 54.50 ± 0.39 W/m² at 1,024 rays against 52.09 ± 0.02). From kMinPartlyBlockedRays
     // on it is (on the 1,602-node satellite, inertial, against a run at 20× the accuracy:
     // abs(Δ)/σ over 4 at 0.41 % of node-positions with 4,096 a node, 3.1 % with 1,024).
+    // Rays drawn in a sector of the sky (geometry/irradiance/sky_region) are that much
+    // denser where blockers can be: the floor counts them by the hemisphere's worth they
+    // stand for.
     const double b = kernel.nodes[static_cast<size_t>(i)].blocked_fraction;
-    const bool partly = b > 0.0 && b < 1.0 && present < kMinPartlyBlockedRays;
+    const double floor_rays = kMinPartlyBlockedRays * kernel.nodes[static_cast<size_t>(i)].ray_share;
+    const bool partly = b > 0.0 && b < 1.0 && static_cast<double>(present) < floor_rays;
     if (worst <= 1.0 && !partly) continue;
-    const double wanted = std::max(static_cast<double>(present) * std::pow(worst, 4.0 / 3.0),
-                                   partly ? double(kMinPartlyBlockedRays) : 0.0);
+    const double wanted = std::max(static_cast<double>(present) * std::pow(worst, 4.0 / 3.0), partly ? floor_rays : 0.0);
     std::int64_t r = 2 * present;
     while (static_cast<double>(r) < wanted && r < kMaxPlanetRays) r *= 2;
     rays[static_cast<size_t>(i)] = std::min(r, kMaxPlanetRays);

@@ -184,8 +184,9 @@ TEST_CASE("sky kernel: a partly blocked node's σ carries one ray's share of the
     for (Eigen::Index p = 0; p < k.albedo.cols(); ++p) {
       INFO(s.nodes()[static_cast<size_t>(i)].name << " position " << p << ", " << sky.rays << " rays");
       const double albedo_peak = opt.albedo * ps[static_cast<size_t>(p)].solar_flux_w_m2, ir_peak = 237.0;
-      if (blocked && k.albedo(i, p) > 0) CHECK(k.albedo_stderr(i, p) >= albedo_peak / double(sky.rays) * (1 - 1e-12));
-      if (blocked && k.earth_ir(i, p) > 0) CHECK(k.earth_ir_stderr(i, p) >= ir_peak / double(sky.rays) * (1 - 1e-12));
+      const double per_ray = sky.ray_share / double(sky.rays);  // the hemisphere one ray stands for
+      if (blocked && k.albedo(i, p) > 0) CHECK(k.albedo_stderr(i, p) >= albedo_peak * per_ray * (1 - 1e-12));
+      if (blocked && k.earth_ir(i, p) > 0) CHECK(k.earth_ir_stderr(i, p) >= ir_peak * per_ray * (1 - 1e-12));
       if (k.earth_view_factor(i, p) == 0) CHECK(k.earth_ir_stderr(i, p) == 0.0);
     }
   }

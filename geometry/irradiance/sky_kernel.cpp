@@ -1,5 +1,6 @@
 #include "geometry/irradiance/sky_kernel.hpp"
 
+#include "geometry/irradiance/sky_region.hpp"
 #include "geometry/rays/sampling.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -74,6 +75,7 @@ struct SkyRay {
 // counted rays (the minority) per bin and per (bin, replica).
 struct SkyCounts {
   std::int64_t per_replica = 0;
+  double ray_share = 1.0;  // of the hemisphere, the rays' sector (NodeSky::ray_share)
   std::array<std::int64_t, kReplicas> blocked{};
   bool counts_open = false;
   /// (bin × kReplicas + replica, count), in any order and with repeats until nodeSkyOf.
@@ -85,6 +87,7 @@ SkyCounts countsOf(const NodeSky& sky) {
   SkyCounts c;
   c.per_replica = sky.rays / kReplicas;
   c.counts_open = sky.counts_open;
+  c.ray_share = sky.ray_share;
   std::array<std::int64_t, kReplicas> counted{};
   for (const NodeSky::ReplicaCount& e : sky.replica_counts) {
     c.replica_bins.emplace_back(std::int64_t{e.bin} * kReplicas + e.replica, e.count);
@@ -100,9 +103,10 @@ NodeSky nodeSkyOf(SkyCounts& c) {
   NodeSky sky;
   sky.rays = c.per_replica * kReplicas;
   sky.counts_open = c.counts_open;
+  sky.ray_share = c.ray_share;
   double blocked = 0.0;
   for (const std::int64_t b : c.blocked) blocked += double(b);
-  sky.blocked_fraction = sky.rays > 0 ? blocked / double(sky.rays) : 0.0;
+  sky.blocked_fraction = sky.rays > 0 ? c.ray_share * blocked / double(sky.rays) : 0.0;
   std::sort(c.replica_bins.begin(), c.replica_bins.end());
   for (size_t k = 0; k < c.replica_bins.size();) {
     const std::int64_t key = c.replica_bins[k].first;
@@ -111,7 +115,7 @@ NodeSky nodeSkyOf(SkyCounts& c) {
     const std::int32_t bin = static_cast<std::int32_t>(key / kReplicas);
     sky.replica_counts.push_back({bin, static_cast<std::int16_t>(key % kReplicas), static_cast<std::uint16_t>(count)});
     if (sky.bins.empty() || sky.bins.back() != bin) sky.bins.push_back(bin), sky.weights.push_back(0.0f);
-    sky.weights.back() += static_cast<float>(double(count) / double(sky.rays));
+    sky.weights.back() += static_cast<float>(c.ray_share * double(count) / double(sky.rays));
   }
   return sky;
 }
@@ -124,7 +128,7 @@ double blockedSigma(const SkyCounts& c) {
     sum += share, sum2 += share * share;
   }
   const double mean = sum / kReplicas;
-  return std::sqrt(std::max(0.0, (sum2 - kReplicas * mean * mean) / (kReplicas - 1)) / kReplicas);
+  return c.ray_share * std::sqrt(std::max(0.0, (sum2 - kReplicas * mean * mean) / (kReplicas - 1)) / kReplicas);
 }
 
 // The scene's extreme points (the vertices of its convex hull: a plane has every vertex
@@ -174,9 +178,11 @@ bool nothingInFront(const Scene& scene, const Node& node, const SceneExtent& ext
 
 // Rays from one node, doubling per replica until the counted share's σ meets the target
 // (or to a count per node). With `before` (the same seed's first points, cast earlier) the
-// stream resumes after them and only the new rays are traced; `cast` counts those.
+// stream resumes after them and only the new rays are traced; `cast` counts those. With
+// `blockers`, a flat node's rays are drawn in its sector alone (sky_region.hpp) and count
+// the blocked minority.
 NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& opt, const NodeSky* before,
-                    const SceneExtent* extent, std::int64_t& cast) {
+                    const SceneExtent* extent, const BlockerSpheres* blockers, std::int64_t& cast) {
   const bool fixed = !opt.node_rays.empty();
   const std::int64_t asked = fixed ? opt.node_rays[static_cast<size_t>(node)] : opt.max_rays_per_node;
   const std::int64_t cap = std::max<std::int64_t>(1, (asked + kReplicas - 1) / kReplicas);
@@ -186,7 +192,11 @@ NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& o
     return open;
   }
   const NodeSampler sampler(caster.scene(), node);
-  SkyCounts c = before && before->rays % kReplicas == 0 && before->rays / kReplicas <= cap ? countsOf(*before) : SkyCounts{};
+  const SkyRegion region = blockers ? blockers->regionOf(node) : SkyRegion{};
+  const bool resumes = before && before->rays % kReplicas == 0 && before->rays / kReplicas <= cap &&
+                       before->ray_share == region.share();
+  SkyCounts c = resumes ? countsOf(*before) : SkyCounts{};
+  c.ray_share = region.share();
   std::vector<Sobol4> streams;
   for (int r = 0; r < kReplicas; ++r) {
     streams.emplace_back(mixSeed(opt.seed, static_cast<std::uint64_t>(node), 0x5c7 + static_cast<std::uint64_t>(r)));
@@ -198,7 +208,9 @@ NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& o
   for (;;) {
     for (int r = 0; r < kReplicas; ++r)
       for (std::int64_t k = c.per_replica; k < per_replica; ++k) {
-        const NodeSampler::Ray ray = sampler.map(streams[static_cast<size_t>(r)].next());
+        const std::array<double, 4> u = streams[static_cast<size_t>(r)].next();
+        NodeSampler::Ray ray = region.whole ? sampler.map(u) : sampler.mapPoint(u[0], u[1]);
+        if (!region.whole) ray.direction = region.direction(u[2], u[3]);
         const bool blocked = caster.occluded(caster.offsetOrigin(ray.point, ray.normal), ray.direction, ray.face);
         rays[static_cast<size_t>(r)].push_back({SkyBins::bin(ray.direction), blocked});
         c.blocked[static_cast<size_t>(r)] += blocked;
@@ -210,9 +222,11 @@ NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& o
   }
   double blocked = 0.0;
   for (const std::int64_t b : c.blocked) blocked += double(b);
-  const bool counts_open = blocked > 0.5 * double(c.per_replica * kReplicas);
+  // A sector's open rays outside it are not traced: it counts the blocked ones (its share
+  // is at most a half, so they are the minority of the hemisphere's).
+  const bool counts_open = region.whole && blocked > 0.5 * double(c.per_replica * kReplicas);
   // The earlier rays kept only their minority: if the majority turned, cast them all again.
-  if (start > 0 && counts_open != c.counts_open) return castNodeSky(caster, node, opt, nullptr, extent, cast);
+  if (start > 0 && counts_open != c.counts_open) return castNodeSky(caster, node, opt, nullptr, extent, blockers, cast);
   c.counts_open = counts_open;
   for (int r = 0; r < kReplicas; ++r)
     for (const SkyRay& ray : rays[static_cast<size_t>(r)]) {
@@ -264,6 +278,7 @@ SkyKernel skyKernel(const RayCaster& caster, const SkyKernelOptions& opt) {
   // extent (the scene's hull) is formed only for a first cast.
   std::optional<SceneExtent> extent;
   if (!opt.prefix) extent.emplace(caster.scene());
+  const BlockerSpheres blockers(caster.scene(), caster.originOffset());
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : rays, cast)
 #endif
@@ -271,7 +286,8 @@ SkyKernel skyKernel(const RayCaster& caster, const SkyKernelOptions& opt) {
     if (!opt.nodes.empty() && !opt.nodes[static_cast<size_t>(i)]) continue;
     if (!opt.node_rays.empty() && opt.node_rays[static_cast<size_t>(i)] <= 0) continue;
     const NodeSky* before = opt.prefix ? &opt.prefix->nodes[static_cast<size_t>(i)] : nullptr;
-    kernel.nodes[static_cast<size_t>(i)] = castNodeSky(caster, i, opt, before, extent ? &*extent : nullptr, cast);
+    kernel.nodes[static_cast<size_t>(i)] =
+        castNodeSky(caster, i, opt, before, extent ? &*extent : nullptr, &blockers, cast);
     rays += kernel.nodes[static_cast<size_t>(i)].rays;
   }
   kernel.rays = rays;

@@ -32,6 +32,8 @@ class RayCaster {
   /// A ray origin on face `face`, offset to the side `side_normal` points to by a bound on
   /// the rounding error of the point (pbrt's approach), so the ray cannot re-hit its own face.
   Vec3 offsetOrigin(const Vec3& point, const Vec3& side_normal) const;
+  /// How far offsetOrigin moves a point, m.
+  double originOffset() const { return offset_scale_; }
 
   /// The node of the side a hit arrived on: −1 when that side is inactive or nothing was hit.
   /// (A compact copy of the faces' nodes: a ray's tally reads no 120-byte face.)
