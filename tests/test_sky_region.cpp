@@ -41,55 +41,52 @@ geometry::Scene busWingMast() {
   return s;
 }
 
-// Whether unit direction d lies in the region's sector (its r² range and azimuth arc).
-bool inSector(const geometry::SkyRegion& region, const Vec3& d) {
-  const double z = d.dot(region.n), r2 = 1.0 - z * z;
-  if (r2 < region.r0_squared || r2 > region.r1_squared) return false;
-  const double phi = std::atan2(d.dot(region.t1), d.dot(region.t0));
-  const double from = std::fmod(std::fmod(phi - region.phi0, 2.0 * M_PI) + 2.0 * M_PI, 2.0 * M_PI);
-  return from <= region.phi_span;
-}
-
 }  // namespace
 
-TEST_CASE("sky region: no ray outside a flat node's sector meets anything") {
+TEST_CASE("sky region: no ray outside a flat node's region meets anything") {
   // 20,000 cosine-weighted rays over each node's whole hemisphere (pseudo-random, fixed
-  // seed): every blocked one must lie in the sector (none tolerated: the sector is what
-  // makes the untraced rays open for certain). Not vacuous: sectors of less than half the
-  // disc exist and rays inside them are blocked.
+  // seed): every blocked one must lie in the region (none tolerated: the region is what
+  // makes the untraced rays open for certain). Not vacuous: regions of less than half the
+  // disc exist, of both kinds, and rays inside them are blocked.
   const geometry::Scene s = busWingMast();
   const geometry::RayCaster caster(s);
   const geometry::BlockerSpheres blockers(s, caster.originOffset());
   std::mt19937_64 rng(41);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  int small_sectors = 0;
+  int small_sectors = 0, rectangles = 0, sectors = 0;
   std::int64_t blocked_inside = 0;
   for (int node = 0; node < static_cast<int>(s.nodes().size()); ++node) {
     const geometry::SkyRegion region = blockers.regionOf(node);
     if (region.whole) continue;
     small_sectors += region.share() < 0.5;
+    rectangles += region.box_count > 0, sectors += region.box_count == 0;
     const geometry::NodeSampler sampler(s, node);
     int outside = 0;
     for (int k = 0; k < 20000; ++k) {
       const geometry::NodeSampler::Ray ray = sampler.map({u(rng), u(rng), u(rng), u(rng)});
       if (!caster.occluded(caster.offsetOrigin(ray.point, ray.normal), ray.direction, ray.face)) continue;
-      if (inSector(region, ray.direction))
+      if (region.contains(ray.direction))
         ++blocked_inside;
       else
         ++outside;
     }
-    INFO(s.nodes()[static_cast<size_t>(node)].name << ": sector share " << region.share());
+    INFO(s.nodes()[static_cast<size_t>(node)].name << ": region share " << region.share() << ", " << region.box_count
+                                                   << " rectangles");
     CHECK(outside == 0);
   }
   CHECK(small_sectors >= 4);
+  CHECK(rectangles >= 1);
+  CHECK(sectors >= 1);
   CHECK(blocked_inside > 1000);
 }
 
-TEST_CASE("sky region: a sector's directions are uniform in its area of the disc") {
-  // Cosine-weighted directions are uniform on the disc: the share of 200,000 sector points
-  // falling in each quarter of the sector (by r² and by φ) is a quarter, to 4σ of a
-  // binomial count (σ = √(p(1 − p)/N) ≈ 0.001); every direction is a unit vector above the
-  // plane and in the sector.
+TEST_CASE("sky region: a region's directions are uniform in its area of the disc") {
+  // Cosine-weighted directions are uniform on the disc: of 200,000 points drawn in a sector
+  // (or in two rectangles, one reaching past the disc's edge), each quarter of the region
+  // (by r² and by φ; by x in each rectangle, and the rectangles by their areas) holds its
+  // share to 4σ of a binomial count (σ = √(p(1 − p)/N) ≤ 0.0011); every direction is a
+  // unit vector above the plane and in the region; a rectangle's points past the disc are
+  // refused, as many as their area's share.
   geometry::SkyRegion region;
   region.whole = false;
   region.n = Vec3(0.3, -0.2, 0.9).normalized();
@@ -99,23 +96,54 @@ TEST_CASE("sky region: a sector's directions are uniform in its area of the disc
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const int N = 200000;
+  const double sigma = std::sqrt(0.25 * 0.75 / N);
   std::array<int, 4> by_radius{}, by_angle{};
   for (int k = 0; k < N; ++k) {
-    const Vec3 d = region.direction(u(rng), u(rng));
+    Vec3 d;
+    REQUIRE(region.direction(u(rng), u(rng), d));
     REQUIRE(std::abs(d.norm() - 1.0) < 1e-14);
     REQUIRE(d.dot(region.n) > 0.0);
-    REQUIRE(inSector(region, d));
+    REQUIRE(region.contains(d));
     const double r2 = 1.0 - d.dot(region.n) * d.dot(region.n);
     ++by_radius[static_cast<size_t>(std::min(3.0, 4.0 * (r2 - 0.2) / 0.5))];
     const double phi = std::atan2(d.dot(region.t1), d.dot(region.t0));
     const double from = std::fmod(std::fmod(phi - 5.5, 2.0 * M_PI) + 2.0 * M_PI, 2.0 * M_PI);
     ++by_angle[static_cast<size_t>(std::min(3.0, 4.0 * from / 1.9))];
   }
-  const double sigma = std::sqrt(0.25 * 0.75 / N);
   for (int q = 0; q < 4; ++q) {
     CHECK(std::abs(by_radius[static_cast<size_t>(q)] / double(N) - 0.25) < 4 * sigma);
     CHECK(std::abs(by_angle[static_cast<size_t>(q)] / double(N) - 0.25) < 4 * sigma);
   }
+  // Two rectangles: [−0.2, 0.2] × [0.1, 0.5] (area 0.16) and [0.6, 1.0] × [−0.3, 0.1] (0.16,
+  // of which the part past the disc, x² + y² ≥ 1, is refused).
+  region.box_count = 2;
+  region.boxes[0] = {-0.2, 0.2, 0.1, 0.5};
+  region.boxes[1] = {0.6, 1.0, -0.3, 0.1};
+  CHECK(region.share() == Approx(0.32 / M_PI).epsilon(1e-15));
+  std::array<std::array<int, 4>, 2> by_x{};
+  int refused = 0, outside_disc = 0;
+  for (int k = 0; k < N; ++k) {
+    const double u2 = u(rng), u3 = u(rng);
+    Vec3 d;
+    // The point the rectangle map gives, to know past-the-disc points in advance.
+    const int box = u2 < 0.5 ? 0 : 1;
+    const double s = box == 0 ? 2 * u2 : 2 * u2 - 1;
+    const auto& b = region.boxes[static_cast<size_t>(box)];
+    const double x = b[0] + s * (b[1] - b[0]), y = b[2] + u3 * (b[3] - b[2]);
+    outside_disc += x * x + y * y >= 1.0;
+    if (!region.direction(u2, u3, d)) {
+      ++refused;
+      continue;
+    }
+    REQUIRE(std::abs(d.norm() - 1.0) < 1e-14);
+    REQUIRE(region.contains(d));
+    const double dx = d.dot(region.t0);
+    const int in = dx <= 0.2 ? 0 : 1;
+    ++by_x[static_cast<size_t>(in)][static_cast<size_t>(std::min(3.0, 4.0 * (dx - region.boxes[static_cast<size_t>(in)][0]) / 0.4))];
+  }
+  CHECK(refused == outside_disc);
+  CHECK(refused > 0);
+  for (int q = 0; q < 4; ++q) CHECK(std::abs(by_x[0][static_cast<size_t>(q)] / double(N) - 0.125) < 4 * sigma);
 }
 
 TEST_CASE("sky region: the kernel's blocked shares from sectors equal the whole hemisphere's") {

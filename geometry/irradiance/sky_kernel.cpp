@@ -179,8 +179,8 @@ bool nothingInFront(const Scene& scene, const Node& node, const SceneExtent& ext
 // Rays from one node, doubling per replica until the counted share's σ meets the target
 // (or to a count per node). With `before` (the same seed's first points, cast earlier) the
 // stream resumes after them and only the new rays are traced; `cast` counts those. With
-// `blockers`, a flat node's rays are drawn in its sector alone (sky_region.hpp) and count
-// the blocked minority.
+// `blockers`, a flat node's rays are drawn in its region alone (sky_region.hpp) and count
+// the blocked ones.
 NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& opt, const NodeSky* before,
                     const SceneExtent* extent, const BlockerSpheres* blockers, std::int64_t& cast) {
   const bool fixed = !opt.node_rays.empty();
@@ -210,7 +210,11 @@ NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& o
       for (std::int64_t k = c.per_replica; k < per_replica; ++k) {
         const std::array<double, 4> u = streams[static_cast<size_t>(r)].next();
         NodeSampler::Ray ray = region.whole ? sampler.map(u) : sampler.mapPoint(u[0], u[1]);
-        if (!region.whole) ray.direction = region.direction(u[2], u[3]);
+        // A region's point outside the disc is a ray that meets nothing: counted, not traced.
+        if (!region.whole && !region.direction(u[2], u[3], ray.direction)) {
+          rays[static_cast<size_t>(r)].push_back({0, false});
+          continue;
+        }
         const bool blocked = caster.occluded(caster.offsetOrigin(ray.point, ray.normal), ray.direction, ray.face);
         rays[static_cast<size_t>(r)].push_back({SkyBins::bin(ray.direction), blocked});
         c.blocked[static_cast<size_t>(r)] += blocked;
@@ -222,8 +226,7 @@ NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& o
   }
   double blocked = 0.0;
   for (const std::int64_t b : c.blocked) blocked += double(b);
-  // A sector's open rays outside it are not traced: it counts the blocked ones (its share
-  // is at most a half, so they are the minority of the hemisphere's).
+  // A region's open rays outside it are not traced: it counts the blocked ones.
   const bool counts_open = region.whole && blocked > 0.5 * double(c.per_replica * kReplicas);
   // The earlier rays kept only their minority: if the majority turned, cast them all again.
   if (start > 0 && counts_open != c.counts_open) return castNodeSky(caster, node, opt, nullptr, extent, blockers, cast);

@@ -1,6 +1,7 @@
 #include "geometry/irradiance/sky_region.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace radnet::geometry {
@@ -17,10 +18,11 @@ constexpr int kMostVisits = 20000;
 // Rounding margins: the cones' half-angles widened, the sector's radii moved outward.
 constexpr double kAngleMargin = 1e-9, kRadiusMargin = 1e-12;
 
-// The extents of one cone in the node's frame: θ (as sin²) and φ (centre ± half; half ≥ π:
-// every azimuth).
+// The extents of one cone in the node's frame: θ (as sin²), φ (centre ± half; half ≥ π:
+// every azimuth) and the box of its directions' (x, y) = (ω·t0, ω·t1).
 struct ConeExtent {
   double r0_squared, r1_squared, phi_centre, phi_half;
+  std::array<double, 4> box;  // x0, x1, y0, y1
 };
 
 bool coneExtent(const Vec3& axis, double half_angle, const SkyRegion& frame, ConeExtent& out) {
@@ -33,7 +35,52 @@ bool coneExtent(const Vec3& axis, double half_angle, const SkyRegion& frame, Con
   out.phi_centre = std::atan2(axis.dot(frame.t1), axis.dot(frame.t0));
   const double s = theta > alpha && theta + alpha < M_PI ? std::sin(alpha) / std::sin(theta) : 2.0;
   out.phi_half = s >= 1.0 ? M_PI : std::asin(s) + kAngleMargin;
+  // ω·e over the cap spans cos of the angles from e in [β − α, β + α] (clipped to [0, π]).
+  const auto extent = [&](const Vec3& e, double& from, double& to) {
+    const double beta = std::acos(std::clamp(axis.dot(e), -1.0, 1.0));
+    from = std::max(-1.0, std::cos(std::min(M_PI, beta + alpha)) - kRadiusMargin);
+    to = std::min(1.0, std::cos(std::max(0.0, beta - alpha)) + kRadiusMargin);
+  };
+  extent(frame.t0, out.box[0], out.box[1]);
+  extent(frame.t1, out.box[2], out.box[3]);
   return true;
+}
+
+using Box = std::array<double, 4>;
+double boxArea(const Box& b) { return (b[1] - b[0]) * (b[3] - b[2]); }
+
+Box boundingBox(const std::vector<Box>& boxes, size_t begin, size_t end) {
+  Box b{HUGE_VAL, -HUGE_VAL, HUGE_VAL, -HUGE_VAL};
+  for (size_t k = begin; k < end; ++k)
+    b = {std::min(b[0], boxes[k][0]), std::max(b[1], boxes[k][1]), std::min(b[2], boxes[k][2]), std::max(b[3], boxes[k][3])};
+  return b;
+}
+
+// The cones' boxes as at most 2^depth disjoint rectangles: split where the boxes separate
+// along x or y (a gap between the first k by their lower edge and the rest), at the split
+// whose two bounding boxes are smallest, while that saves a tenth of the area.
+void disjointBoxes(std::vector<Box> boxes, int depth, std::vector<Box>& out) {
+  const Box whole = boundingBox(boxes, 0, boxes.size());
+  double best = 0.9 * boxArea(whole);
+  int best_axis = -1;
+  size_t best_k = 0;
+  for (int axis = 0; axis < 2 && depth > 0; ++axis) {
+    std::sort(boxes.begin(), boxes.end(), [axis](const Box& a, const Box& b) { return a[2 * axis] < b[2 * axis]; });
+    double reach = -HUGE_VAL;
+    for (size_t k = 0; k + 1 < boxes.size(); ++k) {
+      reach = std::max(reach, boxes[k][2 * axis + 1]);
+      if (reach >= boxes[k + 1][2 * axis]) continue;
+      const double area = boxArea(boundingBox(boxes, 0, k + 1)) + boxArea(boundingBox(boxes, k + 1, boxes.size()));
+      if (area < best) best = area, best_axis = axis, best_k = k + 1;
+    }
+  }
+  if (best_axis < 0) {
+    out.push_back(whole);
+    return;
+  }
+  std::sort(boxes.begin(), boxes.end(), [best_axis](const Box& a, const Box& b) { return a[2 * best_axis] < b[2 * best_axis]; });
+  disjointBoxes(std::vector<Box>(boxes.begin(), boxes.begin() + static_cast<std::ptrdiff_t>(best_k)), depth - 1, out);
+  disjointBoxes(std::vector<Box>(boxes.begin() + static_cast<std::ptrdiff_t>(best_k), boxes.end()), depth - 1, out);
 }
 
 // The shortest arc covering every cone's azimuths: the complement of the largest gap
@@ -60,12 +107,53 @@ void coveringArc(std::vector<ConeExtent>& cones, SkyRegion& region) {
 
 }  // namespace
 
-double SkyRegion::share() const { return whole ? 1.0 : phi_span / kTwoPi * (r1_squared - r0_squared); }
+double SkyRegion::share() const {
+  if (whole) return 1.0;
+  if (box_count == 0) return phi_span / kTwoPi * (r1_squared - r0_squared);
+  double area = 0.0;
+  for (int k = 0; k < box_count; ++k) area += boxArea(boxes[static_cast<size_t>(k)]);
+  return area / M_PI;
+}
 
-Vec3 SkyRegion::direction(double u2, double u3) const {
-  const double r2 = r0_squared + u2 * (r1_squared - r0_squared), r = std::sqrt(r2);
-  const double phi = phi0 + u3 * phi_span;
-  return r * std::cos(phi) * t0 + r * std::sin(phi) * t1 + std::sqrt(std::max(0.0, 1.0 - r2)) * n;
+bool SkyRegion::direction(double u2, double u3, Vec3& d) const {
+  if (box_count == 0) {
+    const double r2 = r0_squared + u2 * (r1_squared - r0_squared), r = std::sqrt(r2);
+    const double phi = phi0 + u3 * phi_span;
+    d = r * std::cos(phi) * t0 + r * std::sin(phi) * t1 + std::sqrt(std::max(0.0, 1.0 - r2)) * n;
+    return true;
+  }
+  // u2 picks the rectangle by its share of the area, then, rescaled, the x within it.
+  double total = 0.0;
+  for (int k = 0; k < box_count; ++k) total += boxArea(boxes[static_cast<size_t>(k)]);
+  double from = 0.0;
+  int k = 0;
+  for (; k + 1 < box_count; ++k) {
+    const double to = from + boxArea(boxes[static_cast<size_t>(k)]) / total;
+    if (u2 < to) break;
+    from = to;
+  }
+  const Box& b = boxes[static_cast<size_t>(k)];
+  const double width = boxArea(b) / total, s = width > 0 ? std::clamp((u2 - from) / width, 0.0, 1.0) : 0.5;
+  const double x = b[0] + s * (b[1] - b[0]), y = b[2] + u3 * (b[3] - b[2]), r2 = x * x + y * y;
+  if (r2 >= 1.0) return false;
+  d = x * t0 + y * t1 + std::sqrt(1.0 - r2) * n;
+  return true;
+}
+
+bool SkyRegion::contains(const Vec3& d) const {
+  if (whole) return true;
+  if (box_count > 0) {
+    const double x = d.dot(t0), y = d.dot(t1);
+    for (int k = 0; k < box_count; ++k) {
+      const Box& b = boxes[static_cast<size_t>(k)];
+      if (x >= b[0] && x <= b[1] && y >= b[2] && y <= b[3]) return true;
+    }
+    return false;
+  }
+  const double z = d.dot(n), r2 = 1.0 - z * z;
+  if (r2 < r0_squared || r2 > r1_squared) return false;
+  const double phi = std::atan2(d.dot(t1), d.dot(t0));
+  return std::fmod(std::fmod(phi - phi0, kTwoPi) + kTwoPi, kTwoPi) <= phi_span;
 }
 
 BlockerSpheres::BlockerSpheres(const Scene& scene, double origin_offset_m) : scene_(scene), offset_m_(origin_offset_m) {
@@ -174,13 +262,21 @@ SkyRegion BlockerSpheres::regionOf(int node_index, double max_share) const {
     if (coneExtent(toward / distance, std::asin(reach / distance), frame, cone)) cones.push_back(cone);
   }
   if (cones.empty()) return region;  // nothing in front (the kernel's own test finds it too)
+  frame.whole = false;
+  // The sector, then the rectangles: the smaller share.
   frame.r0_squared = 1.0, frame.r1_squared = 0.0;
   for (const ConeExtent& c : cones)
     frame.r0_squared = std::min(frame.r0_squared, c.r0_squared), frame.r1_squared = std::max(frame.r1_squared, c.r1_squared);
   coveringArc(cones, frame);
-  frame.whole = false;
-  if (frame.share() > max_share) return region;
-  return frame;
+  std::vector<Box> boxes;
+  for (const ConeExtent& c : cones) boxes.push_back(c.box);
+  std::vector<Box> disjoint;
+  disjointBoxes(std::move(boxes), 2, disjoint);
+  SkyRegion boxed = frame;
+  boxed.box_count = static_cast<int>(disjoint.size());
+  for (size_t k = 0; k < disjoint.size(); ++k) boxed.boxes[k] = disjoint[k];
+  const SkyRegion& best = boxed.share() < frame.share() ? boxed : frame;
+  return best.share() > max_share ? region : best;
 }
 
 }  // namespace radnet::geometry
