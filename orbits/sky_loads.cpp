@@ -74,18 +74,28 @@ struct RadianceTables {
   std::array<Table, kChannels> mean, half;
   Rows peak;  // the planet's largest radiance anywhere, per channel and position
   int positions = 0;  // the block's, ≤ kBlock
+  /// Per row: whether the planet can reach the bin at some position of the block. A row
+  /// it cannot is neither written nor read (its radiance is 0 all block: a third of an
+  /// inertial block's rows on the 1,602-node satellite).
+  std::vector<char> lit;
 };
 
 namespace {
 
-// Column q of the radiance tables at one position (one thread).
+// Only bins that can reach into the planet's cap carry radiance: the angle from the cap's
+// axis to the bin's centre at most the cap's angular radius plus the bin's. The cosine of
+// that angle.
+double cosReach(const PlanetView& view) {
+  const double cap = std::asin(std::sqrt(view.capSin2()));
+  const double bin_radius = std::acos(std::clamp(binDirections().cos_radius, -1.0, 1.0));
+  return std::cos(std::min(M_PI, cap + bin_radius));
+}
+
+// Column q of the radiance tables at one position (one thread): the rows the block lights.
 void binRadiance(const std::vector<int>& used, const PlanetView& view, int q, RadianceTables& t) {
   constexpr int edge = SkyBins::kBinsPerEdge, corners = edge + 1;
   const BinDirections& dirs = binDirections();
-  // Only bins that can reach into the planet's cap carry radiance: the angle from the cap's
-  // axis to the bin's centre at most the cap's angular radius plus the bin's.
-  const double cap = std::asin(std::sqrt(view.capSin2())), bin_radius = std::acos(std::clamp(dirs.cos_radius, -1.0, 1.0));
-  const double cos_reach = std::cos(std::min(M_PI, cap + bin_radius));
+  const double cos_reach = cosReach(view);
   // Kept per thread between positions: a fresh 600 kB a position went back to the kernel
   // and faulted in again (a tenth of the sweep on the 1,602-node satellite).
   thread_local std::vector<PlanetChannels> at;
@@ -97,6 +107,7 @@ void binRadiance(const std::vector<int>& used, const PlanetView& view, int q, Ra
     return at[c];
   };
   for (size_t slot = 0; slot < used.size(); ++slot) {
+    if (!t.lit[slot]) continue;
     const int b = used[slot];
     if (dirs.centres[static_cast<size_t>(b)].dot(view.toward_center) < cos_reach) {
       for (int c = 0; c < kChannels; ++c)
@@ -191,6 +202,7 @@ void nodeLoads(const geometry::NodeSky& sky, const std::vector<int>& slot, const
       free.row(c) += share * unobstructed.channel[static_cast<size_t>(c)].row(k).segment(p0, B).array();
   for (size_t j = 0; j < sky.bins.size(); ++j) {
     const Eigen::Index u = slot[static_cast<size_t>(sky.bins[j])];
+    if (!t.lit[static_cast<size_t>(u)]) continue;
     const double w = M_PI * sky.weights[j];  // E = π × mean of L over cosine-weighted rays
     for (int c = c0; c < kChannels; ++c) {
       counted.row(c) += w * t.mean[static_cast<size_t>(c)].row(u).head(B).array();
@@ -208,6 +220,7 @@ void nodeLoads(const geometry::NodeSky& sky, const std::vector<int>& slot, const
     const Eigen::Index u = slot[static_cast<size_t>(e.bin)];
     const double share = e.count / per_replica;
     replica_share[e.replica] += share;
+    if (!t.lit[static_cast<size_t>(u)]) continue;
     for (int c = c0; c < kChannels; ++c)
       estimates[static_cast<size_t>(c)].row(e.replica) += M_PI * share * t.mean[static_cast<size_t>(c)].row(u).head(B);
   }
@@ -248,6 +261,14 @@ void blockTables(const std::vector<int>& used, const std::vector<PlanetView>& vi
       t.half[static_cast<size_t>(c)].resize(geometry::SkyBins::kBins, kBlock);
     }
   t.positions = B;
+  t.lit.assign(used.size(), 0);
+  std::vector<double> cos_reach;
+  for (int q = 0; q < B; ++q) cos_reach.push_back(cosReach(views[static_cast<size_t>(p0 + q)]));
+  const BinDirections& dirs = binDirections();
+  for (size_t row = 0; row < used.size(); ++row)
+    for (int q = 0; q < B && !t.lit[row]; ++q)
+      t.lit[row] = dirs.centres[static_cast<size_t>(used[row])].dot(views[static_cast<size_t>(p0 + q)].toward_center) >=
+                   cos_reach[static_cast<size_t>(q)];
 #ifdef _OPENMP
 // Contiguous positions per thread: a row's positions share cache lines, and threads taking
 // every other position wrote into each other's lines.
