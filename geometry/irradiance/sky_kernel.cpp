@@ -192,7 +192,10 @@ NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& o
     return open;
   }
   const NodeSampler sampler(caster.scene(), node);
-  const SkyRegion region = blockers ? blockers->regionOf(node) : SkyRegion{};
+  // The region once per node: a re-cast draws in the same one (its first rays' share).
+  const SkyRegion region = before && before->region_known ? before->region
+                           : blockers                      ? blockers->regionOf(node)
+                                                           : SkyRegion{};
   const bool resumes = before && before->rays % kReplicas == 0 && before->rays / kReplicas <= cap &&
                        before->ray_share == region.share();
   SkyCounts c = resumes ? countsOf(*before) : SkyCounts{};
@@ -236,7 +239,10 @@ NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& o
       if (ray.blocked == c.counts_open) continue;
       c.replica_bins.emplace_back(std::int64_t{ray.bin} * kReplicas + r, 1);
     }
-  return nodeSkyOf(c);
+  NodeSky sky = nodeSkyOf(c);
+  sky.region = region;
+  sky.region_known = blockers != nullptr;
+  return sky;
 }
 
 // Each node's facet normals (on its side) as indices into one list of distinct normals,

@@ -12,6 +12,7 @@
 // nothing blocks costs nothing per position and a node shut in a box is exactly zero.
 // Rays are binned on a cube map of directions (kBinsPerEdge² per face): a position's cost
 // is one radiance per bin it uses, not one per ray.
+#include "geometry/irradiance/sky_region.hpp"
 #include "geometry/rays/ray_caster.hpp"
 
 #include <array>
@@ -61,6 +62,8 @@ struct NodeSky {
   /// less: a flat node's sector outside which nothing can block, geometry/irradiance/
   /// sky_region): each ray stands for ray_share / rays of the hemisphere.
   double ray_share = 1.0;
+  SkyRegion region;            ///< where the rays were drawn (whole: the hemisphere)
+  bool region_known = false;   ///< region computed (a re-cast takes it, not a new one)
 };
 
 struct SkyKernel {

@@ -9,9 +9,11 @@ namespace radnet::geometry {
 namespace {
 
 constexpr double kTwoPi = 2.0 * M_PI;
-// A ball is taken whole once it subtends at most this sine of the cone's half-angle (30°):
-// closer ones are opened, their children's cones are narrower.
-constexpr double kWholeBallSine = 0.5;
+// A ball is taken whole once it subtends at most this sine of the cone's half-angle
+// (14.5°): closer ones are opened, their children's cones are narrower. (30° left the
+// 19,202-node satellite's kernel 27.9 M rays, 14.5° 21.9 M, 7.2° 17.2 M for a descent as
+// long as the rays it saved.)
+constexpr double kWholeBallSine = 0.25;
 // Balls a node's descent may visit before it gives up on a sector (a tilted face's
 // coplanar cells have boxes that stick out of its plane and are opened to the triangle).
 constexpr int kMostVisits = 20000;
@@ -271,7 +273,7 @@ SkyRegion BlockerSpheres::regionOf(int node_index, double max_share) const {
   std::vector<Box> boxes;
   for (const ConeExtent& c : cones) boxes.push_back(c.box);
   std::vector<Box> disjoint;
-  disjointBoxes(std::move(boxes), 2, disjoint);
+  disjointBoxes(std::move(boxes), 3, disjoint);
   SkyRegion boxed = frame;
   boxed.box_count = static_cast<int>(disjoint.size());
   for (size_t k = 0; k < disjoint.size(); ++k) boxed.boxes[k] = disjoint[k];

@@ -4,7 +4,7 @@
 // unit disc of the tangent plane lifted to the hemisphere (Malley), uniform in area. The
 // directions in which some triangle lies in front of the node, seen from anywhere on it,
 // fit in a region of that disc: an annular sector r ∈ [r0, r1], φ ∈ [φ0, φ0 + Δφ]
-// (r = sin θ), or up to four disjoint rectangles in the disc's coordinates (x, y) =
+// (r = sin θ), or up to eight disjoint rectangles in the disc's coordinates (x, y) =
 // (ω·t0, ω·t1), whichever is smaller. Rays drawn uniformly in the region's area (affine
 // in the same two Sobol coordinates, so a node cast again still resumes its stream) each
 // stand for share / N of the hemisphere, share = the region's area over π; a rectangle's
@@ -36,7 +36,7 @@ struct SkyRegion {
   double r0_squared = 0.0, r1_squared = 1.0;  ///< sin² of the sector's polar angles
   double phi0 = 0.0, phi_span = 2.0 * M_PI;   ///< rad, from t0 towards t1
   /// Rectangles of the disc instead of the sector (box_count > 0): {x0, x1, y0, y1}, disjoint.
-  static constexpr int kMostBoxes = 4;
+  static constexpr int kMostBoxes = 8;
   std::array<std::array<double, 4>, kMostBoxes> boxes{};
   int box_count = 0;
   /// The cosine-weighted share of the hemisphere the rays are drawn from, –.
