@@ -162,52 +162,78 @@ double planeToSphereViewFactor(double distance_over_radius, double beta) {
 }
 
 PlanetChannels unobstructedPlanetLoads(const PlanetView& v, const Eigen::Vector3d& normal) {
+  return PlanetRings(v).loads(normal);
+}
+
+PlanetRings::PlanetRings(const PlanetView& v) : view_(v) {
   const Eigen::Vector3d& c = v.toward_center;
-  const double d = v.distance_m, r = v.radius_m, gamma_max = std::acos(std::min(1.0, r / d));
+  const double d = v.distance_m, r = v.radius_m;
+  gamma_max_ = std::acos(std::min(1.0, r / d));
+  theta_max_ = std::asin(std::sqrt(v.capSin2()));
   const Emission em = emissionParts(v.ir, v.solar_flux_w_m2);
+  floor_ = em.floor, k_ = em.k, c0_ = em.c0;
+  // The rest lives where the Sun is up (albedo) or warms the ground past the floor: rings.
+  psi_ = std::acos(std::clamp(-v.toward_sun.dot(c), -1.0, 1.0));
+  lit_ = v.albedo > 0 && v.solar_flux_w_m2 > 0 && psi_ - gamma_max_ < M_PI / 2;
+  warm_ = em.k > 0 && psi_ - gamma_max_ < std::acos(em.c0);
+  e1_ = c.unitOrthogonal(), e2_ = c.cross(e1_);
+  const RingVector sun = ringVector(v.toward_sun, c, e1_, e2_);
+  sun_a_ = sun.wave.a, sun_b_ = sun.wave.b, sun_cos_ = sun.cos_phase, sun_sin_ = sun.sin_phase;
+  // Where the rings' arcs change but for a plane's horizon: the terminator (and the night floor).
+  cuts_ = {0.0, gamma_max_};
+  for (const double c0 : {0.0, em.c0})
+    for (const double g : {std::acos(c0) - psi_, psi_ - std::acos(c0), psi_ + std::acos(c0)})
+      if (g > 0 && g < gamma_max_) cuts_.push_back(g);
+  std::sort(cuts_.begin(), cuts_.end());
+  for (size_t k = 0; k + 1 < cuts_.size(); ++k)
+    for (int q = 0; q < kGaussOrder; ++q) points_.push_back(point(cuts_[k], cuts_[k + 1], q));
+}
+
+PlanetRings::Point PlanetRings::point(double g0, double g1, int q) const {
+  const GaussRule& rule = gaussRule();
+  const double d = view_.distance_m, r = view_.radius_m;
+  const double gamma = 0.5 * (g0 + g1) + 0.5 * (g1 - g0) * rule.x[static_cast<size_t>(q)];
+  const double weight = 0.5 * (g1 - g0) * rule.w[static_cast<size_t>(q)];
+  // dω = sin θ (dθ/dγ) dγ dφ, θ = atan2(R sin γ, d − R cos γ): sin θ and cos θ are the
+  // two legs over the line of sight's length ρ.
+  const double cos_gamma = std::cos(gamma), sin_gamma = std::sin(gamma);
+  const double rho2 = d * d - 2.0 * d * r * cos_gamma + r * r, rho = std::sqrt(rho2);
+  const double sin_theta = r * sin_gamma / rho, cos_theta = (d - r * cos_gamma) / rho;
+  const double dtheta = (r * d * cos_gamma - r * r) / rho2;
+  return {weight * sin_theta * dtheta / M_PI, cos_theta, sin_theta, -sun_a_ * cos_gamma, sun_b_ * sin_gamma};
+}
+
+PlanetChannels PlanetRings::loads(const Eigen::Vector3d& normal) const {
+  const PlanetView& v = view_;
+  const Eigen::Vector3d& c = v.toward_center;
+  const double d = v.distance_m, r = v.radius_m;
   PlanetChannels sum;
   sum.view = planeToSphereViewFactor(d / r, std::acos(std::clamp(normal.dot(c), -1.0, 1.0)));
-  sum.ir = em.floor * sum.view;
-  // The rest lives where the Sun is up (albedo) or warms the ground past the floor: rings.
-  const double psi = std::acos(std::clamp(-v.toward_sun.dot(c), -1.0, 1.0));
-  const bool lit = v.albedo > 0 && v.solar_flux_w_m2 > 0 && psi - gamma_max < M_PI / 2;
-  const bool warm = em.k > 0 && psi - gamma_max < std::acos(em.c0);
-  if (sum.view <= 0 || (!lit && !warm)) return sum;
-  const Eigen::Vector3d e1 = c.unitOrthogonal(), e2 = c.cross(e1);
-  const RingVector n_full = ringVector(normal, c, e1, e2), sun_full = ringVector(v.toward_sun, c, e1, e2);
-  const double cos_gap = sun_full.cos_phase * n_full.cos_phase + sun_full.sin_phase * n_full.sin_phase;
-  const double sin_gap = sun_full.sin_phase * n_full.cos_phase - sun_full.cos_phase * n_full.sin_phase;
+  sum.ir = floor_ * sum.view;
+  if (sum.view <= 0 || (!lit_ && !warm_)) return sum;
+  const RingVector n_full = ringVector(normal, c, e1_, e2_);
+  const double cos_gap = sun_cos_ * n_full.cos_phase + sun_sin_ * n_full.sin_phase;
+  const double sin_gap = sun_sin_ * n_full.cos_phase - sun_cos_ * n_full.sin_phase;
   const PhaseGap gap{std::atan2(sin_gap, cos_gap), cos_gap, sin_gap};
-  // Where the rings' arcs change: the plane's horizon, the terminator (and the night floor).
-  std::array<double, 9> cuts{0.0, gamma_max};
-  size_t n_cuts = 2;
-  const double theta_max = std::asin(std::sqrt(v.capSin2()));
+  // The plane's horizon, where its arcs start to cut the rings: a cut of its own.
   const double theta_horizon = std::atan2(std::abs(n_full.wave.a), n_full.wave.b);
-  if (theta_horizon < theta_max) cuts[n_cuts++] = gammaOfTheta(theta_horizon, d, r);
-  for (const double c0 : {0.0, em.c0})
-    for (const double g : {std::acos(c0) - psi, psi - std::acos(c0), psi + std::acos(c0)})
-      if (g > 0 && g < gamma_max) cuts[n_cuts++] = g;
-  std::sort(cuts.begin(), cuts.begin() + static_cast<std::ptrdiff_t>(n_cuts));
-  const GaussRule& rule = gaussRule();
-  for (size_t k = 0; k + 1 < n_cuts; ++k) {
-    const double g0 = cuts[k], g1 = cuts[k + 1];
+  const double horizon = theta_horizon < theta_max_ ? gammaOfTheta(theta_horizon, d, r) : -1.0;
+  // The waves' phases are the same on every ring: only their two parts scale.
+  const auto add = [&](const Point& p) {
+    const Wave plane{n_full.wave.a * p.cos_theta, n_full.wave.b * p.sin_theta};
+    const Wave sun{p.sun_a, p.sun_b};
+    if (lit_) sum.albedo += p.jacobian * v.albedo * v.solar_flux_w_m2 * ringIntegral(plane, sun, gap);
+    if (warm_) sum.ir += p.jacobian * k_ * ringIntegral(plane, Wave{sun.a - c0_, sun.b}, gap);
+  };
+  for (size_t k = 0; k + 1 < cuts_.size(); ++k) {
+    const double g0 = cuts_[k], g1 = cuts_[k + 1];
     if (!(g1 > g0)) continue;
-    for (int q = 0; q < kGaussOrder; ++q) {
-      const double gamma = 0.5 * (g0 + g1) + 0.5 * (g1 - g0) * rule.x[static_cast<size_t>(q)];
-      const double weight = 0.5 * (g1 - g0) * rule.w[static_cast<size_t>(q)];
-      // dω = sin θ (dθ/dγ) dγ dφ, θ = atan2(R sin γ, d − R cos γ): sin θ and cos θ are the
-      // two legs over the line of sight's length ρ.
-      const double cos_gamma = std::cos(gamma), sin_gamma = std::sin(gamma);
-      const double rho2 = d * d - 2.0 * d * r * cos_gamma + r * r, rho = std::sqrt(rho2);
-      const double sin_theta = r * sin_gamma / rho, cos_theta = (d - r * cos_gamma) / rho;
-      const double dtheta = (r * d * cos_gamma - r * r) / rho2;
-      const double jacobian = weight * sin_theta * dtheta / M_PI;
-      // The waves' phases are the same on every ring: only their two parts scale.
-      const Wave plane{n_full.wave.a * cos_theta, n_full.wave.b * sin_theta};
-      const Wave sun{-sun_full.wave.a * cos_gamma, sun_full.wave.b * sin_gamma};
-      if (lit) sum.albedo += jacobian * v.albedo * v.solar_flux_w_m2 * ringIntegral(plane, sun, gap);
-      if (warm) sum.ir += jacobian * em.k * ringIntegral(plane, Wave{sun.a - em.c0, sun.b}, gap);
+    if (horizon > g0 && horizon < g1) {
+      for (const auto& [a, b] : {std::pair{g0, horizon}, std::pair{horizon, g1}})
+        for (int q = 0; q < kGaussOrder; ++q) add(point(a, b, q));
+      continue;
     }
+    for (int q = 0; q < kGaussOrder; ++q) add(points_[k * static_cast<size_t>(kGaussOrder) + static_cast<size_t>(q)]);
   }
   return sum;
 }

@@ -17,6 +17,8 @@
 
 #include <Eigen/Dense>
 
+#include <vector>
+
 namespace radnet::orbits {
 
 struct PlanetView {
@@ -53,5 +55,32 @@ double planeToSphereViewFactor(double distance_over_radius, double beta);
 /// planet (–, the closed form), albedo and IR irradiance (W/m²; a uniform emitter's
 /// flux times the view factor, the Sun-dependent parts by the rings).
 PlanetChannels unobstructedPlanetLoads(const PlanetView& view, const Eigen::Vector3d& normal);
+
+/// The rings of one position for the unobstructed loads of many normals (a curved part's
+/// facets): the pieces between the position's own cuts (the cap's edge, the terminator,
+/// the night floor) and their Gauss points are computed once; a normal's horizon splits
+/// at most one piece, whose points it computes itself. loads(n) is
+/// unobstructedPlanetLoads(view, n) to rounding (the same formulas, their products fused
+/// differently by the compiler: 2e-15 of the largest load on the 1,602-node satellite) at
+/// about two thirds of the cost (1.9 against 2.7 µs a normal at 700 km).
+class PlanetRings {
+ public:
+  explicit PlanetRings(const PlanetView& view);
+  PlanetChannels loads(const Eigen::Vector3d& normal) const;
+
+ private:
+  struct Point {
+    double jacobian, cos_theta, sin_theta, sun_a, sun_b;  // the ring's weight, θ, the Sun's wave
+  };
+  Point point(double g0, double g1, int q) const;
+  PlanetView view_;
+  Eigen::Vector3d e1_, e2_;
+  double gamma_max_ = 0.0, theta_max_ = 0.0, psi_ = 0.0;
+  double floor_ = 0.0, k_ = 0.0, c0_ = 0.0;  // the emission: floor + k max(0, cos z − c0)
+  bool lit_ = false, warm_ = false;
+  double sun_a_ = 0.0, sun_b_ = 0.0, sun_cos_ = 1.0, sun_sin_ = 0.0;  // the Sun in the ring frame
+  std::vector<double> cuts_;  // sorted, the horizon left out
+  std::vector<Point> points_;  // kGaussOrder per piece
+};
 
 }  // namespace radnet::orbits

@@ -301,14 +301,17 @@ void UnobstructedLoads::fill(const geometry::SkyKernel& kernel, const std::vecto
   std::vector<int> todo;
   for (size_t k = 0; k < wanted.size(); ++k)
     if (wanted[k]) todo.push_back(static_cast<int>(k)), have[k] = 1;
-  const int jobs = static_cast<int>(todo.size()) * P;
+  if (todo.empty()) return;
+  // A position's rings serve all its normals (their pieces and points computed once).
 #ifdef _OPENMP
-#pragma omp parallel for schedule(dynamic, 16)
+#pragma omp parallel for schedule(dynamic, 1)
 #endif
-  for (int job = 0; job < jobs; ++job) {
-    const int p = job % P, k = todo[static_cast<size_t>(job / P)];
-    const PlanetChannels u = unobstructedPlanetLoads(views[static_cast<size_t>(p)], kernel.normals[static_cast<size_t>(k)]);
-    channel[0](k, p) = u.view, channel[1](k, p) = u.albedo, channel[2](k, p) = u.ir;
+  for (int p = 0; p < P; ++p) {
+    const PlanetRings rings(views[static_cast<size_t>(p)]);
+    for (const int k : todo) {
+      const PlanetChannels u = rings.loads(kernel.normals[static_cast<size_t>(k)]);
+      channel[0](k, p) = u.view, channel[1](k, p) = u.albedo, channel[2](k, p) = u.ir;
+    }
   }
 }
 

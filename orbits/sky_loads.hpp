@@ -30,7 +30,8 @@ std::vector<int> usedSkyBins(const geometry::SkyKernel& kernel, const std::vecto
 /// The unobstructed loads (view factor, albedo, planet IR) of the kernel's normals at every
 /// position (normals × positions, per channel), each computed once however many sweeps read
 /// it: the rings cost some 2 µs a normal and position (7 µs before their arcs' ends were
-/// taken by angle addition), and a curved part has a normal per
+/// taken by angle addition; a position's pieces are shared by its normals, PlanetRings),
+/// and a curved part has a normal per
 /// facet (2,204 on the 1,602-node satellite, whose dish alone is 1,100).
 struct UnobstructedLoads {
   /// Row-major: a node's sums read a normal's positions.

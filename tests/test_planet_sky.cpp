@@ -120,3 +120,30 @@ TEST_CASE("planet sky: albedo and day-night IR equal the integral over the plane
     }
   }
 }
+
+TEST_CASE("planet sky: one position's rings serve many normals as each normal's own rings do") {
+  // PlanetRings keeps a position's pieces and Gauss points and lets each normal split the
+  // piece its horizon falls in: 400 normals (every tilt and azimuth, many cutting the cap)
+  // through one object against a fresh one each, to 1e-13 of the load's scale (the same
+  // formulas: rounding only), with a day-night emission so that both ring integrals run.
+  PlanetView v = earthAt(700e3);
+  v.toward_sun = Vector3d(0.4, -0.3, 0.5).normalized();
+  v.ir.kind = radnet::orbits::PlanetIr::Kind::DayNight;
+  v.ir.subsolar_temperature_k = 390.0;
+  v.ir.night_temperature_k = 95.0;
+  v.ir.reference_flux_w_m2 = 1361.0;
+  const radnet::orbits::PlanetRings rings(v);
+  const double scale = v.albedo * v.solar_flux_w_m2 * v.capSin2(), scale_ir = v.ir.maxExitance(1361.0) * v.capSin2();
+  int cutting = 0;
+  for (int k = 0; k < 400; ++k) {
+    const double beta = M_PI * (k % 20 + 0.5) / 20, azimuth = 2 * M_PI * (k / 20) / 20.0;
+    const Vector3d n(std::sin(beta) * std::cos(azimuth), std::sin(beta) * std::sin(azimuth), -std::cos(beta));
+    const PlanetChannels shared = rings.loads(n), own = radnet::orbits::unobstructedPlanetLoads(v, n);
+    const double edge = std::acos(v.radius_m / v.distance_m);  // past it the plane cuts the sphere
+    cutting += beta > edge && beta < M_PI - edge;
+    CHECK(std::abs(shared.view - own.view) <= 1e-13 * v.capSin2());
+    CHECK(std::abs(shared.albedo - own.albedo) <= 1e-13 * scale);
+    CHECK(std::abs(shared.ir - own.ir) <= 1e-13 * scale_ir);
+  }
+  CHECK(cutting > 50);
+}
