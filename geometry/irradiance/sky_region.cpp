@@ -212,6 +212,7 @@ SkyRegion BlockerSpheres::regionOf(int node_index, double max_share) const {
   const Node& node = scene_.nodes()[static_cast<size_t>(node_index)];
   if (node.faces.empty() || balls_.empty()) return region;
   const Vec3 n = node.side * scene_.faces()[static_cast<size_t>(node.faces.front())].normal;
+  if (!n.allFinite() || std::abs(n.norm() - 1.0) > 1e-9) return region;  // no usable normal
   // Flat: one normal, one plane (to a quarter of the rays' offset).
   double plane_lo = HUGE_VAL, plane_hi = -HUGE_VAL;
   Vec3 lo = Vec3::Constant(HUGE_VAL), hi = Vec3::Constant(-HUGE_VAL);
@@ -278,7 +279,8 @@ SkyRegion BlockerSpheres::regionOf(int node_index, double max_share) const {
   boxed.box_count = static_cast<int>(disjoint.size());
   for (size_t k = 0; k < disjoint.size(); ++k) boxed.boxes[k] = disjoint[k];
   const SkyRegion& best = boxed.share() < frame.share() ? boxed : frame;
-  return best.share() > max_share ? region : best;
+  const double share = best.share();
+  return share > 0.0 && share <= max_share ? best : region;  // (NaN: whole)
 }
 
 }  // namespace radnet::geometry
