@@ -176,6 +176,14 @@ bool nothingInFront(const Scene& scene, const Node& node, const SceneExtent& ext
   return true;
 }
 
+// The kernel of a node's counts with its new rays' minority (c.counts_open) added.
+NodeSky countedSky(SkyCounts& c, const std::vector<std::vector<SkyRay>>& rays) {
+  for (int r = 0; r < kReplicas; ++r)
+    for (const SkyRay& ray : rays[static_cast<size_t>(r)])
+      if (ray.blocked != c.counts_open) c.replica_bins.emplace_back(std::int64_t{ray.bin} * kReplicas + r, 1);
+  return nodeSkyOf(c);
+}
+
 // Rays from one node, doubling per replica until the counted share's σ meets the target
 // (or to a count per node). With `before` (the same seed's first points, cast earlier) the
 // stream resumes after them and only the new rays are traced; `cast` counts those. With
@@ -234,12 +242,7 @@ NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& o
   // The earlier rays kept only their minority: if the majority turned, cast them all again.
   if (start > 0 && counts_open != c.counts_open) return castNodeSky(caster, node, opt, nullptr, extent, blockers, cast);
   c.counts_open = counts_open;
-  for (int r = 0; r < kReplicas; ++r)
-    for (const SkyRay& ray : rays[static_cast<size_t>(r)]) {
-      if (ray.blocked == c.counts_open) continue;
-      c.replica_bins.emplace_back(std::int64_t{ray.bin} * kReplicas + r, 1);
-    }
-  NodeSky sky = nodeSkyOf(c);
+  NodeSky sky = countedSky(c, rays);
   sky.region = region;
   sky.region_known = blockers != nullptr;
   return sky;

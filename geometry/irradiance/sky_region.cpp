@@ -207,80 +207,88 @@ int BlockerSpheres::build(std::vector<int>& faces, int begin, int end) {
   return at;
 }
 
-SkyRegion BlockerSpheres::regionOf(int node_index, double max_share) const {
-  SkyRegion region;
+bool BlockerSpheres::flatNode(int node_index, FlatNode& out) const {
   const Node& node = scene_.nodes()[static_cast<size_t>(node_index)];
-  if (node.faces.empty() || balls_.empty()) return region;
+  if (node.faces.empty() || balls_.empty()) return false;
   const Vec3 n = node.side * scene_.faces()[static_cast<size_t>(node.faces.front())].normal;
-  if (!n.allFinite() || std::abs(n.norm() - 1.0) > 1e-9) return region;  // no usable normal
+  if (!n.allFinite() || std::abs(n.norm() - 1.0) > 1e-9) return false;  // no usable normal
   // Flat: one normal, one plane (to a quarter of the rays' offset).
   double plane_lo = HUGE_VAL, plane_hi = -HUGE_VAL;
   Vec3 lo = Vec3::Constant(HUGE_VAL), hi = Vec3::Constant(-HUGE_VAL);
   for (const int f : node.faces) {
     const Face& face = scene_.faces()[static_cast<size_t>(f)];
-    if ((node.side * face.normal - n).norm() > 1e-12) return region;
+    if ((node.side * face.normal - n).norm() > 1e-12) return false;
     for (const Vec3& v : face.v)
       plane_lo = std::min(plane_lo, n.dot(v)), plane_hi = std::max(plane_hi, n.dot(v)), lo = lo.cwiseMin(v),
       hi = hi.cwiseMax(v);
   }
-  if (plane_hi - plane_lo > 0.25 * offset_m_) return region;
+  if (plane_hi - plane_lo > 0.25 * offset_m_) return false;
+  out.n = n, out.centre = 0.5 * (lo + hi);
   // A triangle wholly at or below this height lies below every ray's origin (its plane
   // plus the offset, less rounding) and a ray leaving upward never meets it.
-  const double below = plane_hi + 0.25 * offset_m_;
-  const Vec3 centre = 0.5 * (lo + hi);
-  double node_radius = 0.0;
+  out.below = plane_hi + 0.25 * offset_m_;
+  out.radius = 0.0;
   for (const int f : node.faces)
-    for (const Vec3& v : scene_.faces()[static_cast<size_t>(f)].v) node_radius = std::max(node_radius, (v - centre).norm());
-  node_radius += 2.0 * offset_m_;
-  SkyRegion frame;
-  frame.n = n, frame.t0 = n.unitOrthogonal(), frame.t1 = n.cross(frame.t0);
-  std::vector<ConeExtent> cones;
+    for (const Vec3& v : scene_.faces()[static_cast<size_t>(f)].v) out.radius = std::max(out.radius, (v - out.centre).norm());
+  out.radius += 2.0 * offset_m_;
+  return true;
+}
+
+bool BlockerSpheres::cones(const FlatNode& node, std::vector<std::pair<Vec3, double>>& out) const {
+  const Vec3& n = node.n;
   std::vector<int> stack{0};
   int visits = 0;
   while (!stack.empty()) {
     const Ball& b = balls_[static_cast<size_t>(stack.back())];
     stack.pop_back();
-    if (++visits > kMostVisits) return region;
+    if (++visits > kMostVisits) return false;
     const bool leaf = b.left < 0;
-    double top = 0.0;  // the highest point of the ball's triangles (leaf) or box
-    if (leaf) {
-      top = -HUGE_VAL;
+    double top = -HUGE_VAL;  // the highest point of the ball's triangle (leaf) or box
+    if (leaf)
       for (const Vec3& v : scene_.faces()[static_cast<size_t>(-1 - b.left)].v) top = std::max(top, n.dot(v));
-    } else {
+    else
       top = n.dot(Vec3(n.x() > 0 ? b.hi.x() : b.lo.x(), n.y() > 0 ? b.hi.y() : b.lo.y(), n.z() > 0 ? b.hi.z() : b.lo.z()));
-    }
-    if (top <= below) continue;
-    const Vec3 toward = b.centre - centre;
-    const double distance = toward.norm(), reach = b.radius + node_radius;
-    if (reach >= distance) {
-      if (leaf) return region;  // a blocker touching the node: any direction
+    if (top <= node.below) continue;
+    const Vec3 toward = b.centre - node.centre;
+    const double distance = toward.norm(), reach = b.radius + node.radius;
+    if (reach >= distance && leaf) return false;  // a blocker touching the node: any direction
+    if (reach >= distance || (!leaf && reach > kWholeBallSine * distance)) {
       stack.push_back(b.left), stack.push_back(b.right);
       continue;
     }
-    if (!leaf && reach > kWholeBallSine * distance) {
-      stack.push_back(b.left), stack.push_back(b.right);
-      continue;
-    }
-    ConeExtent cone{};
-    if (coneExtent(toward / distance, std::asin(reach / distance), frame, cone)) cones.push_back(cone);
+    out.emplace_back(toward / distance, std::asin(reach / distance));
   }
-  if (cones.empty()) return region;  // nothing in front (the kernel's own test finds it too)
+  return true;
+}
+
+SkyRegion BlockerSpheres::regionOf(int node_index, double max_share) const {
+  const SkyRegion whole;
+  FlatNode node;
+  std::vector<std::pair<Vec3, double>> axes;
+  if (!flatNode(node_index, node) || !cones(node, axes)) return whole;
+  SkyRegion frame;
+  frame.n = node.n, frame.t0 = node.n.unitOrthogonal(), frame.t1 = node.n.cross(frame.t0);
+  std::vector<ConeExtent> extents;
+  for (const auto& [axis, half_angle] : axes) {
+    ConeExtent cone{};
+    if (coneExtent(axis, half_angle, frame, cone)) extents.push_back(cone);
+  }
+  if (extents.empty()) return whole;  // nothing in front (the kernel's own test finds it too)
   frame.whole = false;
   // The sector, then the rectangles: the smaller share.
   frame.r0_squared = 1.0, frame.r1_squared = 0.0;
-  for (const ConeExtent& c : cones)
+  for (const ConeExtent& c : extents)
     frame.r0_squared = std::min(frame.r0_squared, c.r0_squared), frame.r1_squared = std::max(frame.r1_squared, c.r1_squared);
-  coveringArc(cones, frame);
-  std::vector<Box> boxes;
-  for (const ConeExtent& c : cones) boxes.push_back(c.box);
-  std::vector<Box> disjoint;
+  coveringArc(extents, frame);
+  std::vector<Box> boxes, disjoint;
+  for (const ConeExtent& c : extents) boxes.push_back(c.box);
   disjointBoxes(std::move(boxes), 3, disjoint);
   SkyRegion boxed = frame;
   boxed.box_count = static_cast<int>(disjoint.size());
   for (size_t k = 0; k < disjoint.size(); ++k) boxed.boxes[k] = disjoint[k];
   const SkyRegion& best = boxed.share() < frame.share() ? boxed : frame;
   const double share = best.share();
-  return share > 0.0 && share <= max_share ? best : region;  // (NaN: whole)
+  return share > 0.0 && share <= max_share ? best : whole;  // (NaN: whole)
 }
 
 }  // namespace radnet::geometry

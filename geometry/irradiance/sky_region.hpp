@@ -26,6 +26,7 @@
 #include "geometry/scene/scene.hpp"
 
 #include <array>
+#include <utility>
 #include <vector>
 
 namespace radnet::geometry {
@@ -64,10 +65,20 @@ class BlockerSpheres {
     double radius = 0.0;
     int left = -1, right = -1;  ///< children; a leaf holds one triangle
   };
+  /// A flat node: its normal, the height below which a triangle cannot be met, its
+  /// bounding sphere.
+  struct FlatNode {
+    Vec3 n, centre;
+    double below = 0.0, radius = 0.0;
+  };
   const Scene& scene_;
   double offset_m_ = 0.0;
   std::vector<Ball> balls_;
   int build(std::vector<int>& faces, int begin, int end);
+  bool flatNode(int node, FlatNode& out) const;
+  /// The cones (unit axis, half-angle) holding every triangle in front of the node; false
+  /// when one touches its bounding sphere or the descent grows too long.
+  bool cones(const FlatNode& node, std::vector<std::pair<Vec3, double>>& out) const;
 };
 
 }  // namespace radnet::geometry
