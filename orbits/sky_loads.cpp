@@ -232,7 +232,7 @@ void nodeLoads(const geometry::NodeSky& sky, const std::vector<int>& slot, const
   // (1/N), so a partly blocked node that sees the planet carries that share at the
   // planet's largest radiance in σ. (1,602-node satellite, Sun-pointing: a wing back at
   // 4,096 rays reported 2.2e-5 W for an error of 1.0e-3 W, two rays' worth of its IR.)
-  // Rays drawn in a sector each stand for its share of the hemisphere.
+  // Rays drawn in a region each stand for its share of the hemisphere.
   if (sky.blocked_fraction > 0 && sky.blocked_fraction < 1) {
     const double per_ray = M_PI * sky.ray_share / static_cast<double>(sky.rays);
     for (int c = c0; c < kChannels; ++c)

@@ -71,7 +71,7 @@ std::vector<std::int64_t> refinedRays(const geometry::SkyKernel& kernel, const E
     // reported 54.50 ± 0.39 W/m² at 1,024 rays against 52.09 ± 0.02). From kMinPartlyBlockedRays
     // on it is (on the 1,602-node satellite, inertial, against a run at 20× the accuracy:
     // abs(Δ)/σ over 4 at 0.41 % of node-positions with 4,096 a node, 3.1 % with 1,024).
-    // Rays drawn in a sector of the sky (geometry/irradiance/sky_region) are that much
+    // Rays drawn in a region of the sky (geometry/irradiance/sky_region) are that much
     // denser where blockers can be: the floor counts them by the hemisphere's worth they
     // stand for.
     const double b = kernel.nodes[static_cast<size_t>(i)].blocked_fraction;

@@ -75,7 +75,7 @@ struct SkyRay {
 // counted rays (the minority) per bin and per (bin, replica).
 struct SkyCounts {
   std::int64_t per_replica = 0;
-  double ray_share = 1.0;  // of the hemisphere, the rays' sector (NodeSky::ray_share)
+  double ray_share = 1.0;  // of the hemisphere, the rays' region (NodeSky::ray_share)
   std::array<std::int64_t, kReplicas> blocked{};
   bool counts_open = false;
   /// (bin × kReplicas + replica, count), in any order and with repeats until nodeSkyOf.

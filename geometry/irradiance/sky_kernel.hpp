@@ -59,7 +59,7 @@ struct NodeSky {
   std::int64_t rays = 0;
   double blocked_fraction = 0.0;    ///< cos-weighted share of the hemisphere the spacecraft covers, –
   /// The cosine-weighted share of the hemisphere the rays were drawn from (1: all of it;
-  /// less: a flat node's sector outside which nothing can block, geometry/irradiance/
+  /// less: a flat node's region outside which nothing can block, geometry/irradiance/
   /// sky_region): each ray stands for ray_share / rays of the hemisphere.
   double ray_share = 1.0;
   SkyRegion region;            ///< where the rays were drawn (whole: the hemisphere)
