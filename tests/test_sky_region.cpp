@@ -60,6 +60,9 @@ TEST_CASE("sky region: no ray outside a flat node's region meets anything") {
     if (region.whole) continue;
     small_sectors += region.share() < 0.5;
     rectangles += region.box_count > 0, sectors += region.box_count == 0;
+    // The one regionOf chose is one of the two candidates.
+    const std::array<geometry::SkyRegion, 2> both = blockers.candidates(node);
+    CHECK(region.share() == std::min(both[0].share(), both[1].share()));
     const geometry::NodeSampler sampler(s, node);
     int outside = 0;
     for (int k = 0; k < 20000; ++k) {
@@ -187,4 +190,64 @@ TEST_CASE("sky region: the kernel's blocked shares from sectors equal the whole 
     CHECK(std::abs(sky.blocked_fraction - p) < 4.0 * std::hypot(sigma_kernel, sigma_ref) + 1e-12);
   }
   CHECK(sectors >= 4);
+}
+
+TEST_CASE("sky region: no ray outside the region of a floor under scattered plates meets anything") {
+  // 40 random scenes (fixed seed): a floor and 2–7 small plates floating above it at any
+  // azimuth, height and tilt, so that the blockers' azimuth arcs wrap past the frame's
+  // zero and overlap in every way; 4,000 hemisphere rays from the floor each. No blocked
+  // ray may fall outside either region the floor's is chosen from (the sector's azimuth arc
+  // once missed what an arc wrapping past 2π covered: this test found it).
+  std::mt19937_64 rng(77);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int regions = 0;
+  for (int scene_index = 0; scene_index < 40; ++scene_index) {
+    geometry::Scene s;
+    s.addSurface("floor", "floor", geometry::rectangle(Vec3(-0.1, -0.1, 0), Vec3(0.2, 0, 0), Vec3(0, 0.2, 0), 1, 1),
+                 "floor", "");
+    const int plates = 2 + static_cast<int>(6 * u(rng));
+    for (int k = 0; k < plates; ++k) {
+      const double azimuth = 2 * M_PI * u(rng), distance = 0.4 + 1.5 * u(rng), height = 0.05 + 1.2 * u(rng);
+      const Vec3 at(distance * std::cos(azimuth), distance * std::sin(azimuth), height);
+      const Vec3 a = Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized() * (0.1 + 0.4 * u(rng));
+      const Vec3 b = a.cross(Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5)).normalized() * (0.1 + 0.3 * u(rng));
+      const std::string name = "plate" + std::to_string(k);
+      s.addSurface(name, name, geometry::rectangle(at, a, b, 1, 1), name, name + ".back");
+    }
+    const geometry::RayCaster caster(s);
+    const geometry::BlockerSpheres blockers(s, caster.originOffset());
+    const geometry::NodeSampler sampler(s, 0);
+    for (const geometry::SkyRegion& region : blockers.candidates(0)) {  // the sector and the rectangles
+      if (region.whole) continue;
+      ++regions;
+      int outside = 0;
+      for (int k = 0; k < 4000; ++k) {
+        const geometry::NodeSampler::Ray ray = sampler.map({u(rng), u(rng), u(rng), u(rng)});
+        if (caster.occluded(caster.offsetOrigin(ray.point, ray.normal), ray.direction, ray.face) &&
+            !region.contains(ray.direction))
+          ++outside;
+      }
+      INFO("scene " << scene_index << " with " << plates << " plates: share " << region.share() << ", "
+                    << region.box_count << " rectangles");
+      CHECK(outside == 0);
+    }
+  }
+  CHECK(regions >= 40);
+}
+
+TEST_CASE("sky region: the covering arc of azimuths wrapping past 2π") {
+  // An arc from −1.4 to 1.0 rad wraps past 2π and covers [0, 1.0]: two small arcs inside it
+  // and one from 0.98 to 4.9 leave no gap, so the whole circle (a sweep that did not split
+  // the wrapping arc saw a false gap of 0.4 rad between the small ones, and left it out).
+  const auto whole = geometry::coveringArc({{-0.2, 1.2}, {0.3, 0.05}, {0.8, 0.05}, {2.94, 1.96}});
+  CHECK(whole.second == Approx(2 * M_PI));
+  // A genuine gap, from 1.05 to 2.0: the arc starts at 2.0 and spans 2π − 0.95.
+  const auto arc = geometry::coveringArc({{-0.2, 1.2}, {0.3, 0.05}, {0.8, 0.25}, {3.4, 1.4}});
+  CHECK(arc.first == Approx(2.0));
+  CHECK(arc.second == Approx(2 * M_PI - 0.95));
+  // One arc straddling 0: itself.
+  const auto one = geometry::coveringArc({{0.1, 0.3}});
+  CHECK(std::fmod(one.first + 2 * M_PI, 2 * M_PI) == Approx(2 * M_PI - 0.2));
+  CHECK(one.second == Approx(0.6));
+  CHECK(geometry::coveringArc({{1.0, M_PI}}).second == Approx(2 * M_PI));
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <tuple>
 
 namespace radnet::geometry {
 
@@ -85,16 +86,28 @@ void disjointBoxes(std::vector<Box> boxes, int depth, std::vector<Box>& out) {
   disjointBoxes(std::vector<Box>(boxes.begin() + static_cast<std::ptrdiff_t>(best_k), boxes.end()), depth - 1, out);
 }
 
-// The shortest arc covering every cone's azimuths: the complement of the largest gap
-// between them (none: the whole circle).
-void coveringArc(std::vector<ConeExtent>& cones, SkyRegion& region) {
-  region.phi0 = 0.0, region.phi_span = kTwoPi;
-  for (const ConeExtent& c : cones)
-    if (c.phi_half >= M_PI) return;
-  std::vector<std::pair<double, double>> arcs;  // [start, end), start in [0, 2π)
-  for (const ConeExtent& c : cones) {
-    const double start = std::fmod(std::fmod(c.phi_centre - c.phi_half, kTwoPi) + kTwoPi, kTwoPi);
-    arcs.emplace_back(start, start + 2.0 * c.phi_half);
+// The sector's azimuths: the arc covering every cone's.
+void coveringArc(const std::vector<ConeExtent>& cones, SkyRegion& region) {
+  std::vector<std::pair<double, double>> centre_half;
+  for (const ConeExtent& c : cones) centre_half.emplace_back(c.phi_centre, c.phi_half);
+  std::tie(region.phi0, region.phi_span) = geometry::coveringArc(centre_half);
+}
+
+}  // namespace
+
+std::pair<double, double> coveringArc(const std::vector<std::pair<double, double>>& centre_half) {
+  const std::pair<double, double> circle{0.0, kTwoPi};
+  if (centre_half.empty()) return circle;
+  std::vector<std::pair<double, double>> arcs;  // [start, end] within [0, 2π]
+  for (const auto& [centre, half] : centre_half) {
+    if (half >= M_PI) return circle;
+    const double start = std::fmod(std::fmod(centre - half, kTwoPi) + kTwoPi, kTwoPi), end = start + 2.0 * half;
+    if (end <= kTwoPi) {
+      arcs.emplace_back(start, end);
+    } else {  // split at 2π, so that the sweep sees what it covers at the start too
+      arcs.emplace_back(start, kTwoPi);
+      arcs.emplace_back(0.0, end - kTwoPi);
+    }
   }
   std::sort(arcs.begin(), arcs.end());
   double reach = arcs.front().second, gap = 0.0, gap_end = arcs.front().first;
@@ -103,11 +116,9 @@ void coveringArc(std::vector<ConeExtent>& cones, SkyRegion& region) {
     reach = std::max(reach, arcs[k].second);
   }
   if (arcs.front().first + kTwoPi - reach > gap) gap = arcs.front().first + kTwoPi - reach, gap_end = arcs.front().first;
-  if (gap <= 0.0) return;
-  region.phi0 = gap_end, region.phi_span = kTwoPi - gap;
+  if (gap <= 0.0) return circle;
+  return {gap_end, kTwoPi - gap};
 }
-
-}  // namespace
 
 double SkyRegion::share() const {
   if (whole) return 1.0;
@@ -261,11 +272,11 @@ bool BlockerSpheres::cones(const FlatNode& node, std::vector<std::pair<Vec3, dou
   return true;
 }
 
-SkyRegion BlockerSpheres::regionOf(int node_index, double max_share) const {
-  const SkyRegion whole;
+std::array<SkyRegion, 2> BlockerSpheres::candidates(int node_index) const {
+  std::array<SkyRegion, 2> both;  // whole unless found
   FlatNode node;
   std::vector<std::pair<Vec3, double>> axes;
-  if (!flatNode(node_index, node) || !cones(node, axes)) return whole;
+  if (!flatNode(node_index, node) || !cones(node, axes)) return both;
   SkyRegion frame;
   frame.n = node.n, frame.t0 = node.n.unitOrthogonal(), frame.t1 = node.n.cross(frame.t0);
   std::vector<ConeExtent> extents;
@@ -273,9 +284,8 @@ SkyRegion BlockerSpheres::regionOf(int node_index, double max_share) const {
     ConeExtent cone{};
     if (coneExtent(axis, half_angle, frame, cone)) extents.push_back(cone);
   }
-  if (extents.empty()) return whole;  // nothing in front (the kernel's own test finds it too)
+  if (extents.empty()) return both;  // nothing in front (the kernel's own test finds it too)
   frame.whole = false;
-  // The sector, then the rectangles: the smaller share.
   frame.r0_squared = 1.0, frame.r1_squared = 0.0;
   for (const ConeExtent& c : extents)
     frame.r0_squared = std::min(frame.r0_squared, c.r0_squared), frame.r1_squared = std::max(frame.r1_squared, c.r1_squared);
@@ -286,9 +296,14 @@ SkyRegion BlockerSpheres::regionOf(int node_index, double max_share) const {
   SkyRegion boxed = frame;
   boxed.box_count = static_cast<int>(disjoint.size());
   for (size_t k = 0; k < disjoint.size(); ++k) boxed.boxes[k] = disjoint[k];
-  const SkyRegion& best = boxed.share() < frame.share() ? boxed : frame;
+  return {frame, boxed};
+}
+
+SkyRegion BlockerSpheres::regionOf(int node_index, double max_share) const {
+  const std::array<SkyRegion, 2> both = candidates(node_index);
+  const SkyRegion& best = both[1].share() < both[0].share() ? both[1] : both[0];
   const double share = best.share();
-  return share > 0.0 && share <= max_share ? best : whole;  // (NaN: whole)
+  return share > 0.0 && share <= max_share ? best : SkyRegion{};  // (NaN: whole)
 }
 
 }  // namespace radnet::geometry

@@ -49,6 +49,11 @@ struct SkyRegion {
   bool contains(const Vec3& unit_direction) const;
 };
 
+/// The shortest arc covering arcs of the circle given as (centre, half-width) (rad): its
+/// start in [0, 2π) and its span, the complement of the largest gap between them (no gap,
+/// a half-width ≥ π or no arc: (0, 2π)).
+std::pair<double, double> coveringArc(const std::vector<std::pair<double, double>>& centre_half);
+
 /// A tree of bounding spheres over every triangle of a scene (occluders included), built
 /// once, asked for each node's sector.
 class BlockerSpheres {
@@ -58,6 +63,9 @@ class BlockerSpheres {
   /// The node's region, whole when the node is not flat (several normals or planes), a
   /// blocker touches its bounding sphere, or the region's share exceeds `max_share`.
   SkyRegion regionOf(int node, double max_share = 0.9) const;
+  /// Both regions regionOf chooses between: the sector and the rectangles (whole when the
+  /// node has none).
+  std::array<SkyRegion, 2> candidates(int node) const;
 
  private:
   struct Ball {
