@@ -206,9 +206,13 @@ void nodeLoads(const geometry::NodeSky& sky, const std::vector<int>& slot, const
     const double w = M_PI * sky.weights[j];  // E = π × mean of L over cosine-weighted rays
     for (int c = c0; c < kChannels; ++c) {
       counted.row(c) += w * t.mean[static_cast<size_t>(c)].row(u).head(B).array();
-      binning.row(c) += (w * t.half[static_cast<size_t>(c)].row(u).head(B).array()).square();
+      binning.row(c) += w * t.half[static_cast<size_t>(c)].row(u).head(B).array();
     }
   }
+  // Summed, then squared (a variance from here on): the bins a limb or terminator crosses
+  // err the same way, so their errors add (in quadrature a CAD model's wing cells, seeing a
+  // sliver of the planet past the bus, came out 3–8σ low; docs/orbits.md).
+  binning = binning.square();
   // Replica r's estimate over the block: π Σ its counted rays' bin radiance × the share
   // of the hemisphere each of its rays stands for.
   constexpr int m = geometry::kSkyReplicas;

@@ -8,7 +8,8 @@
 // The σ reported per node: the kernel's sampling error (each coarse cell's replica σ of
 // the counted share times π × the largest radiance in that cell, in quadrature) and the
 // binning error (each counted bin's share times π × |trapezoid − midpoint| / 3 of the
-// radiance over the bin, in quadrature; the bin's radiance itself is Simpson's).
+// radiance over the bin, summed: bins along the limb or the terminator err the same way;
+// the bin's radiance itself is Simpson's).
 #include "geometry/irradiance/sky_kernel.hpp"
 #include "orbits/loads.hpp"
 #include "orbits/planet_sky.hpp"
