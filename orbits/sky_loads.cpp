@@ -189,12 +189,13 @@ void countedLoad(const std::array<Table, kChannels>& estimates, const Eigen::Arr
 // One node's loads and σ at every position of a block, from its kernel, per channel. The
 // σ: the spread of the 32 replicas' own estimates (each from its counted rays' bins) and
 // the binning error. Each bin's radiance over the block is one row: the sums run along them.
+// The binning errors are summed over the bins, not in quadrature: the bins a limb or
+// terminator crosses err the same way (in quadrature a CAD model's wing cells, seeing a
+// sliver of the planet past the bus, came out 3–8σ low).
 void nodeLoads(const geometry::NodeSky& sky, const std::vector<int>& slot, const RadianceTables& t,
                const UnobstructedLoads& unobstructed, int p0, const KnownShare& known, double uniform_ir,
                Rows& value, Rows& sigma, Rows& binning_sigma) {
-  // A uniform planet IR is the view factor's radiance times its flux in every direction, so
-  // the view factor's sums are the IR's over that flux: only two channels are summed.
-  const int c0 = uniform_ir > 0 ? 1 : 0;
+  const int c0 = uniform_ir > 0 ? 1 : 0;  // uniform IR: the view factor's sums are the IR's / flux
   const Eigen::Index B = t.positions;
   Rows free = Rows::Zero(kChannels, B), counted = Rows::Zero(kChannels, B), binning = Rows::Zero(kChannels, B);
   for (const auto& [k, share] : sky.normals)
@@ -209,10 +210,7 @@ void nodeLoads(const geometry::NodeSky& sky, const std::vector<int>& slot, const
       binning.row(c) += w * t.half[static_cast<size_t>(c)].row(u).head(B).array();
     }
   }
-  // Summed, then squared (a variance from here on): the bins a limb or terminator crosses
-  // err the same way, so their errors add (in quadrature a CAD model's wing cells, seeing a
-  // sliver of the planet past the bus, came out 3–8σ low; docs/orbits.md).
-  binning = binning.square();
+  binning = binning.square();  // summed, then a variance: limb bins err alike (docs/orbits.md)
   // Replica r's estimate over the block: π Σ its counted rays' bin radiance × the share
   // of the hemisphere each of its rays stands for.
   constexpr int m = geometry::kSkyReplicas;
