@@ -1,5 +1,7 @@
 #include "orbits/sky_loads.hpp"
 
+#include "orbits/sky_radiance.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -23,113 +25,12 @@ std::vector<int> usedSkyBins(const geometry::SkyKernel& kernel, const std::vecto
 
 namespace {
 
-constexpr int kChannels = 3;  // view factor, albedo, planet IR
-// Positions a block of radiance tables holds: blocks bound the tables' memory (6 × used
-// bins × kBlock doubles, ≤ 38 MB).
-constexpr int kBlock = 32;
+constexpr int kChannels = kSkyChannels;
+constexpr int kBlock = kRadianceBlock;
+// Blocks whose tables a sweep's memory keeps for its later rounds (19 MB each).
+constexpr int kKeptBlocks = 4;
 using Table = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-// Row-major: the sums run along a channel's positions (a column-major row's stride of three
-// kept them from vectorising: a third of the nodes' sums on the 19,202-node satellite).
-using Rows = Eigen::Array<double, kChannels, Eigen::Dynamic, Eigen::RowMajor>;
-
-std::array<double, kChannels> values(const PlanetChannels& c) { return {c.view, c.albedo, c.ir}; }
-
-// The unit directions of every bin corner (6 faces × 65²) and bin centre, computed once,
-// and the cosine of the largest angle between a bin's centre and its corners.
-struct BinDirections {
-  std::vector<Eigen::Vector3d> corners, centres;
-  double cos_radius = 1.0;
-};
-
-const BinDirections& binDirections() {
-  static const BinDirections table = [] {
-    constexpr int edge = SkyBins::kBinsPerEdge, corners = edge + 1;
-    BinDirections t;
-    for (int face = 0; face < 6; ++face)
-      for (int i = 0; i < corners; ++i)
-        for (int j = 0; j < corners; ++j) t.corners.push_back(SkyBins::corner(face, i, j));
-    for (int b = 0; b < SkyBins::kBins; ++b) {
-      t.centres.push_back(SkyBins::direction(b, 0.5, 0.5));
-      const int face = b / (edge * edge), i = (b / edge) % edge, j = b % edge;
-      for (const int di : {0, 1})
-        for (const int dj : {0, 1})
-          t.cos_radius = std::min(
-              t.cos_radius,
-              t.centres.back().dot(t.corners[static_cast<size_t>((face * corners + i + di) * corners + j + dj)]));
-    }
-    return t;
-  }();
-  return table;
-}
-
-}  // namespace
-
-// A block of positions' planet radiance over the used bins (row: a bin's slot, column: a
-// position of the block), per channel: the bin's mean by Simpson's rule (the centre and
-// the four corners) and the error scale of that mean. Sized once for every bin and kBlock
-// positions and kept from round to round: every entry a block reads is written again, none
-// is cleared (fresh tables per round, 28 MB on the 1,602-node satellite, cost 50–80 ms of
-// page faults each).
-struct RadianceTables {
-  std::array<Table, kChannels> mean, half;
-  Rows peak;  // the planet's largest radiance anywhere, per channel and position
-  int positions = 0;  // the block's, ≤ kBlock
-  /// Per row: whether the planet can reach the bin at some position of the block. A row
-  /// it cannot is neither written nor read (its radiance is 0 all block: a third of an
-  /// inertial block's rows on the 1,602-node satellite).
-  std::vector<char> lit;
-};
-
-namespace {
-
-// Only bins that can reach into the planet's cap carry radiance: the angle from the cap's
-// axis to the bin's centre at most the cap's angular radius plus the bin's. The cosine of
-// that angle.
-double cosReach(const PlanetView& view) {
-  const double cap = std::asin(std::sqrt(view.capSin2()));
-  const double bin_radius = std::acos(std::clamp(binDirections().cos_radius, -1.0, 1.0));
-  return std::cos(std::min(M_PI, cap + bin_radius));
-}
-
-// Column q of the radiance tables at one position (one thread): the rows the block lights.
-void binRadiance(const std::vector<int>& used, const PlanetView& view, int q, RadianceTables& t) {
-  constexpr int edge = SkyBins::kBinsPerEdge, corners = edge + 1;
-  const BinDirections& dirs = binDirections();
-  const double cos_reach = cosReach(view);
-  // Kept per thread between positions: a fresh 600 kB a position went back to the kernel
-  // and faulted in again (a tenth of the sweep on the 1,602-node satellite).
-  thread_local std::vector<PlanetChannels> at;
-  thread_local std::vector<char> have;
-  at.resize(dirs.corners.size());
-  have.assign(dirs.corners.size(), 0);
-  const auto corner = [&](size_t c) -> const PlanetChannels& {
-    if (!have[c]) at[c] = planetRadiance(view, dirs.corners[c]), have[c] = 1;
-    return at[c];
-  };
-  for (size_t slot = 0; slot < used.size(); ++slot) {
-    if (!t.lit[slot]) continue;
-    const int b = used[slot];
-    if (dirs.centres[static_cast<size_t>(b)].dot(view.toward_center) < cos_reach) {
-      for (int c = 0; c < kChannels; ++c)
-        t.mean[static_cast<size_t>(c)](static_cast<Eigen::Index>(slot), q) =
-            t.half[static_cast<size_t>(c)](static_cast<Eigen::Index>(slot), q) = 0.0;
-      continue;
-    }
-    const int face = b / (edge * edge), i = (b / edge) % edge, j = b % edge;
-    const size_t c00 = static_cast<size_t>((face * corners + i) * corners + j);
-    PlanetChannels trapezoid;
-    for (const size_t c : {c00, c00 + 1, c00 + corners, c00 + corners + 1}) trapezoid += corner(c) * 0.25;
-    const PlanetChannels midpoint = planetRadiance(view, dirs.centres[static_cast<size_t>(b)]);
-    // Simpson's (2 M + T) / 3 cancels the h² terms of both; |T − M| / 3 estimates the
-    // midpoint's error (more than Simpson's), large only where the limb or the terminator
-    // cross the bin.
-    const std::array<double, kChannels> m = values(midpoint), tr = values(trapezoid);
-    for (int c = 0; c < kChannels; ++c) {
-      t.mean[static_cast<size_t>(c)](static_cast<Eigen::Index>(slot), q) = (2.0 * m[c] + tr[c]) / 3.0;
-      t.half[static_cast<size_t>(c)](static_cast<Eigen::Index>(slot), q) = std::abs(tr[c] - m[c]) / 3.0;
-    }
-  }
-}
+using Rows = ChannelRows;
 
 // What the view factors tell of a node's sky: its blocked share and σ (NaN: nothing).
 struct KnownShare {
@@ -192,7 +93,7 @@ void countedLoad(const std::array<Table, kChannels>& estimates, const Eigen::Arr
 // The binning errors are summed over the bins, not in quadrature: the bins a limb or
 // terminator crosses err the same way (in quadrature a CAD model's wing cells, seeing a
 // sliver of the planet past the bus, came out 3–8σ low).
-void nodeLoads(const geometry::NodeSky& sky, const std::vector<int>& slot, const RadianceTables& t,
+void nodeLoads(const geometry::NodeSky& sky, const RadianceTables& t,
                const UnobstructedLoads& unobstructed, int p0, const KnownShare& known, double uniform_ir,
                Rows& value, Rows& sigma, Rows& binning_sigma) {
   const int c0 = uniform_ir > 0 ? 1 : 0;  // uniform IR: the view factor's sums are the IR's / flux
@@ -202,13 +103,11 @@ void nodeLoads(const geometry::NodeSky& sky, const std::vector<int>& slot, const
     for (int c = 0; c < kChannels; ++c)
       free.row(c) += share * unobstructed.channel[static_cast<size_t>(c)].row(k).segment(p0, B).array();
   for (size_t j = 0; j < sky.bins.size(); ++j) {
-    const Eigen::Index u = slot[static_cast<size_t>(sky.bins[j])];
+    const Eigen::Index u = sky.bins[j];
     if (!t.lit[static_cast<size_t>(u)]) continue;
     const double w = M_PI * sky.weights[j];  // E = π × mean of L over cosine-weighted rays
-    for (int c = c0; c < kChannels; ++c) {
-      counted.row(c) += w * t.mean[static_cast<size_t>(c)].row(u).head(B).array();
-      binning.row(c) += w * t.half[static_cast<size_t>(c)].row(u).head(B).array();
-    }
+    for (int c = c0; c < kChannels; ++c)
+      binning.row(c) += w * t.half[static_cast<size_t>(c)].row(u).head(B).array().cast<double>();
   }
   binning = binning.square();  // summed, then a variance: limb bins err alike (docs/orbits.md)
   // Replica r's estimate over the block: π Σ its counted rays' bin radiance × the share
@@ -219,13 +118,17 @@ void nodeLoads(const geometry::NodeSky& sky, const std::vector<int>& slot, const
   for (int c = c0; c < kChannels; ++c) estimates[static_cast<size_t>(c)] = Table::Zero(m, B);
   Eigen::ArrayXd replica_share = Eigen::ArrayXd::Zero(m);
   for (const geometry::NodeSky::ReplicaCount& e : sky.replica_counts) {
-    const Eigen::Index u = slot[static_cast<size_t>(e.bin)];
+    const Eigen::Index u = e.bin;
     const double share = e.count / per_replica;
     replica_share[e.replica] += share;
     if (!t.lit[static_cast<size_t>(u)]) continue;
     for (int c = c0; c < kChannels; ++c)
-      estimates[static_cast<size_t>(c)].row(e.replica) += M_PI * share * t.mean[static_cast<size_t>(c)].row(u).head(B);
+      estimates[static_cast<size_t>(c)].row(e.replica) += M_PI * share * t.mean[static_cast<size_t>(c)].row(u).head(B).cast<double>();
   }
+  // The counted load is the replicas' mean (a bin's weight is its rays' share over all
+  // replicas): no sum of its own.
+  for (int c = c0; c < kChannels; ++c)
+    counted.row(c) = estimates[static_cast<size_t>(c)].colwise().sum().array() / m;
   Rows variance;
   countedLoad(estimates, replica_share, known, sky.counts_open, t.peak, c0, counted, variance, binning);
   // One ray's worth: a blocker thinner than the rays' spacing can lie inside the planet's
@@ -250,40 +153,6 @@ void nodeLoads(const geometry::NodeSky& sky, const std::vector<int>& slot, const
   value = value.max(0.0).min(free);
   sigma = variance.sqrt();
   binning_sigma = binning.sqrt();
-}
-
-// The tables of positions [p0, p0 + B), B ≤ kBlock.
-void blockTables(const std::vector<int>& used, const std::vector<PlanetView>& views, int p0, int B, RadianceTables& t) {
-  const Eigen::Index rows = static_cast<Eigen::Index>(used.size());
-  // Once at the largest size any round can ask (38 MB): a round that used more bins than
-  // the last would fault fresh pages in again.
-  if (t.mean[0].rows() < rows)
-    for (int c = 0; c < kChannels; ++c) {
-      t.mean[static_cast<size_t>(c)].resize(geometry::SkyBins::kBins, kBlock);
-      t.half[static_cast<size_t>(c)].resize(geometry::SkyBins::kBins, kBlock);
-    }
-  t.positions = B;
-  t.lit.assign(used.size(), 0);
-  std::vector<double> cos_reach;
-  for (int q = 0; q < B; ++q) cos_reach.push_back(cosReach(views[static_cast<size_t>(p0 + q)]));
-  const BinDirections& dirs = binDirections();
-  for (size_t row = 0; row < used.size(); ++row)
-    for (int q = 0; q < B && !t.lit[row]; ++q)
-      t.lit[row] = dirs.centres[static_cast<size_t>(used[row])].dot(views[static_cast<size_t>(p0 + q)].toward_center) >=
-                   cos_reach[static_cast<size_t>(q)];
-#ifdef _OPENMP
-// Contiguous positions per thread: a row's positions share cache lines, and threads taking
-// every other position wrote into each other's lines.
-#pragma omp parallel for schedule(static)
-#endif
-  for (int q = 0; q < B; ++q) binRadiance(used, views[static_cast<size_t>(p0 + q)], q, t);
-  t.peak = Rows::Zero(kChannels, B);
-  for (int q = 0; q < B; ++q) {
-    const PlanetView& v = views[static_cast<size_t>(p0 + q)];
-    t.peak(0, q) = 1.0 / M_PI;
-    t.peak(1, q) = v.albedo * v.solar_flux_w_m2 / M_PI;
-    t.peak(2, q) = v.ir.maxExitance(v.solar_flux_w_m2) / M_PI;
-  }
 }
 
 }  // namespace
@@ -324,17 +193,20 @@ void skyKernelSweep(const geometry::SkyKernel& kernel, const std::vector<PlanetV
   UnobstructedLoads& unobstructed = memory.unobstructed;
   unobstructed.fill(kernel, views, mask);
   const std::vector<int> used = usedSkyBins(kernel, mask);
-  std::vector<int> slot(SkyBins::kBins, -1);
-  for (size_t k = 0; k < used.size(); ++k) slot[static_cast<size_t>(used[k])] = static_cast<int>(k);
   const int n = static_cast<int>(kernel.nodes.size()), P = static_cast<int>(views.size());
   double uniform_ir = P > 0 && views[0].ir.uniform() ? views[0].ir.uniform_w_m2 : 0.0;
   for (const PlanetView& v : views)
     if (!v.ir.uniform() || v.ir.uniform_w_m2 != uniform_ir) uniform_ir = 0.0;
-  if (!memory.tables) memory.tables = std::make_shared<RadianceTables>();
-  RadianceTables& t = *memory.tables;
+  // A table per block while they fit kKeptBlocks (their rows then serve every round),
+  // else one, computed again per block.
+  const int blocks = (P + kBlock - 1) / kBlock;
+  memory.tables.resize(static_cast<size_t>(blocks <= kKeptBlocks ? blocks : 1));
+  for (auto& t : memory.tables)
+    if (!t) t = std::make_shared<RadianceTables>();
   for (int p0 = 0; p0 < P; p0 += kBlock) {
     const int B = std::min(kBlock, P - p0);
-    blockTables(used, views, p0, B, t);
+    RadianceTables& t = *memory.tables[static_cast<size_t>(std::min(p0 / kBlock, static_cast<int>(memory.tables.size()) - 1))];
+    radianceBlock(used, views, p0, B, t, uniform_ir > 0 ? 1 : 0);
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 16)
 #endif
@@ -344,7 +216,7 @@ void skyKernelSweep(const geometry::SkyKernel& kernel, const std::vector<PlanetV
       Rows value, sigma, binning_sigma;
       KnownShare known;
       if (blocked_share.size() == n) known = {blocked_share[i], blocked_share_stderr[i]};
-      nodeLoads(sky, slot, t, unobstructed, p0, known, uniform_ir, value, sigma, binning_sigma);
+      nodeLoads(sky, t, unobstructed, p0, known, uniform_ir, value, sigma, binning_sigma);
       if (binning)
         for (int q = 0; q < B; ++q)
           binning->albedo(i, p0 + q) = binning_sigma(1, q), binning->ir(i, p0 + q) = binning_sigma(2, q);

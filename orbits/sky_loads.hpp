@@ -7,9 +7,10 @@
 //
 // The σ reported per node: the kernel's sampling error (each coarse cell's replica σ of
 // the counted share times π × the largest radiance in that cell, in quadrature) and the
-// binning error (each counted bin's share times π × |trapezoid − midpoint| / 3 of the
-// radiance over the bin, summed: bins along the limb or the terminator err the same way;
-// the bin's radiance itself is Simpson's).
+// binning error (each counted bin's share times π × the error scale of its mean radiance,
+// summed: bins along the limb or the terminator err the same way; the bin's radiance
+// itself is Simpson's, on cells split to an eighth of the bin where a step crosses it:
+// orbits/sky_radiance.hpp).
 #include "geometry/irradiance/sky_kernel.hpp"
 #include "orbits/loads.hpp"
 #include "orbits/planet_sky.hpp"
@@ -42,13 +43,14 @@ struct UnobstructedLoads {
   void fill(const geometry::SkyKernel& kernel, const std::vector<PlanetView>& views, const std::vector<char>& mask);
 };
 
-struct RadianceTables;  // orbits/sky_loads.cpp
+struct RadianceTables;  // orbits/sky_radiance.hpp
 
-/// What the rounds of one sweep share: the unobstructed loads (each normal and position
-/// computed once) and the radiance tables' memory (allocated once, not per round).
+/// What the rounds of one sweep (one vector of views) share: the unobstructed loads (each
+/// normal and position computed once) and the radiance tables (allocated once, each bin's
+/// radiance computed once while the sweep's blocks of positions fit in memory).
 struct SkySweepMemory {
   UnobstructedLoads unobstructed;
-  std::shared_ptr<RadianceTables> tables;
+  std::vector<std::shared_ptr<RadianceTables>> tables;
 };
 
 /// The binning part of each node-position's albedo and IR σ (n × P, W/m²): what more rays

@@ -1,0 +1,183 @@
+#include "orbits/sky_radiance.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace radnet::orbits {
+
+using geometry::SkyBins;
+
+namespace {
+
+constexpr int kChannels = kSkyChannels;
+
+std::array<double, kChannels> values(const PlanetChannels& c) { return {c.view, c.albedo, c.ir}; }
+
+// The unit directions of every bin corner (6 faces × 65²) and bin centre, computed once,
+// and the cosine of the largest angle between a bin's centre and its corners.
+struct BinDirections {
+  std::vector<Eigen::Vector3d> corners, centres;
+  double cos_radius = 1.0;
+};
+
+const BinDirections& binDirections() {
+  static const BinDirections table = [] {
+    constexpr int edge = SkyBins::kBinsPerEdge, corners = edge + 1;
+    BinDirections t;
+    for (int face = 0; face < 6; ++face)
+      for (int i = 0; i < corners; ++i)
+        for (int j = 0; j < corners; ++j) t.corners.push_back(SkyBins::corner(face, i, j));
+    for (int b = 0; b < SkyBins::kBins; ++b) {
+      t.centres.push_back(SkyBins::direction(b, 0.5, 0.5));
+      const int face = b / (edge * edge), i = (b / edge) % edge, j = b % edge;
+      for (const int di : {0, 1})
+        for (const int dj : {0, 1})
+          t.cos_radius = std::min(
+              t.cos_radius,
+              t.centres.back().dot(t.corners[static_cast<size_t>((face * corners + i + di) * corners + j + dj)]));
+    }
+    return t;
+  }();
+  return table;
+}
+
+
+// Only bins that can reach into the planet's cap carry radiance: the angle from the cap's
+// axis to the bin's centre at most the cap's angular radius plus the bin's. The cosine of
+// that angle.
+double cosReach(const PlanetView& view) {
+  const double cap = std::asin(std::sqrt(view.capSin2()));
+  const double bin_radius = std::acos(std::clamp(binDirections().cos_radius, -1.0, 1.0));
+  return std::cos(std::min(M_PI, cap + bin_radius));
+}
+
+// The planet's largest radiance anywhere at a view, per channel (W/m²/sr; 1/π for the view
+// factor).
+std::array<double, kChannels> peakRadiance(const PlanetView& v) {
+  return {1.0 / M_PI, v.albedo * v.solar_flux_w_m2 / M_PI, v.ir.maxExitance(v.solar_flux_w_m2) / M_PI};
+}
+
+// Cells a limb or terminator crosses are split into four, to kMaxSplits levels (a bin's
+// 1/8 at most): where the radiance steps, Simpson's rule on the whole 1.4° bin errs by up
+// to a third of the step, and that error, summed over a node's bins (nodeLoads), left less
+// of the budget for the rays than the rays' own spread (4.8 M kernel rays against 2.0 M
+// on the 1,602-node satellite, inertial). A cell splits where its |T − M| passes
+// kSplitShare of the planet's peak radiance: smooth radiance differs there by ~1e-4.
+constexpr int kMaxSplits = 3;
+constexpr double kSplitShare = 1e-2;
+
+// One cell of bin b, [s, s + h] × [t, t + h] in the bin's fractional coordinates, given its
+// corners' and centre's radiance: adds its Simpson mean and error scale, times `area` (its
+// share of the bin), to mean and half. Splits where a step crosses it.
+struct BinCell {
+  const PlanetView& view;
+  int bin;
+  std::array<double, kChannels> split_at;  // |T − M| that splits, per channel
+  std::array<double, kChannels> mean{}, half{};
+
+  PlanetChannels at(double s, double t) const { return planetRadiance(view, SkyBins::direction(bin, s, t)); }
+
+  void add(double s, double t, double h, const std::array<PlanetChannels, 4>& corner, const PlanetChannels& centre,
+           int splits, double area) {
+    PlanetChannels trapezoid;
+    for (const PlanetChannels& c : corner) trapezoid += c * 0.25;
+    const std::array<double, kChannels> m = values(centre), tr = values(trapezoid);
+    bool split = false;
+    for (int c = 0; c < kChannels; ++c) split = split || std::abs(tr[c] - m[c]) > split_at[static_cast<size_t>(c)];
+    if (split && splits < kMaxSplits) {
+      // Corners 0 (s, t), 1 (s + h, t), 2 (s, t + h), 3 (s + h, t + h); the children share
+      // the parent's centre and the four edge midpoints.
+      const double g = 0.5 * h;
+      const PlanetChannels below = at(s + g, t), above = at(s + g, t + h), left = at(s, t + g), right = at(s + h, t + g);
+      add(s, t, g, {corner[0], below, left, centre}, at(s + 0.5 * g, t + 0.5 * g), splits + 1, 0.25 * area);
+      add(s + g, t, g, {below, corner[1], centre, right}, at(s + 1.5 * g, t + 0.5 * g), splits + 1, 0.25 * area);
+      add(s, t + g, g, {left, centre, corner[2], above}, at(s + 0.5 * g, t + 1.5 * g), splits + 1, 0.25 * area);
+      add(s + g, t + g, g, {centre, right, above, corner[3]}, at(s + 1.5 * g, t + 1.5 * g), splits + 1, 0.25 * area);
+      return;
+    }
+    // Simpson's (2 M + T) / 3 cancels the h² terms of both; |T − M| / 3 estimates the
+    // midpoint's error (more than Simpson's), large only where a step crosses the cell.
+    for (int c = 0; c < kChannels; ++c) {
+      mean[static_cast<size_t>(c)] += area * (2.0 * m[c] + tr[c]) / 3.0;
+      half[static_cast<size_t>(c)] += area * std::abs(tr[c] - m[c]) / 3.0;
+    }
+  }
+};
+
+// Column q of the radiance tables at one position (one thread): the rows the block lights.
+void binRadiance(const std::vector<int>& todo, const PlanetView& view, int q, RadianceTables& t) {
+  constexpr int edge = SkyBins::kBinsPerEdge, corners = edge + 1;
+  const BinDirections& dirs = binDirections();
+  const double cos_reach = cosReach(view);
+  std::array<double, kChannels> split_at = peakRadiance(view);
+  for (double& s : split_at) s *= kSplitShare;
+  // Kept per thread between positions: a fresh 600 kB a position went back to the kernel
+  // and faulted in again (a tenth of the sweep on the 1,602-node satellite).
+  thread_local std::vector<PlanetChannels> at;
+  thread_local std::vector<char> have;
+  at.resize(dirs.corners.size());
+  have.assign(dirs.corners.size(), 0);
+  const auto corner = [&](size_t c) -> const PlanetChannels& {
+    if (!have[c]) at[c] = planetRadiance(view, dirs.corners[c]), have[c] = 1;
+    return at[c];
+  };
+  for (const int b : todo) {
+    if (!t.lit[static_cast<size_t>(b)]) continue;
+    const auto row = static_cast<Eigen::Index>(b);
+    if (dirs.centres[static_cast<size_t>(b)].dot(view.toward_center) < cos_reach) {
+      for (int c = t.first_channel; c < kChannels; ++c)
+        t.mean[static_cast<size_t>(c)](row, q) = t.half[static_cast<size_t>(c)](row, q) = 0.0f;
+      continue;
+    }
+    const int face = b / (edge * edge), i = (b / edge) % edge, j = b % edge;
+    const size_t c00 = static_cast<size_t>((face * corners + i) * corners + j);
+    BinCell cell{view, b, split_at};
+    cell.add(0.0, 0.0, 1.0, {corner(c00), corner(c00 + corners), corner(c00 + 1), corner(c00 + corners + 1)},
+             planetRadiance(view, dirs.centres[static_cast<size_t>(b)]), 0, 1.0);
+    for (int c = t.first_channel; c < kChannels; ++c) {
+      t.mean[static_cast<size_t>(c)](row, q) = static_cast<float>(cell.mean[static_cast<size_t>(c)]);
+      t.half[static_cast<size_t>(c)](row, q) = static_cast<float>(cell.half[static_cast<size_t>(c)]);
+    }
+  }
+}
+
+}  // namespace
+
+void radianceBlock(const std::vector<int>& used, const std::vector<PlanetView>& views, int p0, int B,
+                   RadianceTables& t, int first_channel) {
+  constexpr int bins = geometry::SkyBins::kBins;
+  if (t.mean[0].rows() < bins)
+    for (int c = 0; c < kChannels; ++c) {
+      t.mean[static_cast<size_t>(c)].resize(bins, kRadianceBlock);
+      t.half[static_cast<size_t>(c)].resize(bins, kRadianceBlock);
+    }
+  if (t.first != p0 || t.positions != B || t.first_channel != first_channel) {
+    t.first = p0, t.positions = B, t.first_channel = first_channel;
+    t.lit.assign(bins, 0);
+    t.computed.assign(bins, 0);
+    t.peak = ChannelRows::Zero(kChannels, B);
+    for (int q = 0; q < B; ++q) {
+      const std::array<double, kChannels> peak = peakRadiance(views[static_cast<size_t>(p0 + q)]);
+      for (int c = 0; c < kChannels; ++c) t.peak(c, q) = peak[static_cast<size_t>(c)];
+    }
+  }
+  std::vector<int> todo;
+  for (const int b : used)
+    if (!t.computed[static_cast<size_t>(b)]) todo.push_back(b), t.computed[static_cast<size_t>(b)] = 1;
+  if (todo.empty()) return;
+  std::vector<double> cos_reach;
+  for (int q = 0; q < B; ++q) cos_reach.push_back(cosReach(views[static_cast<size_t>(p0 + q)]));
+  const BinDirections& dirs = binDirections();
+  for (const int b : todo)
+    for (int q = 0; q < B && !t.lit[static_cast<size_t>(b)]; ++q)
+      t.lit[static_cast<size_t>(b)] =
+          dirs.centres[static_cast<size_t>(b)].dot(views[static_cast<size_t>(p0 + q)].toward_center) >= cos_reach[static_cast<size_t>(q)];
+#ifdef _OPENMP
+// Contiguous positions per thread: a row's positions share cache lines, and threads taking
+// every other position wrote into each other's lines.
+#pragma omp parallel for schedule(static)
+#endif
+  for (int q = 0; q < B; ++q) binRadiance(todo, views[static_cast<size_t>(p0 + q)], q, t);
+}
+
+}  // namespace radnet::orbits
