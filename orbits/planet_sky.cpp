@@ -238,4 +238,21 @@ PlanetChannels PlanetRings::loads(const Eigen::Vector3d& normal) const {
   return sum;
 }
 
+PlanetChannels PlanetRings::facetLoads(const std::vector<Eigen::Vector3d>& normals,
+                                       const std::vector<double>& shares) const {
+  const double sin_max = std::sqrt(view_.capSin2());
+  Eigen::Vector3d seeing = Eigen::Vector3d::Zero();
+  PlanetChannels sum;
+  for (size_t k = 0; k < normals.size(); ++k) {
+    const double cos_c = normals[k].dot(view_.toward_center);
+    if (cos_c >= sin_max)
+      seeing += shares[k] * normals[k];
+    else if (cos_c > -sin_max)
+      sum += loads(normals[k]) * shares[k];
+  }
+  const double length = seeing.norm();
+  if (length > 0) sum += loads(seeing / length) * length;
+  return sum;
+}
+
 }  // namespace radnet::orbits

@@ -67,6 +67,12 @@ class PlanetRings {
  public:
   explicit PlanetRings(const PlanetView& view);
   PlanetChannels loads(const Eigen::Vector3d& normal) const;
+  /// Σ_k shares_k loads(normals_k) over a facetted part's unit normals. A plane that sees
+  /// the whole cap (n · c ≥ sin θ_max) receives n · ∫_cap L d dΩ, linear in n: those
+  /// normals cost one ring integral together, at their weighted sum (its direction sees the
+  /// whole cap too: the cone of such normals is convex). Normals facing away from the
+  /// whole cap receive nothing; the rest one ring integral each.
+  PlanetChannels facetLoads(const std::vector<Eigen::Vector3d>& normals, const std::vector<double>& shares) const;
 
  private:
   struct Point {

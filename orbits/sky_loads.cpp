@@ -93,15 +93,11 @@ void countedLoad(const std::array<Table, kChannels>& estimates, const Eigen::Arr
 // The binning errors are summed over the bins, not in quadrature: the bins a limb or
 // terminator crosses err the same way (in quadrature a CAD model's wing cells, seeing a
 // sliver of the planet past the bus, came out 3–8σ low).
-void nodeLoads(const geometry::NodeSky& sky, const RadianceTables& t,
-               const UnobstructedLoads& unobstructed, int p0, const KnownShare& known, double uniform_ir,
-               Rows& value, Rows& sigma, Rows& binning_sigma) {
+void nodeLoads(const geometry::NodeSky& sky, const RadianceTables& t, const Rows& free, const KnownShare& known,
+               double uniform_ir, Rows& value, Rows& sigma, Rows& binning_sigma) {
   const int c0 = uniform_ir > 0 ? 1 : 0;  // uniform IR: the view factor's sums are the IR's / flux
   const Eigen::Index B = t.positions;
-  Rows free = Rows::Zero(kChannels, B), counted = Rows::Zero(kChannels, B), binning = Rows::Zero(kChannels, B);
-  for (const auto& [k, share] : sky.normals)
-    for (int c = 0; c < kChannels; ++c)
-      free.row(c) += share * unobstructed.channel[static_cast<size_t>(c)].row(k).segment(p0, B).array();
+  Rows counted = Rows::Zero(kChannels, B), binning = Rows::Zero(kChannels, B);
   for (size_t j = 0; j < sky.bins.size(); ++j) {
     const Eigen::Index u = sky.bins[j];
     if (!t.lit[static_cast<size_t>(u)]) continue;
@@ -161,18 +157,29 @@ void UnobstructedLoads::fill(const geometry::SkyKernel& kernel, const std::vecto
                              const std::vector<char>& mask) {
   const Eigen::Index normals = static_cast<Eigen::Index>(kernel.normals.size());
   const int P = static_cast<int>(views.size());
-  if (have.size() != kernel.normals.size() || channel[0].cols() != P) {
+  if (have.size() != kernel.normals.size() || channel[0].cols() != P || node_row.size() != kernel.nodes.size()) {
     have.assign(kernel.normals.size(), 0);
     for (auto& c : channel) c.setZero(normals, P);
+    node_row.assign(kernel.nodes.size(), -1);
+    int rows = 0;
+    for (size_t i = 0; i < kernel.nodes.size(); ++i)
+      if (kernel.nodes[i].normals.size() > kGroupedFacets) node_row[i] = rows++;
+    node_have.assign(static_cast<size_t>(rows), 0);
+    for (auto& c : node_channel) c.setZero(rows, P);
   }
   std::vector<char> wanted(kernel.normals.size(), 0);
-  for (size_t i = 0; i < kernel.nodes.size(); ++i)
-    if ((mask.empty() || mask[i]) && kernel.nodes[i].rays > 0)
+  std::vector<int> nodes;
+  for (size_t i = 0; i < kernel.nodes.size(); ++i) {
+    if ((!mask.empty() && !mask[i]) || kernel.nodes[i].rays <= 0) continue;
+    if (node_row[i] < 0)
       for (const auto& [k, share] : kernel.nodes[i].normals) wanted[static_cast<size_t>(k)] = !have[static_cast<size_t>(k)];
+    else if (!node_have[static_cast<size_t>(node_row[i])])
+      nodes.push_back(static_cast<int>(i)), node_have[static_cast<size_t>(node_row[i])] = 1;
+  }
   std::vector<int> todo;
   for (size_t k = 0; k < wanted.size(); ++k)
     if (wanted[k]) todo.push_back(static_cast<int>(k)), have[k] = 1;
-  if (todo.empty()) return;
+  if (todo.empty() && nodes.empty()) return;
   // A position's rings serve all its normals (their pieces and points computed once).
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 1)
@@ -183,7 +190,32 @@ void UnobstructedLoads::fill(const geometry::SkyKernel& kernel, const std::vecto
       const PlanetChannels u = rings.loads(kernel.normals[static_cast<size_t>(k)]);
       channel[0](k, p) = u.view, channel[1](k, p) = u.albedo, channel[2](k, p) = u.ir;
     }
+    std::vector<Eigen::Vector3d> facet_normals;
+    std::vector<double> shares;
+    for (const int i : nodes) {
+      facet_normals.clear(), shares.clear();
+      for (const auto& [k, share] : kernel.nodes[static_cast<size_t>(i)].normals)
+        facet_normals.push_back(kernel.normals[static_cast<size_t>(k)]), shares.push_back(share);
+      const PlanetChannels u = rings.facetLoads(facet_normals, shares);
+      const int row = node_row[static_cast<size_t>(i)];
+      node_channel[0](row, p) = u.view, node_channel[1](row, p) = u.albedo, node_channel[2](row, p) = u.ir;
+    }
   }
+}
+
+Eigen::Array<double, 3, Eigen::Dynamic, Eigen::RowMajor> UnobstructedLoads::node(const geometry::SkyKernel& kernel,
+                                                                                 size_t i, int p0, int B) const {
+  Eigen::Array<double, 3, Eigen::Dynamic, Eigen::RowMajor> free = Eigen::Array<double, 3, Eigen::Dynamic, Eigen::RowMajor>::Zero(3, B);
+  const int row = node_row[i];
+  for (int c = 0; c < 3; ++c) {
+    if (row >= 0) {
+      free.row(c) = node_channel[static_cast<size_t>(c)].row(row).segment(p0, B).array();
+      continue;
+    }
+    for (const auto& [k, share] : kernel.nodes[i].normals)
+      free.row(c) += share * channel[static_cast<size_t>(c)].row(k).segment(p0, B).array();
+  }
+  return free;
 }
 
 void skyKernelSweep(const geometry::SkyKernel& kernel, const std::vector<PlanetView>& views,
@@ -216,7 +248,8 @@ void skyKernelSweep(const geometry::SkyKernel& kernel, const std::vector<PlanetV
       Rows value, sigma, binning_sigma;
       KnownShare known;
       if (blocked_share.size() == n) known = {blocked_share[i], blocked_share_stderr[i]};
-      nodeLoads(sky, t, unobstructed, p0, known, uniform_ir, value, sigma, binning_sigma);
+      nodeLoads(sky, t, unobstructed.node(kernel, static_cast<size_t>(i), p0, B), known, uniform_ir, value, sigma,
+                binning_sigma);
       if (binning)
         for (int q = 0; q < B; ++q)
           binning->albedo(i, p0 + q) = binning_sigma(1, q), binning->ir(i, p0 + q) = binning_sigma(2, q);

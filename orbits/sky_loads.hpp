@@ -25,22 +25,29 @@ namespace radnet::orbits {
 /// The bins the kernels of the nodes `mask` leaves in (empty: all) use, ascending.
 std::vector<int> usedSkyBins(const geometry::SkyKernel& kernel, const std::vector<char>& mask = {});
 
-/// Writes every position's earth_view_factor, albedo, earth_ir and their σ (a column per
-/// view) for the nodes `mask` leaves in (empty: all). Whether a node's σ is within its
-/// target is the caller's to judge (orbits/loads.cpp: against the node's largest load
-/// over the sweep).
 /// The unobstructed loads (view factor, albedo, planet IR) of the kernel's normals at every
 /// position (normals × positions, per channel), each computed once however many sweeps read
 /// it: the rings cost some 2 µs a normal and position (7 µs before their arcs' ends were
 /// taken by angle addition; a position's pieces are shared by its normals, PlanetRings),
-/// and a curved part has a normal per
-/// facet (2,204 on the 1,602-node satellite, whose dish alone is 1,100).
+/// and a curved part has a normal per facet (2,204 on the 1,602-node satellite, whose dish
+/// alone is 1,100). A node of more than kGroupedFacets normals is summed per node and
+/// position instead (PlanetRings::facetLoads: its normals that see the whole cap cost one
+/// ring integral together).
 struct UnobstructedLoads {
+  using Rows = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  static constexpr size_t kGroupedFacets = 8;
   /// Row-major: a node's sums read a normal's positions.
-  std::array<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>, 3> channel;
+  std::array<Rows, 3> channel;
   std::vector<char> have;  ///< per normal: computed
-  /// Computes the normals the nodes `mask` leaves in use that are not there yet.
+  std::array<Rows, 3> node_channel;  ///< the grouped nodes' own rows (nodes × positions)
+  std::vector<int> node_row;         ///< per node: its row there, −1: summed from `channel`
+  std::vector<char> node_have;       ///< per grouped row: computed
+  /// Computes the normals and grouped nodes the nodes `mask` leaves in use that are not
+  /// there yet.
   void fill(const geometry::SkyKernel& kernel, const std::vector<PlanetView>& views, const std::vector<char>& mask);
+  /// Node i's unobstructed loads at positions [p0, p0 + B), per channel.
+  Eigen::Array<double, 3, Eigen::Dynamic, Eigen::RowMajor> node(const geometry::SkyKernel& kernel, size_t i, int p0,
+                                                                int B) const;
 };
 
 struct RadianceTables;  // orbits/sky_radiance.hpp
@@ -59,6 +66,10 @@ struct BinningErrors {
   Eigen::MatrixXd albedo, ir;
 };
 
+/// Writes every position's earth_view_factor, albedo, earth_ir and their σ (a column per
+/// view) for the nodes `mask` leaves in (empty: all). Whether a node's σ is within its
+/// target is the caller's to judge (orbits/loads.cpp: against the node's largest load
+/// over the sweep).
 /// `blocked_share`, `blocked_share_stderr` (empty: not known): each node's blocked share of
 /// its sky from the view factors and its σ, for the ratio estimate (EnvironmentOptions);
 /// `binning` (optional, sized n × P): the nodes' binning σ written there.
@@ -67,8 +78,13 @@ void skyKernelSweep(const geometry::SkyKernel& kernel, const std::vector<PlanetV
                     const Eigen::VectorXd& blocked_share, const Eigen::VectorXd& blocked_share_stderr,
                     EnvironmentLoads& out, BinningErrors* binning = nullptr);
 
-/// The sky kernel's first cast, rays a node (32 a replica): a node whose error over the
-/// sweep is then above its target is cast again with what its error asks.
+/// The sky kernel's first cast, rays a node (32 a replica) drawn over its whole hemisphere;
+/// a flat node drawn in its region of possible blockers casts kMinPartlyBlockedRays × the
+/// region's share at once (the density the floor below asks of a partly blocked node: the
+/// re-cast round of 4,056 nodes that raised them to it cost a sweep on the 19,202-node
+/// satellite, and small regions took 1,024 rays where 256 give that density: 21.7 → 17.6 M
+/// kernel rays). A node whose error over the sweep is then above its target is cast again
+/// with what its error asks.
 inline constexpr std::int64_t kSkyKernelFirstRays = 1024;
 /// Planet rays replace the kernel at a node-position only where its σ exceeds the target
 /// this many times. The target's halves are a sufficient bound (the albedo and the IR

@@ -128,6 +128,7 @@ KernelTargets kernelLoads(const geometry::RayCaster& caster, const std::vector<P
   if (fresh) {
     geometry::SkyKernelOptions k;
     k.max_rays_per_node = kSkyKernelFirstRays;
+    k.rays_per_share = static_cast<double>(kMinPartlyBlockedRays);
     k.seed = opt.seed;
     k.nodes = opt.planet_nodes;
     const auto t0 = std::chrono::steady_clock::now();

@@ -234,6 +234,13 @@ NodeSky countedSky(SkyCounts& c, const std::vector<std::uint32_t>& rays) {
   return nodeSkyOf(c);
 }
 
+// Rays a replica for a node drawn in `region` (SkyKernelOptions::rays_per_share).
+std::int64_t regionRaysPerReplica(const SkyKernelOptions& opt, const SkyRegion& region) {
+  std::int64_t per_replica = std::max<std::int64_t>(1, opt.min_rays_per_node / kReplicas);
+  while (static_cast<double>(per_replica * kReplicas) < opt.rays_per_share * region.share()) per_replica *= 2;
+  return per_replica;
+}
+
 // Rays from one node, doubling per replica until the counted share's σ meets the target
 // (or to a count per node). With `before` (the same seed's first points, cast earlier) the
 // stream resumes after them and only the new rays are traced; `cast` counts those. With
@@ -243,7 +250,7 @@ NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& o
                     const SceneExtent* extent, const BlockerSpheres* blockers, std::int64_t& cast) {
   const bool fixed = !opt.node_rays.empty();
   const std::int64_t asked = fixed ? opt.node_rays[static_cast<size_t>(node)] : opt.max_rays_per_node;
-  const std::int64_t cap = std::max<std::int64_t>(1, (asked + kReplicas - 1) / kReplicas);
+  std::int64_t cap = std::max<std::int64_t>(1, (asked + kReplicas - 1) / kReplicas);
   if (extent && nothingInFront(caster.scene(), caster.scene().nodes()[static_cast<size_t>(node)], *extent)) {
     NodeSky open;  // what the asked rays would all find, none traced
     open.rays = cap * kReplicas;
@@ -251,9 +258,9 @@ NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& o
   }
   const NodeSampler sampler(caster.scene(), node);
   // The region once per node: a re-cast draws in the same one (its first rays' share).
-  const SkyRegion region = before && before->region_known ? before->region
-                           : blockers                      ? blockers->regionOf(node)
-                                                           : SkyRegion{};
+  const SkyRegion region =
+      before && before->region_known ? before->region : (blockers ? blockers->regionOf(node) : SkyRegion{});
+  if (!fixed && opt.rays_per_share > 0 && !region.whole) cap = regionRaysPerReplica(opt, region);
   const bool resumes = before && before->rays % kReplicas == 0 && before->rays / kReplicas <= cap &&
                        before->ray_share == region.share();
   SkyCounts c = resumes ? countsOf(*before) : SkyCounts{};
@@ -331,7 +338,7 @@ SkyKernel skyKernel(const RayCaster& caster, const SkyKernelOptions& opt) {
   SkyKernel kernel;
   kernel.nodes.resize(static_cast<size_t>(n));
   // A replica's count in one bin is kept in 16 bits.
-  std::int64_t most = opt.max_rays_per_node;
+  std::int64_t most = std::max(opt.max_rays_per_node, static_cast<std::int64_t>(2.0 * opt.rays_per_share));
   for (const std::int64_t r : opt.node_rays) most = std::max(most, r);
   if (most > 65535 * static_cast<std::int64_t>(kReplicas))
     throw std::invalid_argument("sky kernel: at most 2,097,120 rays a node");

@@ -76,6 +76,12 @@ struct SkyKernel {
 
 struct SkyKernelOptions {
   std::int64_t max_rays_per_node = 65536;
+  /// > 0: a node drawn in a region casts rays_per_share × its region's share (rounded up
+  /// to a power of two a replica, at least min_rays_per_node) in place of
+  /// max_rays_per_node, which the nodes drawn over their whole hemisphere keep: the same
+  /// density over the sky whatever a node's region (not with node_rays).
+  double rays_per_share = 0.0;
+  std::int64_t min_rays_per_node = 256;
   /// Rays double from 1,024 until the σ of the counted share is at most this (0: cast
   /// max_rays_per_node), –
   double target_stderr = 0.0;
