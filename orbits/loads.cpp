@@ -2,6 +2,7 @@
 
 #include "geometry/irradiance/sun_clip.hpp"
 #include "geometry/irradiance/sun_grid.hpp"
+#include "orbits/direct_loads.hpp"
 #include "orbits/sky_loads.hpp"
 #include "solver/units.hpp"
 
@@ -37,95 +38,6 @@ double shadowGridSpacing(const Eigen::VectorXd& area, double relative_error) {
 }
 
 namespace {
-
-// Sunlight that mirrors and windows pass on (the whole arrival at each node it reaches: the
-// network takes its κ share, the tracer carries the rest on), added to the direct load.
-void redirectedSunlight(const geometry::RayCaster& caster, const Eigen::VectorXd& area, const SweepPosition& pos,
-                        const EnvironmentOptions& opt, double flux, EnvironmentLoads& out, int p) {
-  if (!opt.solar_specular.anyRedirects()) return;
-  const geometry::RedirectedLight light =
-      geometry::redirectedCollimated(caster, opt.solar_specular, pos.sun_body, opt.specular_samples, opt.seed);
-  out.direct.col(p) += flux * light.arrived_m2.cwiseQuotient(area);
-  const Eigen::VectorXd sigma = flux * light.stderr_m2.cwiseQuotient(area);
-  out.direct_stderr.col(p) = (out.direct_stderr.col(p).array().square() + sigma.array().square()).sqrt().matrix();
-  out.shadow_rays += light.rays;
-}
-
-// The lit projection (m²) and its σ of every node at one position, by the case's method:
-// exact clipping (the default), the shadow grid (shadow_cell_m) or per-node rays.
-void litProjectionOnce(const geometry::RayCaster& caster, const SweepPosition& pos, const EnvironmentOptions& opt,
-                       Eigen::VectorXd& projected_m2, Eigen::VectorXd& stderr_m2, EnvironmentLoads& out) {
-  if (opt.shadow_samples > 0) {
-    geometry::LitArea lit = geometry::litArea(caster, pos.sun_body, opt.shadow_samples, opt.seed);
-    out.shadow_rays += lit.rays_cast;
-    projected_m2 = std::move(lit.projected_m2), stderr_m2 = std::move(lit.stderr_m2);
-    return;
-  }
-  geometry::SunlitArea lit;
-  if (opt.shadow_cell_m > 0) {
-    geometry::SunGridOptions grid;
-    grid.cell_m = opt.shadow_cell_m;
-    grid.seed = opt.seed;
-    grid.negligible_fraction = opt.relative_error;
-    grid.max_relative_stderr = opt.relative_error;
-    lit = geometry::sunlitArea(caster, pos.sun_body, grid);
-    out.shadow_rays += lit.cells + lit.node_rays;
-    out.shadow_cell_m = lit.cell_m;
-  } else {
-    lit = geometry::exactSunlitArea(caster.scene(), pos.sun_body);
-  }
-  projected_m2 = std::move(lit.projected_m2), stderr_m2 = std::move(lit.stderr_m2);
-}
-
-// The last lit projection of one sweep and the Sun's body direction it was for: an
-// attitude that holds the Sun still in the body frame (Sun-pointing) casts the same shadows
-// at every position (the exact clipping cost 5 ms a position on the 19,202-node
-// satellite). Directions within 1e-12 rad share it: the lit projection is continuous in
-// the direction, and every method is deterministic for a given one.
-struct LitCache {
-  Eigen::Vector3d sun_body = Eigen::Vector3d::Zero();
-  Eigen::VectorXd projected_m2, stderr_m2;
-};
-
-void litProjection(const geometry::RayCaster& caster, const SweepPosition& pos, const EnvironmentOptions& opt,
-                   Eigen::VectorXd& projected_m2, Eigen::VectorXd& stderr_m2, EnvironmentLoads& out, LitCache& cache) {
-  if (cache.projected_m2.size() > 0 && (pos.sun_body - cache.sun_body).norm() <= 1e-12) {
-    projected_m2 = cache.projected_m2, stderr_m2 = cache.stderr_m2;
-    return;
-  }
-  litProjectionOnce(caster, pos, opt, projected_m2, stderr_m2, out);
-  cache = {pos.sun_body, projected_m2, stderr_m2};
-}
-
-// Direct irradiance and its σ at one lit position, W/m².
-void directLoads(const geometry::RayCaster& caster, const Eigen::VectorXd& area, const SweepPosition& pos,
-                 const EnvironmentOptions& opt, EnvironmentLoads& out, int p, LitCache& cache) {
-  const double flux = pos.solar_flux_w_m2 * pos.sunlit_fraction;
-  Eigen::VectorXd projected_m2, stderr_m2;
-  litProjection(caster, pos, opt, projected_m2, stderr_m2, out, cache);
-  out.direct.col(p) = flux * projected_m2.cwiseQuotient(area);
-  out.direct_stderr.col(p) = flux * stderr_m2.cwiseQuotient(area);
-  redirectedSunlight(caster, area, pos, opt, flux, out, p);
-}
-
-// Every position's direct irradiance (n × P, W/m²): `out`'s where this process computed
-// it, the rest (other processes' positions) computed here too, so that whatever reads it
-// (the sky kernel's targets) is the same on any number of processes.
-Eigen::MatrixXd directAtEveryPosition(const geometry::RayCaster& caster, const Eigen::VectorXd& area,
-                                      const std::vector<SweepPosition>& positions, const EnvironmentOptions& opt,
-                                      const EnvironmentLoads& out) {
-  if (opt.sun_positions.empty()) return out.direct;
-  EnvironmentLoads others;
-  others.direct = out.direct;
-  others.direct_stderr = out.direct_stderr;
-  LitCache cache;
-  for (int p = 0; p < static_cast<int>(positions.size()); ++p) {
-    const SweepPosition& pos = positions[static_cast<size_t>(p)];
-    if (pos.sunlit_fraction > 0 && !opt.sun_positions[static_cast<size_t>(p)])
-      directLoads(caster, area, pos, opt, others, p, cache);
-  }
-  return others.direct;
-}
 
 // The mean and standard error of per-replica estimates.
 void replicaStatistics(const std::vector<double>& estimates, double& value, double& stderr_value) {
@@ -299,12 +211,13 @@ PlanetView planetView(const SweepPosition& pos, double re, const EnvironmentOpti
   return view;
 }
 
-// Whether the sky kernel serves this sweep: as the case's method asks, and not when the
+// Whether the sky kernel serves this sweep: as the case's method asks (auto: when the planet
+// moves in the body frame, or from kSkyKernelNodesPerPosition nodes a position), and not when the
 // case pins planet rays, gives an albedo by latitude (the kernel's radiance is per
 // direction, not per place), or the planet is so far that it covers little of a node's
 // sky (rays into its cone do better; /report planet_load_method says which ran).
 bool kernelServes(const std::vector<SweepPosition>& positions, bool earth_fixed, double re,
-                  const EnvironmentOptions& opt, double& smallest_cap_sin2) {
+                  const EnvironmentOptions& opt, Eigen::Index nodes, double& smallest_cap_sin2) {
   smallest_cap_sin2 = 1.0;
   if (positions.empty()) return false;
   bool planet_still = earth_fixed;  // and where it sits stays put (not on an elliptic orbit)
@@ -315,7 +228,9 @@ bool kernelServes(const std::vector<SweepPosition>& positions, bool earth_fixed,
     planet_still = planet_still && (center - first).norm() <= 1e-9 * center.norm();
   }
   using Method = EnvironmentOptions::PlanetMethod;
-  const bool wanted = opt.planet_method == Method::SkyKernel || (opt.planet_method == Method::Auto && !planet_still);
+  const bool many_nodes = nodes >= kSkyKernelNodesPerPosition * static_cast<Eigen::Index>(positions.size());
+  const bool wanted =
+      opt.planet_method == Method::SkyKernel || (opt.planet_method == Method::Auto && (!planet_still || many_nodes));
   return wanted && opt.planet_rays == 0 && opt.albedo_by_latitude.empty() && smallest_cap_sin2 >= kSkyKernelMinCapSin2;
 }
 
@@ -369,13 +284,13 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
   if (!opt.sun_positions.empty() && opt.sun_positions.size() != static_cast<size_t>(P))
     throw std::invalid_argument("environment loads: the position mask must have one entry per position");
   // The direct load first: the sky kernel's targets are shares of each node's absorbed power.
-  LitCache lit;
+  LitCache lit(positions);
   for (int p = 0; p < P; ++p) {
     const SweepPosition& pos = positions[static_cast<size_t>(p)];
     if (pos.sunlit_fraction > 0 && mine(opt.sun_positions, p)) directLoads(caster, area, pos, opt, out, p, lit);  // no rays in the umbra
   }
   double smallest_cap_sin2 = 1.0;
-  out.planet_kernel = kernelServes(positions, earth_fixed, re, opt, smallest_cap_sin2);
+  out.planet_kernel = kernelServes(positions, earth_fixed, re, opt, area.size(), smallest_cap_sin2);
   if (out.planet_kernel)
     kernelPlanetLoads(caster, positions, earth_fixed, re, smallest_cap_sin2, opt,
                       directAtEveryPosition(caster, area, positions, opt, out), out);
