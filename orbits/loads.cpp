@@ -1,6 +1,5 @@
 #include "orbits/loads.hpp"
 
-#include "geometry/irradiance/sun_clip.hpp"
 #include "geometry/irradiance/sun_grid.hpp"
 #include "orbits/direct_loads.hpp"
 #include "orbits/sky_loads.hpp"
