@@ -3,6 +3,10 @@
 #include "geometry/irradiance/sun_clip.hpp"
 #include "geometry/irradiance/sun_grid.hpp"
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 namespace radnet::orbits {
 
 namespace {
@@ -49,14 +53,12 @@ void litProjectionOnce(const geometry::RayCaster& caster, const SweepPosition& p
 void litProjection(const geometry::RayCaster& caster, const SweepPosition& pos, const EnvironmentOptions& opt,
                    Eigen::VectorXd& projected_m2, Eigen::VectorXd& stderr_m2, EnvironmentLoads& out, LitCache& cache) {
   const bool exact = opt.shadow_samples <= 0 && !(opt.shadow_cell_m > 0);  // no rays to count twice across ranks
-  if (!exact || !cache.have_first || (pos.sun_body - cache.first.sun_body).norm() > 1e-12)
+  if (!exact || !cache.serves(pos))
     return litProjectionOnce(caster, pos, opt, projected_m2, stderr_m2, out);
   if (cache.projected_m2.size() == 0)
     litProjectionOnce(caster, cache.first, opt, cache.projected_m2, cache.stderr_m2, out);
   projected_m2 = cache.projected_m2, stderr_m2 = cache.stderr_m2;
 }
-
-}  // namespace
 
 // Direct irradiance and its σ at one lit position, W/m².
 void directLoads(const geometry::RayCaster& caster, const Eigen::VectorXd& area, const SweepPosition& pos,
@@ -67,6 +69,38 @@ void directLoads(const geometry::RayCaster& caster, const Eigen::VectorXd& area,
   out.direct.col(p) = flux * projected_m2.cwiseQuotient(area);
   out.direct_stderr.col(p) = flux * stderr_m2.cwiseQuotient(area);
   redirectedSunlight(caster, area, pos, opt, flux, out, p);
+}
+
+}  // namespace
+
+void directLoadsAt(const geometry::RayCaster& caster, const Eigen::VectorXd& area,
+                   const std::vector<SweepPosition>& positions, const EnvironmentOptions& opt,
+                   const std::vector<char>& wanted, EnvironmentLoads& out, LitCache& cache) {
+  std::vector<int> lit;
+  for (int p = 0; p < static_cast<int>(positions.size()); ++p)
+    if (positions[static_cast<size_t>(p)].sunlit_fraction > 0 && (wanted.empty() || wanted[static_cast<size_t>(p)]))
+      lit.push_back(p);
+  const bool exact = opt.shadow_samples <= 0 && !(opt.shadow_cell_m > 0) && !opt.solar_specular.anyRedirects();
+#ifdef _OPENMP
+  const bool parallel = exact && static_cast<int>(lit.size()) >= 2 * omp_get_max_threads();
+#else
+  const bool parallel = false;
+#endif
+  if (!parallel) {
+    for (const int p : lit) directLoads(caster, area, positions[static_cast<size_t>(p)], opt, out, p, cache);
+    return;
+  }
+  // The shared projection first, if any position takes it: the loop only reads the cache.
+  bool shared = false;
+  for (const int p : lit) shared = shared || cache.serves(positions[static_cast<size_t>(p)]);
+  if (shared && cache.projected_m2.size() == 0)
+    litProjectionOnce(caster, cache.first, opt, cache.projected_m2, cache.stderr_m2, out);
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 1)
+#endif
+  for (int k = 0; k < static_cast<int>(lit.size()); ++k)
+    directLoads(caster, area, positions[static_cast<size_t>(lit[static_cast<size_t>(k)])], opt, out,
+                lit[static_cast<size_t>(k)], cache);
 }
 
 // Every position's direct irradiance (n × P, W/m²): `out`'s where this process computed
@@ -80,11 +114,9 @@ Eigen::MatrixXd directAtEveryPosition(const geometry::RayCaster& caster, const E
   others.direct = out.direct;
   others.direct_stderr = out.direct_stderr;
   LitCache cache(positions);
-  for (int p = 0; p < static_cast<int>(positions.size()); ++p) {
-    const SweepPosition& pos = positions[static_cast<size_t>(p)];
-    if (pos.sunlit_fraction > 0 && !opt.sun_positions[static_cast<size_t>(p)])
-      directLoads(caster, area, pos, opt, others, p, cache);
-  }
+  std::vector<char> theirs(opt.sun_positions.size());
+  for (size_t p = 0; p < theirs.size(); ++p) theirs[p] = !opt.sun_positions[p];
+  directLoadsAt(caster, area, positions, opt, theirs, others, cache);
   return others.direct;
 }
 

@@ -284,10 +284,7 @@ EnvironmentLoads environmentLoads(const geometry::RayCaster& caster, const Eigen
     throw std::invalid_argument("environment loads: the position mask must have one entry per position");
   // The direct load first: the sky kernel's targets are shares of each node's absorbed power.
   LitCache lit(positions);
-  for (int p = 0; p < P; ++p) {
-    const SweepPosition& pos = positions[static_cast<size_t>(p)];
-    if (pos.sunlit_fraction > 0 && mine(opt.sun_positions, p)) directLoads(caster, area, pos, opt, out, p, lit);  // no rays in the umbra
-  }
+  directLoadsAt(caster, area, positions, opt, opt.sun_positions, out, lit);  // no rays in the umbra
   double smallest_cap_sin2 = 1.0;
   out.planet_kernel = kernelServes(positions, earth_fixed, re, opt, area.size(), smallest_cap_sin2);
   if (out.planet_kernel)

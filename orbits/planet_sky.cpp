@@ -48,13 +48,9 @@ struct Wave {
   double a = 1.0, b = 0.0;
 };
 
-// Where a wave is positive: the arc |φ − phase| < half (half = π: everywhere; none: nowhere),
-// with half's cosine and sine (the arc's ends need no trigonometric call of their own).
-struct PositiveArc {
-  bool none = false;
-  double half = M_PI, cos_half = -1.0, sin_half = 0.0;
-};
+using PositiveArc = PlanetRings::Arc;
 
+// Where a wave is positive (the arc's ends then need no trigonometric call of their own).
 PositiveArc positiveArc(const Wave& w) {
   if (w.b <= std::abs(w.a)) return w.a > 0 ? PositiveArc{} : PositiveArc{true};
   const double c = std::clamp(-w.a / w.b, -1.0, 1.0);
@@ -72,14 +68,16 @@ struct Angle {
   double u, c, s;
 };
 
-// ∫ max(0, f) max(0, g) dφ around the ring, φ measured from f's phase (u = φ − phase_f):
+// ∫ max(0, f) max(0, g) dφ around the ring, φ measured from f's phase (u = φ − phase_f), g's
+// positive arc hg given:
 // f = A + B cos u, g = a + b cos(u − δ). The product's antiderivative
 //     A a u + A b sin(u − δ) + a B sin u + ½ B b (u cos δ + ½ sin(2u − δ))
 // at the ends of f's positive arc against g's and its copies 2π apart; the ends' sines by
 // the angle-addition formulas from the arcs' and the gap's cosines and sines.
-double ringIntegral(const Wave& f, const Wave& g, const PhaseGap& gap) {
-  const PositiveArc hf = positiveArc(f), hg = positiveArc(g);
-  if (hf.none || hg.none) return 0.0;
+double ringIntegral(const Wave& f, const Wave& g, const PositiveArc& hg, const PhaseGap& gap) {
+  if (hg.none) return 0.0;
+  const PositiveArc hf = positiveArc(f);
+  if (hf.none) return 0.0;
   const double cd = gap.cos_delta, sd = gap.sin_delta;
   const auto antiderivative = [&](const Angle& x) {
     const double sin_u_minus_delta = x.s * cd - x.c * sd;
@@ -200,7 +198,10 @@ PlanetRings::Point PlanetRings::point(double g0, double g1, int q) const {
   const double rho2 = d * d - 2.0 * d * r * cos_gamma + r * r, rho = std::sqrt(rho2);
   const double sin_theta = r * sin_gamma / rho, cos_theta = (d - r * cos_gamma) / rho;
   const double dtheta = (r * d * cos_gamma - r * r) / rho2;
-  return {weight * sin_theta * dtheta / M_PI, cos_theta, sin_theta, -sun_a_ * cos_gamma, sun_b_ * sin_gamma};
+  const Wave sun{-sun_a_ * cos_gamma, sun_b_ * sin_gamma};
+  return {weight * sin_theta * dtheta / M_PI, cos_theta,          sin_theta,
+          sun.a,                            sun.b,              positiveArc(sun),
+          positiveArc(Wave{sun.a - c0_, sun.b})};
 }
 
 PlanetChannels PlanetRings::loads(const Eigen::Vector3d& normal) const {
@@ -222,8 +223,8 @@ PlanetChannels PlanetRings::loads(const Eigen::Vector3d& normal) const {
   const auto add = [&](const Point& p) {
     const Wave plane{n_full.wave.a * p.cos_theta, n_full.wave.b * p.sin_theta};
     const Wave sun{p.sun_a, p.sun_b};
-    if (lit_) sum.albedo += p.jacobian * v.albedo * v.solar_flux_w_m2 * ringIntegral(plane, sun, gap);
-    if (warm_) sum.ir += p.jacobian * k_ * ringIntegral(plane, Wave{sun.a - c0_, sun.b}, gap);
+    if (lit_) sum.albedo += p.jacobian * v.albedo * v.solar_flux_w_m2 * ringIntegral(plane, sun, p.sun_arc, gap);
+    if (warm_) sum.ir += p.jacobian * k_ * ringIntegral(plane, Wave{sun.a - c0_, sun.b}, p.warm_arc, gap);
   };
   for (size_t k = 0; k + 1 < cuts_.size(); ++k) {
     const double g0 = cuts_[k], g1 = cuts_[k + 1];

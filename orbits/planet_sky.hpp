@@ -65,6 +65,13 @@ PlanetChannels unobstructedPlanetLoads(const PlanetView& view, const Eigen::Vect
 /// about two thirds of the cost (1.9 against 2.7 µs a normal at 700 km).
 class PlanetRings {
  public:
+  /// Where a wave a + b cos(φ − phase) along a ring is positive: |φ − phase| < half (half =
+  /// π: everywhere; none: nowhere), with half's cosine and sine.
+  struct Arc {
+    bool none = false;
+    double half = M_PI, cos_half = -1.0, sin_half = 0.0;
+  };
+
   explicit PlanetRings(const PlanetView& view);
   PlanetChannels loads(const Eigen::Vector3d& normal) const;
   /// Σ_k shares_k loads(normals_k) over a facetted part's unit normals. A plane that sees
@@ -77,6 +84,9 @@ class PlanetRings {
  private:
   struct Point {
     double jacobian, cos_theta, sin_theta, sun_a, sun_b;  // the ring's weight, θ, the Sun's wave
+    // The arcs of the Sun's wave (albedo) and of the warm ground's (cos z > c0): the same
+    // for every normal, computed with the point (a third of a normal's cost was their acos).
+    Arc sun_arc, warm_arc;
   };
   Point point(double g0, double g1, int q) const;
   PlanetView view_;

@@ -6,6 +6,10 @@
 #include <limits>
 #include <vector>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 namespace radnet::geometry {
 namespace {
 
@@ -313,8 +317,9 @@ SunlitArea exactSunlitArea(const Scene& scene, const Vec3& toward_sun, const Exa
   const int m = static_cast<int>(flats.size());
   std::vector<double> lit(static_cast<size_t>(m), 0.0), dropped(static_cast<size_t>(m), 0.0);
   std::int64_t pairs = 0;
+  // Inside a parallel loop (a sweep's positions, orbits/direct_loads) on its own thread.
 #ifdef _OPENMP
-#pragma omp parallel reduction(+ : pairs)
+#pragma omp parallel reduction(+ : pairs) if (!omp_in_parallel())
 #endif
   {
     Scratch s;
