@@ -79,8 +79,8 @@ std::vector<std::int64_t> refinedRays(const geometry::SkyKernel& kernel, const E
     const bool partly = b > 0.0 && b < 1.0 && static_cast<double>(present) < floor_rays;
     if (worst <= 1.0 && !partly) continue;
     const double wanted = std::max(static_cast<double>(present) * std::pow(worst, 4.0 / 3.0), partly ? floor_rays : 0.0);
-    std::int64_t r = 2 * present;
-    while (static_cast<double>(r) < wanted && r < kMaxPlanetRays) r *= 2;
+    const double more = std::max(1.25 * static_cast<double>(present), wanted);
+    const std::int64_t r = (static_cast<std::int64_t>(std::ceil(more)) + 31) / 32 * 32;
     rays[static_cast<size_t>(i)] = std::min(r, kMaxPlanetRays);
   }
   return rays;

@@ -236,9 +236,8 @@ NodeSky countedSky(SkyCounts& c, const std::vector<std::uint32_t>& rays) {
 
 // Rays a replica for a node drawn in `region` (SkyKernelOptions::rays_per_share).
 std::int64_t regionRaysPerReplica(const SkyKernelOptions& opt, const SkyRegion& region) {
-  std::int64_t per_replica = std::max<std::int64_t>(1, opt.min_rays_per_node / kReplicas);
-  while (static_cast<double>(per_replica * kReplicas) < opt.rays_per_share * region.share()) per_replica *= 2;
-  return per_replica;
+  const double wanted = opt.rays_per_share * region.share() / kReplicas;
+  return std::max<std::int64_t>({1, opt.min_rays_per_node / kReplicas, static_cast<std::int64_t>(std::ceil(wanted))});
 }
 
 // Rays from one node, doubling per replica until the counted share's σ meets the target
