@@ -49,9 +49,34 @@ std::uint64_t mixSeed(std::uint64_t seed, std::uint64_t a, std::uint64_t b) {
   return z ^ (z >> 31);
 }
 
+std::array<std::uint64_t, 4> mt19937_64FirstFour(std::uint64_t seed) {
+  // Matsumoto & Nishimura's 64-bit generator as std::mt19937_64 defines it (C++ [rand.eng.mers]):
+  // n = 312, m = 156, r = 31. Output i (i < 4) tempers the twisted word i, which needs
+  // only the seeded words i, i + 1 and i + m: the seeding recurrence is run to word 160,
+  // not 312, and no other word is twisted (a full engine's seeding and first twist were 6 %
+  // of the sky kernel's cast: 32 streams a node).
+  constexpr int n_needed = 156 + 4;
+  constexpr std::uint64_t f = 6364136223846793005ull, a = 0xB5026F5AA96619E9ull;
+  constexpr std::uint64_t lower = (1ull << 31) - 1, upper = ~lower;
+  std::array<std::uint64_t, n_needed> x;
+  x[0] = seed;
+  for (int i = 1; i < n_needed; ++i) x[static_cast<size_t>(i)] = f * (x[static_cast<size_t>(i - 1)] ^ (x[static_cast<size_t>(i - 1)] >> 62)) + static_cast<std::uint64_t>(i);
+  std::array<std::uint64_t, 4> out;
+  for (size_t i = 0; i < 4; ++i) {
+    const std::uint64_t y = (x[i] & upper) | (x[i + 1] & lower);
+    std::uint64_t z = x[i + 156] ^ (y >> 1) ^ ((y & 1u) ? a : 0u);
+    z ^= (z >> 29) & 0x5555555555555555ull;
+    z ^= (z << 17) & 0x71D67FFFEDA60000ull;
+    z ^= (z << 37) & 0xFFF7EEE000000000ull;
+    z ^= z >> 43;
+    out[i] = z;
+  }
+  return out;
+}
+
 Sobol4::Sobol4(std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  for (auto& s : shift_) s = static_cast<std::uint32_t>(rng() >> 32);
+  const std::array<std::uint64_t, 4> first = mt19937_64FirstFour(seed);
+  for (size_t d = 0; d < 4; ++d) shift_[d] = static_cast<std::uint32_t>(first[d] >> 32);
 }
 
 void Sobol4::seek(std::uint32_t index) {

@@ -15,6 +15,10 @@ namespace radnet::geometry {
 /// stream is fixed whatever thread computes it.
 std::uint64_t mixSeed(std::uint64_t seed, std::uint64_t a, std::uint64_t b = 0);
 
+/// The first four outputs of std::mt19937_64 seeded with `seed`, without the engine's
+/// 312-word state (a Sobol stream's digital shift: equal to the engine's bit for bit).
+std::array<std::uint64_t, 4> mt19937_64FirstFour(std::uint64_t seed);
+
 /// 4-D Sobol points (Joe & Kuo 2008 direction numbers) with a random digital shift:
 /// each shifted sequence is an unbiased estimator, and independent shifts give
 /// independent replicas for an honest standard error (randomised QMC).
