@@ -98,13 +98,13 @@ struct EnvironmentOptions {
 inline constexpr std::int64_t kMaxPlanetRays = 65536;
 /// With the planet fixed in the body frame (nadir), `auto` takes the sky kernel from this
 /// many nodes a position on, planet rays (cast once) below. The kernel's sweep costs some
-/// 3 ms a position (its radiance tables, a curved node's rings, the nodes' sums: 1,602-node
-/// satellite, 76 positions) and its rays about 0.1 ms a node less than the planet rays at
-/// the same accuracy (about 750 kernel rays a node against 1,440 planet rays on the bench
-/// satellites): even at ~30 nodes a position. Measured, nadir, 76 positions (loads, s,
-/// planet rays / kernel): 1,602 nodes 0.41 / 0.45, a 2,000-node CAD-like model 0.81 / 0.43,
-/// 6,402 nodes 1.71 / 1.09, 19,202 nodes 4.62 / 3.14.
-inline constexpr int kSkyKernelNodesPerPosition = 32;
+/// 2 ms a position (its radiance tables, a curved node's rings, the nodes' sums) and its
+/// rays less than the planet rays at the same accuracy (about 600 kernel rays a node
+/// against 1,440 planet rays on the bench satellites). Measured, nadir, 76 positions (loads,
+/// s, planet rays / kernel, best of three, 2026-12-07): the bench satellite at 402 nodes
+/// 0.19 / 0.30, 786 nodes 0.30 / 0.31, 1,602 nodes 0.41 / 0.33, 2,306 nodes 0.61 / 0.53:
+/// even at ~10 nodes a position (32 before the kernel's cast and tables got cheaper).
+inline constexpr int kSkyKernelNodesPerPosition = 12;
 /// The sky kernel serves planets whose angular radius θ_max has sin² θ_max at least this
 /// (the Earth below 7,900 km altitude); a farther planet fills too little of a node's sky
 /// for cosine-weighted rays, and rays into its cone do better.

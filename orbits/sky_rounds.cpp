@@ -48,8 +48,9 @@ double samplingRatio(double sigma, double binning, double target) {
 }
 
 // The rays each node over its target somewhere in the sweep asks for, 0 for the nodes
-// within: its present count times its worst ratio to the power 4/3, at least doubled, a
-// power of two up to kMaxPlanetRays. Monte Carlo's σ ∝ N^(−1/2) would ask the ratio
+// within: its present count times its worst ratio to the power 4/3, at least 1.25× it, in
+// whole replicas up to kMaxPlanetRays (doubling overshot: a node 10 % over its target took
+// twice the rays it needed). Monte Carlo's σ ∝ N^(−1/2) would ask the ratio
 // squared; the kernel's Sobol points do better (σ ∝ N^(−0.9) measured on the 1,602-node
 // satellite: a ratio of 5 met by 32× the rays), so the square overshoots, and a node still
 // over is cast again in the next round.

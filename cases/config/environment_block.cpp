@@ -109,7 +109,7 @@ void parseEnvironment(const YamlDocument& doc, const YAML::Node& e, const orbits
     using Method = orbits::EnvironmentOptions::PlanetMethod;
     if (word != "auto" && word != "sky_kernel" && word != "rays")
       throw doc.error(m, "environment.planet_method: expected auto (the default: the sky kernel unless the planet is "
-                         "fixed in the body frame on a model of fewer than 32 nodes a position), sky_kernel (each node's sky cast once) or rays (planet rays at "
+                         "fixed in the body frame on a model of fewer than 12 nodes a position), sky_kernel (each node's sky cast once) or rays (planet rays at "
                          "every position the planet moves in the body frame)");
     env.planet_method = word == "auto" ? Method::Auto : word == "rays" ? Method::Rays : Method::SkyKernel;
     if (env.planet_method == Method::SkyKernel && !env.albedo_by_latitude.empty())

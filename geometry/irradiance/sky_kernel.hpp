@@ -77,7 +77,7 @@ struct SkyKernel {
 struct SkyKernelOptions {
   std::int64_t max_rays_per_node = 65536;
   /// > 0: a node drawn in a region casts rays_per_share × its region's share (rounded up
-  /// to a power of two a replica, at least min_rays_per_node) in place of
+  /// to whole replicas, at least min_rays_per_node) in place of
   /// max_rays_per_node, which the nodes drawn over their whole hemisphere keep: the same
   /// density over the sky whatever a node's region (not with node_rays).
   double rays_per_share = 0.0;
