@@ -6,7 +6,9 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
+#include <tuple>
 
 namespace radnet::orbits {
 
@@ -151,6 +153,61 @@ void nodeLoads(const geometry::NodeSky& sky, const RadianceTables& t, const Rows
   binning_sigma = binning.sqrt();
 }
 
+// Grouped nodes whose facets are an earlier grouped node's with their normals negated and
+// the same shares (the two sides of a curved part): for each such row the earlier row and
+// its Σ shares × normals (UnobstructedLoads::mirror_of). Candidates by their facet count
+// and Σ shares × normals (negated), then checked facet by facet, exactly.
+void findMirrors(const geometry::SkyKernel& kernel, const std::vector<int>& node_row, std::vector<int>& mirror_of,
+                 std::vector<Eigen::Vector3d>& mirror_sum) {
+  using Key = std::tuple<size_t, long long, long long, long long>;
+  const auto key = [](size_t count, const Eigen::Vector3d& sum) {
+    return Key{count, std::llround(sum.x() * 1e9), std::llround(sum.y() * 1e9), std::llround(sum.z() * 1e9)};
+  };
+  std::map<Key, size_t> seen;  // → node
+  for (size_t i = 0; i < kernel.nodes.size(); ++i) {
+    const int row = node_row[i];
+    if (row < 0) continue;
+    const auto& facets = kernel.nodes[i].normals;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (const auto& [k, share] : facets) sum += share * kernel.normals[static_cast<size_t>(k)];
+    mirror_sum[static_cast<size_t>(row)] = sum;
+    const auto it = seen.find(key(facets.size(), -sum));
+    if (it != seen.end()) {
+      std::map<std::array<double, 3>, double> other;
+      for (const auto& [k, share] : kernel.nodes[it->second].normals) {
+        const Eigen::Vector3d& n = kernel.normals[static_cast<size_t>(k)];
+        other[{-n.x(), -n.y(), -n.z()}] += share;
+      }
+      bool same = other.size() == facets.size();
+      for (const auto& [k, share] : facets) {
+        const Eigen::Vector3d& n = kernel.normals[static_cast<size_t>(k)];
+        const auto o = other.find({n.x(), n.y(), n.z()});
+        same = same && o != other.end() && std::abs(o->second - share) <= 1e-12;
+      }
+      if (same) {
+        mirror_of[static_cast<size_t>(row)] = node_row[it->second];
+        continue;
+      }
+    }
+    seen.emplace(key(facets.size(), sum), i);
+  }
+}
+
+// V = ∫_cap L d dΩ per channel (view factor, albedo, IR) at one position: loads(n) −
+// loads(−n) = n · V for any unit n, and loads(c) = c · V for the planet's direction c.
+std::array<Eigen::Vector3d, 3> capMoments(const PlanetRings& rings, const PlanetView& view) {
+  const Eigen::Vector3d& c = view.toward_center;
+  const Eigen::Vector3d e1 = c.unitOrthogonal(), e2 = c.cross(e1);
+  const PlanetChannels along = rings.loads(c);
+  std::array<Eigen::Vector3d, 3> v;
+  v[0] = along.view * c, v[1] = along.albedo * c, v[2] = along.ir * c;
+  for (const Eigen::Vector3d& e : {e1, e2}) {
+    const PlanetChannels plus = rings.loads(e), minus = rings.loads(-e);
+    v[0] += (plus.view - minus.view) * e, v[1] += (plus.albedo - minus.albedo) * e, v[2] += (plus.ir - minus.ir) * e;
+  }
+  return v;
+}
+
 }  // namespace
 
 void UnobstructedLoads::fill(const geometry::SkyKernel& kernel, const std::vector<PlanetView>& views,
@@ -166,20 +223,29 @@ void UnobstructedLoads::fill(const geometry::SkyKernel& kernel, const std::vecto
       if (kernel.nodes[i].normals.size() > kGroupedFacets) node_row[i] = rows++;
     node_have.assign(static_cast<size_t>(rows), 0);
     for (auto& c : node_channel) c.setZero(rows, P);
+    mirror_of.assign(static_cast<size_t>(rows), -1);
+    mirror_sum.assign(static_cast<size_t>(rows), Eigen::Vector3d::Zero());
+    findMirrors(kernel, node_row, mirror_of, mirror_sum);
   }
   std::vector<char> wanted(kernel.normals.size(), 0);
-  std::vector<int> nodes;
+  std::vector<int> rows_now;  // grouped rows computed by this call
   for (size_t i = 0; i < kernel.nodes.size(); ++i) {
     if ((!mask.empty() && !mask[i]) || kernel.nodes[i].rays <= 0) continue;
     if (node_row[i] < 0)
       for (const auto& [k, share] : kernel.nodes[i].normals) wanted[static_cast<size_t>(k)] = !have[static_cast<size_t>(k)];
     else if (!node_have[static_cast<size_t>(node_row[i])])
-      nodes.push_back(static_cast<int>(i)), node_have[static_cast<size_t>(node_row[i])] = 1;
+      rows_now.push_back(static_cast<int>(i)), node_have[static_cast<size_t>(node_row[i])] = 1;
+  }
+  // A mirror row takes its other side's loads where those are (or are being) computed.
+  std::vector<int> nodes, mirrors;
+  for (const int i : rows_now) {
+    const int other = mirror_of[static_cast<size_t>(node_row[static_cast<size_t>(i)])];
+    (other >= 0 && node_have[static_cast<size_t>(other)] ? mirrors : nodes).push_back(i);
   }
   std::vector<int> todo;
   for (size_t k = 0; k < wanted.size(); ++k)
     if (wanted[k]) todo.push_back(static_cast<int>(k)), have[k] = 1;
-  if (todo.empty() && nodes.empty()) return;
+  if (todo.empty() && rows_now.empty()) return;
   // A position's rings serve all its normals (their pieces and points computed once).
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 1)
@@ -199,6 +265,14 @@ void UnobstructedLoads::fill(const geometry::SkyKernel& kernel, const std::vecto
       const PlanetChannels u = rings.facetLoads(facet_normals, shares);
       const int row = node_row[static_cast<size_t>(i)];
       node_channel[0](row, p) = u.view, node_channel[1](row, p) = u.albedo, node_channel[2](row, p) = u.ir;
+    }
+    if (mirrors.empty()) continue;
+    const std::array<Eigen::Vector3d, 3> moments = capMoments(rings, views[static_cast<size_t>(p)]);
+    for (const int i : mirrors) {
+      const int row = node_row[static_cast<size_t>(i)], other = mirror_of[static_cast<size_t>(row)];
+      const Eigen::Vector3d& sum = mirror_sum[static_cast<size_t>(other)];
+      for (size_t c = 0; c < 3; ++c)  // rounding can leave −1e-17 where the other side takes it all
+        node_channel[c](row, p) = std::max(0.0, node_channel[c](other, p) - sum.dot(moments[c]));
     }
   }
 }

@@ -42,6 +42,13 @@ struct UnobstructedLoads {
   std::array<Rows, 3> node_channel;  ///< the grouped nodes' own rows (nodes × positions)
   std::vector<int> node_row;         ///< per node: its row there, −1: summed from `channel`
   std::vector<char> node_have;       ///< per grouped row: computed
+  /// Per grouped row: the row whose facets it has seen from their other side (the back of a
+  /// two-sided dish), −1: none; and that row's Σ shares × normals, S. Such a row is the
+  /// other's loads less S · V, V = ∫_cap L d dΩ per channel (max(0, n·d) − max(0, −n·d) =
+  /// n·d makes loads(−n) = loads(n) − n · V for every facet): no rings of its own; equal to
+  /// its own rings within their accuracy (3e-6 of the load's scale seen, their 2e-5 bound).
+  std::vector<int> mirror_of;
+  std::vector<Eigen::Vector3d> mirror_sum;
   /// Computes the normals and grouped nodes the nodes `mask` leaves in use that are not
   /// there yet.
   void fill(const geometry::SkyKernel& kernel, const std::vector<PlanetView>& views, const std::vector<char>& mask);
