@@ -223,6 +223,9 @@ void UnobstructedLoads::fill(const geometry::SkyKernel& kernel, const std::vecto
       if (kernel.nodes[i].normals.size() > kGroupedFacets) node_row[i] = rows++;
     node_have.assign(static_cast<size_t>(rows), 0);
     for (auto& c : node_channel) c.setZero(rows, P);
+    row_node.assign(static_cast<size_t>(rows), -1);
+    for (size_t i = 0; i < kernel.nodes.size(); ++i)
+      if (node_row[i] >= 0) row_node[static_cast<size_t>(node_row[i])] = static_cast<int>(i);
     mirror_of.assign(static_cast<size_t>(rows), -1);
     mirror_sum.assign(static_cast<size_t>(rows), Eigen::Vector3d::Zero());
     findMirrors(kernel, node_row, mirror_of, mirror_sum);
@@ -236,11 +239,19 @@ void UnobstructedLoads::fill(const geometry::SkyKernel& kernel, const std::vecto
     else if (!node_have[static_cast<size_t>(node_row[i])])
       rows_now.push_back(static_cast<int>(i)), node_have[static_cast<size_t>(node_row[i])] = 1;
   }
-  // A mirror row takes its other side's loads where those are (or are being) computed.
+  // A mirror row always takes its other side's loads, computing them if no one asked for
+  // them (an MPI rank that owns the back of a dish and not its front): the same numbers
+  // whichever nodes a process holds.
   std::vector<int> nodes, mirrors;
   for (const int i : rows_now) {
     const int other = mirror_of[static_cast<size_t>(node_row[static_cast<size_t>(i)])];
-    (other >= 0 && node_have[static_cast<size_t>(other)] ? mirrors : nodes).push_back(i);
+    if (other < 0) {
+      nodes.push_back(i);
+      continue;
+    }
+    if (!node_have[static_cast<size_t>(other)])
+      nodes.push_back(row_node[static_cast<size_t>(other)]), node_have[static_cast<size_t>(other)] = 1;
+    mirrors.push_back(i);
   }
   std::vector<int> todo;
   for (size_t k = 0; k < wanted.size(); ++k)

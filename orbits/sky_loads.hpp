@@ -49,6 +49,7 @@ struct UnobstructedLoads {
   /// its own rings within their accuracy (3e-6 of the load's scale seen, their 2e-5 bound).
   std::vector<int> mirror_of;
   std::vector<Eigen::Vector3d> mirror_sum;
+  std::vector<int> row_node;  ///< per grouped row: its node
   /// Computes the normals and grouped nodes the nodes `mask` leaves in use that are not
   /// there yet.
   void fill(const geometry::SkyKernel& kernel, const std::vector<PlanetView>& views, const std::vector<char>& mask);

@@ -237,6 +237,12 @@ TEST_CASE("planet sky: a curved part's other side takes its loads less n · ∫ 
   unobstructed.fill(kernel, views, {});
   CHECK(unobstructed.mirror_of[1] == 0);   // the back side found
   CHECK(unobstructed.mirror_of[2] == -1);  // one facet differs: its own rings
+  // A process holding the back alone (an MPI rank's nodes) computes the front for it: the
+  // same numbers bit for bit.
+  radnet::orbits::UnobstructedLoads back_only;
+  back_only.fill(kernel, views, {0, 1, 0});
+  const int positions = static_cast<int>(views.size());
+  CHECK((back_only.node(kernel, 1, 0, positions) - unobstructed.node(kernel, 1, 0, positions)).abs().maxCoeff() == 0.0);
   for (size_t node = 0; node < 3; ++node) {
     const auto free = unobstructed.node(kernel, node, 0, static_cast<int>(views.size()));
     for (size_t p = 0; p < views.size(); ++p) {
