@@ -210,26 +210,28 @@ std::array<Eigen::Vector3d, 3> capMoments(const PlanetRings& rings, const Planet
 
 }  // namespace
 
+void UnobstructedLoads::layOut(const geometry::SkyKernel& kernel, int positions) {
+  have.assign(kernel.normals.size(), 0);
+  for (auto& c : channel) c.setZero(static_cast<Eigen::Index>(kernel.normals.size()), positions);
+  node_row.assign(kernel.nodes.size(), -1);
+  int rows = 0;
+  for (size_t i = 0; i < kernel.nodes.size(); ++i)
+    if (kernel.nodes[i].normals.size() > kGroupedFacets) node_row[i] = rows++;
+  node_have.assign(static_cast<size_t>(rows), 0);
+  for (auto& c : node_channel) c.setZero(rows, positions);
+  row_node.assign(static_cast<size_t>(rows), -1);
+  for (size_t i = 0; i < kernel.nodes.size(); ++i)
+    if (node_row[i] >= 0) row_node[static_cast<size_t>(node_row[i])] = static_cast<int>(i);
+  mirror_of.assign(static_cast<size_t>(rows), -1);
+  mirror_sum.assign(static_cast<size_t>(rows), Eigen::Vector3d::Zero());
+  findMirrors(kernel, node_row, mirror_of, mirror_sum);
+}
+
 void UnobstructedLoads::fill(const geometry::SkyKernel& kernel, const std::vector<PlanetView>& views,
                              const std::vector<char>& mask) {
-  const Eigen::Index normals = static_cast<Eigen::Index>(kernel.normals.size());
   const int P = static_cast<int>(views.size());
-  if (have.size() != kernel.normals.size() || channel[0].cols() != P || node_row.size() != kernel.nodes.size()) {
-    have.assign(kernel.normals.size(), 0);
-    for (auto& c : channel) c.setZero(normals, P);
-    node_row.assign(kernel.nodes.size(), -1);
-    int rows = 0;
-    for (size_t i = 0; i < kernel.nodes.size(); ++i)
-      if (kernel.nodes[i].normals.size() > kGroupedFacets) node_row[i] = rows++;
-    node_have.assign(static_cast<size_t>(rows), 0);
-    for (auto& c : node_channel) c.setZero(rows, P);
-    row_node.assign(static_cast<size_t>(rows), -1);
-    for (size_t i = 0; i < kernel.nodes.size(); ++i)
-      if (node_row[i] >= 0) row_node[static_cast<size_t>(node_row[i])] = static_cast<int>(i);
-    mirror_of.assign(static_cast<size_t>(rows), -1);
-    mirror_sum.assign(static_cast<size_t>(rows), Eigen::Vector3d::Zero());
-    findMirrors(kernel, node_row, mirror_of, mirror_sum);
-  }
+  if (have.size() != kernel.normals.size() || channel[0].cols() != P || node_row.size() != kernel.nodes.size())
+    layOut(kernel, P);
   std::vector<char> wanted(kernel.normals.size(), 0);
   std::vector<int> rows_now;  // grouped rows computed by this call
   for (size_t i = 0; i < kernel.nodes.size(); ++i) {
@@ -245,13 +247,9 @@ void UnobstructedLoads::fill(const geometry::SkyKernel& kernel, const std::vecto
   std::vector<int> nodes, mirrors;
   for (const int i : rows_now) {
     const int other = mirror_of[static_cast<size_t>(node_row[static_cast<size_t>(i)])];
-    if (other < 0) {
-      nodes.push_back(i);
-      continue;
-    }
-    if (!node_have[static_cast<size_t>(other)])
+    if (other >= 0 && !node_have[static_cast<size_t>(other)])
       nodes.push_back(row_node[static_cast<size_t>(other)]), node_have[static_cast<size_t>(other)] = 1;
-    mirrors.push_back(i);
+    (other >= 0 ? mirrors : nodes).push_back(i);
   }
   std::vector<int> todo;
   for (size_t k = 0; k < wanted.size(); ++k)

@@ -53,6 +53,8 @@ struct UnobstructedLoads {
   /// Computes the normals and grouped nodes the nodes `mask` leaves in use that are not
   /// there yet.
   void fill(const geometry::SkyKernel& kernel, const std::vector<PlanetView>& views, const std::vector<char>& mask);
+  /// Sizes the tables for `kernel` and `positions`, nothing computed; finds the mirror rows.
+  void layOut(const geometry::SkyKernel& kernel, int positions);
   /// Node i's unobstructed loads at positions [p0, p0 + B), per channel.
   Eigen::Array<double, 3, Eigen::Dynamic, Eigen::RowMajor> node(const geometry::SkyKernel& kernel, size_t i, int p0,
                                                                 int B) const;
