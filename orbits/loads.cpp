@@ -99,6 +99,15 @@ void planetRadianceLoads(const geometry::PlanetRays& r, const Eigen::Vector3d& c
   }
   replicaStatistics(albedo, out.albedo(i, p), out.albedo_stderr(i, p));
   if (ir_by_hit) replicaStatistics(ir, out.earth_ir(i, p), out.earth_ir_stderr(i, p));
+  // One ray's worth at the planet's largest radiance where the spacecraft blocked some
+  // (PlanetRays::one_ray_share): what the replicas' spread cannot see.
+  if (r.one_ray_share > 0) {
+    double brightest = opt.albedo_by_latitude.empty() ? opt.albedo : 0.0;
+    for (const auto& [latitude, a] : opt.albedo_by_latitude) brightest = std::max(brightest, a);
+    const double albedo_ray = flux * brightest * r.one_ray_share;
+    out.albedo_stderr(i, p) = std::hypot(out.albedo_stderr(i, p), albedo_ray);
+    if (ir_by_hit) out.earth_ir_stderr(i, p) = std::hypot(out.earth_ir_stderr(i, p), opt.planet_ir.maxExitance(flux) * r.one_ray_share);
+  }
 }
 
 // Albedo (solar band) and planet IR (IR band) that mirrors and windows pass on, added to

@@ -115,3 +115,31 @@ TEST_CASE("sampling: a Sobol stream's shifts are std::mt19937_64's first four ou
     for (const std::uint64_t value : first) REQUIRE(value == engine());
   }
 }
+
+TEST_CASE("planet rays: the inside of a tube seeing a sliver of the planet through its end is not 0 ± 0") {
+  // A tube (r = 0.15 m, 1.5 m long, closed at one end) whose open end looks past the limb
+  // (the planet's centre 143° from its axis at 700 km: F = 2.3e-4, a sliver at the limb;
+  // the inside of a satellite's boom, Sun-pointing). From 1,024 rays every replica missed
+  // it and the stopping rule took F = 0 ± 0 (this test failed so); with one ray's worth in
+  // σ where the spacecraft blocks rays, the error target asks for more. Reference: the same
+  // rays at 262,144 a node with no stopping rule; tolerance 4σ of both combined.
+  const double R = 6378137.0, distance = R + 700e3;
+  const Vec3 toward = Vec3(-0.8002489652424741, -0.3418797367178198, -0.4926660524636372).normalized();
+  Scene s;
+  s.addSurface("tube", "tube", cylinder(Vec3(0, 0, 0), Vec3(1.5, 0, 0), 0.15, Sweep{}, 6, 32), "tube", "tube.back");
+  s.addSurface("end", "end", disc(Vec3(0, 0, 0), Vec3(1, 0, 0), 0.15, 0.0, Sweep{}, 1, 32), "end", "");
+  RayCaster caster(s);
+  const int inside = 1;  // the tube's back side
+  REQUIRE(s.nodes()[inside].name == "tube.back");
+  PlanetRayOptions budget;
+  budget.rays_per_node = 65536;
+  budget.relative_error = 0.005;
+  const PlanetRays got = planetRays(caster, distance * toward, R, budget)[inside];
+  const PlanetRays reference = planetRays(caster, distance * toward, R, 262144)[inside];
+  INFO("F = " << got.view_factor << " ± " << got.standard_error << " from " << got.rays << " rays; reference "
+              << reference.view_factor << " ± " << reference.standard_error);
+  CHECK(reference.view_factor > 1e-4);  // the sliver is there (2.3e-4 by an analytic tube MC)
+  CHECK(got.standard_error > 0.0);
+  CHECK(std::abs(got.view_factor - reference.view_factor) <=
+        4.0 * std::hypot(got.standard_error, reference.standard_error));
+}

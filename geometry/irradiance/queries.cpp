@@ -99,7 +99,8 @@ constexpr int kPlanetReplicas = 32;
 PlanetRays castPlanetRays(const RayCaster& caster, const NodeSampler& sampler, int node, const Vec3& center,
                           double radius, std::int64_t per_replica, std::uint64_t seed) {
   PlanetRays pr;
-  double sum = 0.0, sum2 = 0.0;
+  double sum = 0.0, sum2 = 0.0, largest_weight = 0.0;
+  bool blocked = false;
   for (int r = 0; r < kPlanetReplicas; ++r) {
     Sobol4 sobol(mixSeed(seed, static_cast<std::uint64_t>(node), 0x9a7e7 + static_cast<std::uint64_t>(r)));
     double total = 0.0;
@@ -111,6 +112,7 @@ PlanetRays castPlanetRays(const RayCaster& caster, const NodeSampler& sampler, i
       const Vec3 axis = to_center / dist;
       const double cos_max = dist > radius ? std::sqrt(1.0 - (radius / dist) * (radius / dist)) : 0.0;
       const double solid_angle = 2.0 * M_PI * (1.0 - cos_max);
+      largest_weight = std::max(largest_weight, solid_angle / M_PI);
       // Uniform in the cone: cos θ uniform on [cos θ_max, 1], φ uniform.
       const double cos_t = 1.0 - u[2] * (1.0 - cos_max), sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
       const double phi = 2.0 * M_PI * u[3];
@@ -120,7 +122,10 @@ PlanetRays castPlanetRays(const RayCaster& caster, const NodeSampler& sampler, i
       if (cosine <= 0) continue;  // behind the node's side
       Vec3 at;
       if (!raySphere(p.point, dir, center, radius, at)) continue;  // grazing: round-off at the limb
-      if (caster.occluded(caster.offsetOrigin(p.point, p.normal), dir, p.face)) continue;
+      if (caster.occluded(caster.offsetOrigin(p.point, p.normal), dir, p.face)) {
+        blocked = true;
+        continue;
+      }
       const double w = solid_angle * cosine / M_PI;
       pr.hit_points.push_back(at);
       pr.weights.push_back(w);
@@ -134,7 +139,8 @@ PlanetRays castPlanetRays(const RayCaster& caster, const NodeSampler& sampler, i
   pr.rays = per_replica * kPlanetReplicas;
   pr.view_factor = sum / kPlanetReplicas;
   const double var = (sum2 - kPlanetReplicas * pr.view_factor * pr.view_factor) / (kPlanetReplicas - 1);
-  pr.standard_error = std::sqrt(std::max(0.0, var) / kPlanetReplicas);
+  pr.one_ray_share = blocked ? largest_weight / static_cast<double>(pr.rays) : 0.0;
+  pr.standard_error = std::sqrt(std::max(0.0, var) / kPlanetReplicas + pr.one_ray_share * pr.one_ray_share);
   return pr;
 }
 

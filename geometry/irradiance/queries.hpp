@@ -40,6 +40,13 @@ struct PlanetRays {
   std::vector<double> weights;
   std::vector<int> replica_end;  ///< hits of replica r end at replica_end[r] (rays/replicas rays each)
   std::int64_t rays = 0;
+  /// One ray's largest share of F, Ω/(π N) (N = rays), where the spacecraft blocked some of
+  /// them, else 0: a blocker thinner than the rays' spacing, or a sliver of the planet seen
+  /// past one, can fall between the points of every replica, and their spread then says
+  /// nothing of it (the inside of a tube seeing the limb through its end: F = 0 ± 0 from
+  /// 1,024 rays for a true 0.0025). `standard_error` holds this term; the loads add it at
+  /// their largest radiance (orbits/loads.cpp), as the sky kernel does.
+  double one_ray_share = 0.0;
 };
 
 /// How many rays planetRays casts per node.
