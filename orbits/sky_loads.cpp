@@ -100,12 +100,14 @@ void nodeLoads(const geometry::NodeSky& sky, const RadianceTables& t, const Rows
   const int c0 = uniform_ir > 0 ? 1 : 0;  // uniform IR: the view factor's sums are the IR's / flux
   const Eigen::Index B = t.positions;
   Rows counted = Rows::Zero(kChannels, B), binning = Rows::Zero(kChannels, B);
+  // Each bin's entries over its span of the block (the planet reaches it nowhere else).
   for (size_t j = 0; j < sky.bins.size(); ++j) {
-    const Eigen::Index u = sky.bins[j];
-    if (!t.lit[static_cast<size_t>(u)]) continue;
+    const int u = sky.bins[j];
+    const RadianceTables::Span& span = t.spans[static_cast<size_t>(u)];
+    if (span.count == 0) continue;
     const double w = M_PI * sky.weights[j];  // E = π × mean of L over cosine-weighted rays
     for (int c = c0; c < kChannels; ++c)
-      binning.row(c) += w * t.half[static_cast<size_t>(c)].row(u).head(B).array().cast<double>();
+      binning.row(c).segment(span.first, span.count) += w * t.halfSpan(c, u).cast<double>();
   }
   binning = binning.square();  // summed, then a variance: limb bins err alike (docs/orbits.md)
   // Replica r's estimate over the block: π Σ its counted rays' bin radiance × the share
@@ -119,9 +121,11 @@ void nodeLoads(const geometry::NodeSky& sky, const RadianceTables& t, const Rows
     const Eigen::Index u = e.bin;
     const double share = e.count / per_replica;
     replica_share[e.replica] += share;
-    if (!t.lit[static_cast<size_t>(u)]) continue;
+    const RadianceTables::Span& span = t.spans[static_cast<size_t>(u)];
+    if (span.count == 0) continue;
     for (int c = c0; c < kChannels; ++c)
-      estimates[static_cast<size_t>(c)].row(e.replica) += M_PI * share * t.mean[static_cast<size_t>(c)].row(u).head(B).cast<double>();
+      estimates[static_cast<size_t>(c)].row(e.replica).segment(span.first, span.count).array() +=
+          M_PI * share * t.meanSpan(c, static_cast<int>(u)).cast<double>();
   }
   // The counted load is the replicas' mean (a bin's weight is its rays' share over all
   // replicas): no sum of its own.

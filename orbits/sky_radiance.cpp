@@ -112,11 +112,12 @@ struct PositionView {
   std::array<double, kChannels> split_at;
 };
 
-// Rows `chunk` of the radiance tables at every position of the block (one thread). A chunk
-// of consecutive bins at all positions, not a position at all bins: a position's pass over
-// every row touched a cache line of each of the four tables per row (12 MB a block), and
-// that traffic was a third of the tables' time; a chunk's rows stay in cache. Corners are
-// shared by a chunk's bins at one position (computed once, the touched ones reset after).
+// Bins `chunk` of the radiance tables at every position of their spans (one thread). A
+// chunk of consecutive bins at all positions, not a position at all bins: a position's pass
+// over every bin touched a cache line of each of the four tables per bin, and that traffic
+// was a third of the tables' time; a chunk's entries stay in cache. Corners are shared by a
+// chunk's bins at one position (computed once, the touched ones reset after). Every entry
+// of a bin's span is written: 0 where the planet does not reach it.
 void chunkRadiance(const int* chunk, int count, const std::vector<PositionView>& at_position, RadianceTables& t) {
   constexpr int edge = SkyBins::kBinsPerEdge, corners = edge + 1;
   const BinDirections& dirs = binDirections();
@@ -134,10 +135,12 @@ void chunkRadiance(const int* chunk, int count, const std::vector<PositionView>&
     };
     for (int k = 0; k < count; ++k) {
       const int b = chunk[k];
-      const auto row = static_cast<Eigen::Index>(b);
+      const RadianceTables::Span& span = t.spans[static_cast<size_t>(b)];
+      if (q < span.first || q >= span.first + span.count) continue;
+      const auto entry = static_cast<size_t>(span.offset + q - span.first);
       if (dirs.centres[static_cast<size_t>(b)].dot(view.toward_center) < pv.cos_reach) {
         for (int c = t.first_channel; c < kChannels; ++c)
-          t.mean[static_cast<size_t>(c)](row, q) = t.half[static_cast<size_t>(c)](row, q) = 0.0f;
+          t.mean[static_cast<size_t>(c)][entry] = t.half[static_cast<size_t>(c)][entry] = 0.0f;
         continue;
       }
       const int face = b / (edge * edge), i = (b / edge) % edge, j = b % edge;
@@ -146,8 +149,8 @@ void chunkRadiance(const int* chunk, int count, const std::vector<PositionView>&
       cell.add(0.0, 0.0, 1.0, {corner(c00), corner(c00 + corners), corner(c00 + 1), corner(c00 + corners + 1)},
                planetRadiance(view, dirs.centres[static_cast<size_t>(b)]), 0, 1.0);
       for (int c = t.first_channel; c < kChannels; ++c) {
-        t.mean[static_cast<size_t>(c)](row, q) = static_cast<float>(cell.mean[static_cast<size_t>(c)]);
-        t.half[static_cast<size_t>(c)](row, q) = static_cast<float>(cell.half[static_cast<size_t>(c)]);
+        t.mean[static_cast<size_t>(c)][entry] = static_cast<float>(cell.mean[static_cast<size_t>(c)]);
+        t.half[static_cast<size_t>(c)][entry] = static_cast<float>(cell.half[static_cast<size_t>(c)]);
       }
     }
     for (const size_t c : touched) have[c] = 0;
@@ -160,25 +163,6 @@ void chunkRadiance(const int* chunk, int count, const std::vector<PositionView>&
 void radianceBlock(const std::vector<int>& used, const std::vector<PlanetView>& views, int p0, int B,
                    RadianceTables& t, int first_channel) {
   constexpr int bins = geometry::SkyBins::kBins;
-  if (t.mean[0].rows() < bins)
-    for (int c = 0; c < kChannels; ++c) {
-      t.mean[static_cast<size_t>(c)].resize(bins, kRadianceBlock);
-      t.half[static_cast<size_t>(c)].resize(bins, kRadianceBlock);
-    }
-  if (t.first != p0 || t.positions != B || t.first_channel != first_channel) {
-    t.first = p0, t.positions = B, t.first_channel = first_channel;
-    t.lit.assign(bins, 0);
-    t.computed.assign(bins, 0);
-    t.peak = ChannelRows::Zero(kChannels, B);
-    for (int q = 0; q < B; ++q) {
-      const std::array<double, kChannels> peak = peakRadiance(views[static_cast<size_t>(p0 + q)]);
-      for (int c = 0; c < kChannels; ++c) t.peak(c, q) = peak[static_cast<size_t>(c)];
-    }
-  }
-  std::vector<int> todo;
-  for (const int b : used)
-    if (!t.computed[static_cast<size_t>(b)]) todo.push_back(b), t.computed[static_cast<size_t>(b)] = 1;
-  if (todo.empty()) return;
   std::vector<PositionView> at_position;
   for (int q = 0; q < B; ++q) {
     const PlanetView& view = views[static_cast<size_t>(p0 + q)];
@@ -186,15 +170,38 @@ void radianceBlock(const std::vector<int>& used, const std::vector<PlanetView>& 
     for (double& share : split_at) share *= kSplitShare;
     at_position.push_back({&view, cosReach(view), split_at});
   }
-  const BinDirections& dirs = binDirections();
-  std::vector<int> lit;  // the rows the block lights
-  for (const int b : todo) {
-    for (int q = 0; q < B && !t.lit[static_cast<size_t>(b)]; ++q)
-      t.lit[static_cast<size_t>(b)] =
-          dirs.centres[static_cast<size_t>(b)].dot(at_position[static_cast<size_t>(q)].view->toward_center) >=
-          at_position[static_cast<size_t>(q)].cos_reach;
-    if (t.lit[static_cast<size_t>(b)]) lit.push_back(b);
+  if (t.first != p0 || t.positions != B || t.first_channel != first_channel) {
+    t.first = p0, t.positions = B, t.first_channel = first_channel;
+    t.computed.assign(bins, 0);
+    t.peak = ChannelRows::Zero(kChannels, B);
+    for (int q = 0; q < B; ++q) {
+      const std::array<double, kChannels> peak = peakRadiance(views[static_cast<size_t>(p0 + q)]);
+      for (int c = 0; c < kChannels; ++c) t.peak(c, q) = peak[static_cast<size_t>(c)];
+    }
+    // Every bin's span: the first and last positions the planet's cap can reach it.
+    const BinDirections& dirs = binDirections();
+    t.spans.assign(bins, {});
+    std::int64_t entries = 0;
+    for (int b = 0; b < bins; ++b) {
+      int lo = B, hi = -1;
+      for (int q = 0; q < B; ++q)
+        if (dirs.centres[static_cast<size_t>(b)].dot(at_position[static_cast<size_t>(q)].view->toward_center) >=
+            at_position[static_cast<size_t>(q)].cos_reach)
+          lo = std::min(lo, q), hi = q;
+      if (hi >= 0) t.spans[static_cast<size_t>(b)] = {entries, lo, hi - lo + 1}, entries += hi - lo + 1;
+    }
+    for (int c = 0; c < kChannels; ++c) {
+      const bool kept = c >= first_channel;
+      t.mean[static_cast<size_t>(c)].reset(kept ? new float[static_cast<size_t>(entries)] : nullptr);
+      t.half[static_cast<size_t>(c)].reset(kept ? new float[static_cast<size_t>(entries)] : nullptr);
+    }
   }
+  std::vector<int> lit;  // the bins not computed yet the block lights
+  for (const int b : used)
+    if (!t.computed[static_cast<size_t>(b)]) {
+      t.computed[static_cast<size_t>(b)] = 1;
+      if (t.lit(b)) lit.push_back(b);
+    }
   constexpr int kChunk = 256;
   const int chunks = (static_cast<int>(lit.size()) + kChunk - 1) / kChunk;
 #ifdef _OPENMP

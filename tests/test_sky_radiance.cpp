@@ -9,6 +9,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <algorithm>
 #include <numeric>
 
 using radnet::geometry::SkyBins;
@@ -76,7 +77,7 @@ TEST_CASE("sky radiance: the bins a step crosses are within their summed error s
     std::array<double, 3> error{}, scale{}, whole{};
     int crossed = 0;
     for (int b = 0; b < SkyBins::kBins; ++b) {
-      if (!t.lit[static_cast<size_t>(b)]) continue;
+      if (!t.lit(b)) continue;
       const std::array<double, 3> w = wholeBinScale(v, b);
       // Crossed: one Simpson step's scale over 1e-3 of the peak in some channel (the
       // smooth radiance's is ~1e-4 of it).
@@ -87,8 +88,8 @@ TEST_CASE("sky radiance: the bins a step crosses are within their summed error s
       const std::array<double, 3> fine = fineMean(v, b, 64);
       for (int c = 0; c < 3; ++c) {
         const auto k = static_cast<size_t>(c);
-        error[k] += std::abs(double(t.mean[k](b, static_cast<Eigen::Index>(q))) - fine[k]);
-        scale[k] += double(t.half[k](b, static_cast<Eigen::Index>(q)));
+        error[k] += std::abs(double(t.meanAt(c, b, static_cast<int>(q))) - fine[k]);
+        scale[k] += double(t.halfAt(c, b, static_cast<int>(q)));
         whole[k] += w[k];
       }
     }
@@ -120,16 +121,50 @@ TEST_CASE("sky radiance: a smooth bin's mean is its integral, a block's rows com
   const double peak_albedo = v.albedo * v.solar_flux_w_m2 / M_PI;
   int checked = 0;
   for (int b = 0; b < SkyBins::kBins; b += 7) {
-    if (!t.lit[static_cast<size_t>(b)] || SkyBins::direction(b, 0.5, 0.5).dot(v.toward_center) < 0.5) continue;
+    if (!t.lit(b) || SkyBins::direction(b, 0.5, 0.5).dot(v.toward_center) < 0.5) continue;
     const std::array<double, 3> fine = fineMean(v, b, 16);
-    CHECK(std::abs(double(t.mean[1](b, 0)) - fine[1]) <= 1e-5 * peak_albedo);
+    CHECK(std::abs(double(t.meanAt(1, b, 0)) - fine[1]) <= 1e-5 * peak_albedo);
     ++checked;
   }
   CHECK(checked > 100);
-  // A second call for the same block computes nothing again: the rows stay as they are.
-  const float before = t.mean[1](all[100], 0);
-  t.mean[1](all[100], 0) = -1.0f;
+  // A second call for the same block computes nothing again: the entries stay as they are.
+  const int lit = *std::find_if(all.begin(), all.end(), [&](int b) { return t.lit(b); });
+  float& entry = t.mean[1][static_cast<size_t>(t.spans[static_cast<size_t>(lit)].offset)];
+  const float before = entry;
+  entry = -1.0f;
   radnet::orbits::radianceBlock(all, views, 0, 1, t);
-  CHECK(t.mean[1](all[100], 0) == -1.0f);
-  t.mean[1](all[100], 0) = before;
+  CHECK(t.meanAt(1, lit, 0) == -1.0f);
+  entry = before;
+}
+
+TEST_CASE("sky radiance: a block's packed spans hold what each position computes alone, 0 where the planet is not") {
+  // Four positions whose planets lie in different parts of the sky: a bin's span runs from
+  // the first position its planet reaches it to the last, with the positions between that
+  // do not reach it inside. Every entry must equal that position's table on its own (the
+  // same arithmetic: bit for bit), and be 0 where the cap cannot reach the bin.
+  const std::vector<PlanetView> views = {
+      view(400e3, Vector3d(0.3, -0.5, -0.8), Vector3d(1, 0.2, 0.1), false),
+      view(700e3, Vector3d(-0.6, 0.2, 0.7), Vector3d(0.1, 1, 0.3), true),
+      view(2000e3, Vector3d(0.3, -0.4, -0.8), Vector3d(0.2, -0.3, 1), false),
+      view(500e3, Vector3d(0.7, 0.7, 0.1), Vector3d(-0.7, 0.7, 0.2), true)};
+  std::vector<int> all(SkyBins::kBins);
+  std::iota(all.begin(), all.end(), 0);
+  RadianceTables block;
+  radnet::orbits::radianceBlock(all, views, 0, static_cast<int>(views.size()), block);
+  int gaps = 0, mismatches = 0, reached = 0;
+  for (int q = 0; q < static_cast<int>(views.size()); ++q) {
+    RadianceTables alone;
+    radnet::orbits::radianceBlock(all, views, q, 1, alone);
+    for (int b = 0; b < SkyBins::kBins; ++b) {
+      const auto& span = block.spans[static_cast<size_t>(b)];
+      const bool inside = q >= span.first && q < span.first + span.count;
+      gaps += inside && !alone.lit(b);
+      reached += alone.lit(b);
+      for (int c = 0; c < 3; ++c)
+        mismatches += block.meanAt(c, b, q) != alone.meanAt(c, b, 0) || block.halfAt(c, b, q) != alone.halfAt(c, b, 0);
+    }
+  }
+  CHECK(mismatches == 0);
+  CHECK(gaps > 1000);  // positions 0 and 2 see the planet near one direction, 1 opposite
+  CHECK(reached > 4000);
 }
