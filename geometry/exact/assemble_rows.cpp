@@ -53,20 +53,49 @@ void compact(RowSparse& m, const std::vector<std::int64_t>& start, const std::ve
   m.data().resize(static_cast<Eigen::Index>(at));
 }
 
-// Entries each node's row receives from the pair values (a pair credits both its rows,
-// except rows left to sampling and the blocked side, j < 0).
-std::vector<std::int64_t> rowLengths(const std::vector<int>& patch_node,
-                                     const std::vector<std::vector<PairValue>>& values,
-                                     const std::vector<char>& sampled_rows) {
-  std::vector<std::int64_t> length(sampled_rows.size(), 0);
+// The pair values cut into kCreditChunks runs of emitting patches holding about as many
+// values each (a fixed count, not one per thread: the rows' order of entries, and so F to
+// the last bit, does not depend on the threads). Returns the first patch of each chunk and,
+// last, the number of patches.
+constexpr int kCreditChunks = 32;
+std::vector<size_t> creditChunks(const std::vector<std::vector<PairValue>>& values) {
+  size_t total = 0;
+  for (const auto& v : values) total += v.size();
+  std::vector<size_t> first{0};
+  size_t seen = 0;
+  for (size_t a = 0; a < values.size(); ++a) {
+    seen += values[a].size();
+    if (first.size() < kCreditChunks && seen * kCreditChunks >= total * first.size() && a + 1 < values.size())
+      first.push_back(a + 1);
+  }
+  first.push_back(values.size());
+  return first;
+}
+
+// Per chunk, the entries each node's row receives from its values (a pair credits both its
+// rows, except rows left to sampling and the blocked side, j < 0): chunk c's counts at
+// [c × n, (c + 1) × n).
+std::vector<std::int64_t> chunkRowCounts(const std::vector<int>& patch_node,
+                                         const std::vector<std::vector<PairValue>>& values,
+                                         const std::vector<char>& sampled_rows, const std::vector<size_t>& chunks,
+                                         int threads) {
+  const size_t n = sampled_rows.size(), count = chunks.size() - 1;
+  std::vector<std::int64_t> counts(count * n, 0);
   auto credited = [&](int i, int j) { return i >= 0 && j >= 0 && !sampled_rows[size_t(i)]; };
-  for (size_t a = 0; a < values.size(); ++a)
-    for (const PairValue& v : values[a]) {
-      const int i = patch_node[a], j = patch_node[size_t(v.q)];
-      if (credited(i, j)) ++length[size_t(i)];
-      if (credited(j, i)) ++length[size_t(j)];
-    }
-  return length;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+#endif
+  for (size_t c = 0; c < count; ++c) {
+    std::int64_t* mine = counts.data() + c * n;
+    for (size_t a = chunks[c]; a < chunks[c + 1]; ++a)
+      for (const PairValue& v : values[a]) {
+        const int i = patch_node[a], j = patch_node[size_t(v.q)];
+        if (credited(i, j)) ++mine[i];
+        if (credited(j, i)) ++mine[j];
+      }
+  }
+  (void)threads;
+  return counts;
 }
 
 // What an integrated row leaves to space (1 − Σ F − blocked, its error the summed
@@ -92,9 +121,22 @@ void assemblePairRows(const std::vector<int>& patch_node, std::vector<std::vecto
                       const Eigen::VectorXd& area, const std::vector<char>& sampled_rows, int threads,
                       ViewFactorEstimate& out) {
   const auto n = static_cast<size_t>(area.size());
-  std::vector<std::int64_t> length = rowLengths(patch_node, values, sampled_rows), start(n, 0);
+  const std::vector<size_t> chunks = creditChunks(values);
+  const size_t chunk_count = chunks.size() - 1;
+  // Chunk c fills row i from fill[c × n + i]: after the row's entries from the chunks before
+  // it, so each row holds its entries in the order one pass over the values would give.
+  std::vector<std::int64_t> fill = chunkRowCounts(patch_node, values, sampled_rows, chunks, threads);
+  std::vector<std::int64_t> length(n, 0), start(n, 0);
   std::int64_t total = 0;
-  for (size_t i = 0; i < n; ++i) start[i] = total, total += length[i];
+  for (size_t i = 0; i < n; ++i) {
+    start[i] = total;
+    for (size_t c = 0; c < chunk_count; ++c) {
+      const std::int64_t here = fill[c * n + i];
+      fill[c * n + i] = total;
+      total += here;
+    }
+    length[i] = total - start[i];
+  }
   // Filled straight into F's and σ's own buffers (at 6,144 nodes F has 31 M entries: a
   // staging copy would be 0.6 GB of fresh memory more).
   RowSparse& f = out.view_factors;
@@ -103,35 +145,51 @@ void assemblePairRows(const std::vector<int>& patch_node, std::vector<std::vecto
     m->resize(area.size(), area.size());
     m->resizeNonZeros(static_cast<Eigen::Index>(total));
   }
-  std::vector<std::int64_t> fill = start;
   out.blocked = out.blocked_error = Eigen::VectorXd::Zero(area.size());
-  auto credit = [&](int i, int j, double g, double err) {
+  // A pair with an inactive side adds to F_blocked: kept per chunk and added in the chunks'
+  // order (the same sums whatever the threads).
+  struct Blocked {
+    int row;
+    double share, error;
+  };
+  std::vector<std::vector<Blocked>> blocked(chunk_count);
+  auto credit = [&](std::int64_t* row_fill, std::vector<Blocked>& lost, int i, int j, double g, double err) {
     if (i < 0 || sampled_rows[size_t(i)]) return;
     if (j < 0) {
-      out.blocked[i] += g / area[i];
-      out.blocked_error[i] += err / area[i];
+      lost.push_back({i, g / area[i], err / area[i]});
       return;
     }
-    const auto at = fill[size_t(i)]++;
+    const auto at = row_fill[i]++;
     f.innerIndexPtr()[at] = j;
     f.valuePtr()[at] = g / area[i];
     e.valuePtr()[at] = err / area[i];
   };
   // The pair values are freed as they are read and, when they are large, their pages handed
-  // back every sixteenth of the way: they sit in the worker threads' malloc arenas, which keep
+  // back after every round of chunks: they sit in the worker threads' malloc arenas, which keep
   // freed pages resident, and F and σ fill as they empty (on the 6,144-node room the values
   // are 0.25 GB and F with σ 0.75 GB: 1.0 GB at once otherwise).
   const bool hand_back = double(total) / 2 * sizeof(PairValue) > 64e6;  // over 64 MB (a value credits two entries)
-  const size_t trim_every = std::max<size_t>(1, values.size() / 16);
-  for (size_t a = 0; a < values.size(); ++a) {
-    for (const PairValue& v : values[a]) {
-      const int i = patch_node[a], j = patch_node[size_t(v.q)];
-      credit(i, j, v.exchange_area, v.error);
-      credit(j, i, v.exchange_area, v.error);
+  const size_t round = hand_back ? static_cast<size_t>(std::max(1, threads)) : chunk_count;
+  for (size_t first = 0; first < chunk_count; first += round) {
+    const size_t last = std::min(chunk_count, first + round);
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+#endif
+    for (size_t c = first; c < last; ++c) {
+      std::int64_t* row_fill = fill.data() + c * n;
+      for (size_t a = chunks[c]; a < chunks[c + 1]; ++a) {
+        for (const PairValue& v : values[a]) {
+          const int i = patch_node[a], j = patch_node[size_t(v.q)];
+          credit(row_fill, blocked[c], i, j, v.exchange_area, v.error);
+          credit(row_fill, blocked[c], j, i, v.exchange_area, v.error);
+        }
+        std::vector<PairValue>().swap(values[a]);
+      }
     }
-    std::vector<PairValue>().swap(values[a]);
-    if (hand_back && (a + 1) % trim_every == 0) solver::releaseFreedMemory();
+    if (hand_back) solver::releaseFreedMemory();
   }
+  for (const std::vector<Blocked>& lost : blocked)
+    for (const Blocked& b : lost) out.blocked[b.row] += b.share, out.blocked_error[b.row] += b.error;
 #ifdef _OPENMP
 #pragma omp parallel num_threads(threads)
 #endif
