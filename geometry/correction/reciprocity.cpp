@@ -74,25 +74,28 @@ RowSparse sigmaOnPattern(const RowSparse& f, const RowSparse& sigma) {
   return out;
 }
 
-// The pair list's visitors for closureMultipliers.
-auto freePairsOf(const std::vector<Pair>& pairs) {
-  return [&pairs](auto&& fn) {
-    for (const Pair& p : pairs)
-      if (!p.pinned()) fn(p);
+// The pair list's visitors for closureMultipliers, by blocks: a block runs from the first row
+// starting at or after its share of the pairs (as the in-place correction splits them: the
+// same sums).
+template <class Fn>
+void forPairsOfBlock(const std::vector<Pair>& pairs, int block, int blocks, Fn&& fn) {
+  auto rowStart = [&](int b) {
+    size_t q = pairs.size() * size_t(b) / size_t(blocks);
+    while (q > 0 && q < pairs.size() && pairs[q].i == pairs[q - 1].i) ++q;
+    return q;
   };
+  const size_t first = rowStart(block), last = block + 1 == blocks ? pairs.size() : rowStart(block + 1);
+  for (size_t q = first; q < last; ++q)
+    if (!pairs[q].pinned()) fn(pairs[q]);
 }
-// A block runs from the first row starting at or after its share of the pairs (as the
-// in-place correction splits them: the same sums).
+auto freePairsOf(const std::vector<Pair>& pairs) {
+  return [&pairs](int block, int blocks, auto&& fn) { forPairsOfBlock(pairs, block, blocks, fn); };
+}
 auto couplingsOf(const std::vector<Pair>& pairs) {
   return [&pairs](int block, int blocks, auto&& fn) {
-    auto rowStart = [&](int b) {
-      size_t q = pairs.size() * size_t(b) / size_t(blocks);
-      while (q > 0 && q < pairs.size() && pairs[q].i == pairs[q - 1].i) ++q;
-      return q;
-    };
-    const size_t first = rowStart(block), last = block + 1 == blocks ? pairs.size() : rowStart(block + 1);
-    for (size_t q = first; q < last; ++q)
-      if (!pairs[q].pinned() && pairs[q].i != pairs[q].j) fn(pairs[q].i, pairs[q].j, pairs[q].var);
+    forPairsOfBlock(pairs, block, blocks, [&](const Pair& p) {
+      if (p.i != p.j) fn(p.i, p.j, p.var);
+    });
   };
 }
 

@@ -6,6 +6,7 @@
 #include <functional>
 #include <numeric>
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 namespace radnet::geometry {
@@ -42,10 +43,10 @@ class PairsInPlace {
   // closureMultipliers' visitors: the pairs not pinned, and their couplings by blocks of
   // rows, each starting at the first row at or after its share of the pairs.
   template <class Fn>
-  void freePairs(Fn&& fn) const {
-    size_t u = 0;
-    forEachSymmetricPair(f_, [&](int i, int j, int k, int k_ji) {
-      if (var_[u++] != 0.0) fn(pair(i, j, k, k_ji));
+  void freePairs(int block, int blocks, Fn&& fn) const {
+    if (blocks != kCouplingBlocks) throw std::logic_error("the in-place pairs walk kCouplingBlocks blocks");
+    forEachPairOfBlock(block, [&](size_t u, int i, int j, int k, int k_ji) {
+      if (var_[u] != 0.0) fn(pair(i, j, k, k_ji));
     });
   }
   template <class Fn>
@@ -173,7 +174,7 @@ std::optional<ReciprocityCorrection> enforceReciprocityInPlace(const Eigen::Vect
   if (!pairs.symmetric()) return std::nullopt;
   NodeTerms terms(area, est, rays);
   const Eigen::VectorXd mu = pinnedMultipliers(
-      area, terms, [&](auto&& fn) { pairs.freePairs(fn); },
+      area, terms, [&](int block, int blocks, auto&& fn) { pairs.freePairs(block, blocks, fn); },
       [&](int block, int blocks, auto&& fn) { pairs.couplings(block, blocks, fn); },
       [&](const Eigen::VectorXd& m) { return pairs.pinNegative(m); });
   pairs.keepOnlyPinned();
