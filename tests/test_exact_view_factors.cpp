@@ -187,6 +187,35 @@ Scene facingWalls() {
 
 }  // namespace
 
+TEST_CASE("exact method: rows credited in parallel chunks are the same bits for any thread count, and close") {
+  // Nodes of many patches (a facetted ball and the shell around it: a node pair gets values
+  // from many patch pairs, summed in credit order) and a plate between them whose back side
+  // is inactive (its pairs credit F_blocked): enough emitting patches to fill every credit
+  // chunk. One and two threads must give F, σ, F_blocked and F_space to the last bit, and the
+  // shell's row must close: Σ F + F_blocked = 1 within its summed error estimates (the shell
+  // is closed, nothing leaves to space).
+  Scene s;
+  s.addSurface("ball", "ball", sphere(Vec3(0, 0, 0), 0.6, Vec3(0, 0, 1), 0, 180, {}, 3, 6), "ball", "");
+  s.addSurface("shell", "shell", sphere(Vec3(0, 0, 0), 2.0, Vec3(0, 0, 1), 0, 180, {}, 6, 10), "", "shell");
+  s.addSurface("plate", "plate", rectangle(Vec3(1.0, -0.3, -0.3), Vec3(0, 0.6, 0), Vec3(0, 0, 0.6), 2, 2), "plate", "");
+  ExactOptions one = ExactOptions::withTolerance(1e-4), two = one;
+  one.threads = 1;
+  two.threads = 2;
+  const ExactResult a = exactViewFactors(s, one), b = exactViewFactors(s, two);
+  REQUIRE(a.patches > 64);  // more emitting patches than credit chunks
+  CHECK(Eigen::MatrixXd(a.view_factors) == Eigen::MatrixXd(b.view_factors));
+  CHECK(Eigen::MatrixXd(a.standard_error) == Eigen::MatrixXd(b.standard_error));
+  CHECK(a.blocked == b.blocked);
+  CHECK(a.blocked_error == b.blocked_error);
+  CHECK(a.space == b.space);
+  const int shell = 1;
+  CHECK(a.blocked[shell] > 0);  // the plate's inactive back is in the shell's view
+  const double row = a.view_factors.row(shell).sum() + a.blocked[shell];
+  const double bound = a.standard_error.row(shell).sum() + a.blocked_error[shell];
+  INFO("shell row " << row << ", its error estimates " << bound);
+  CHECK(std::abs(row - 1.0) <= std::max(bound, 1e-9));
+}
+
 TEST_CASE("auto: a patch whose pairs cost more than casting its row stops planning there (bounded on clutter)") {
   // Two walls of 12 × 12 separate cells facing each other: each cell a node, each its own patch.
   const Scene s = facingWalls();
