@@ -11,13 +11,32 @@ using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 // Orders row i of F and σ (entries [s, s + m) of their buffers, same columns) by column,
 // stably (a node pair's patch pairs are summed in the order they were credited, so the
 // result does not depend on the threads), and sums repeated columns; returns the length.
+// A row arrives as a few ascending runs (the values of the patches before its own, in
+// patch order, then its own patches' lists, cluster by cluster): the runs are merged
+// pairwise, stably, instead of sorting the row (the same order as a stable sort; the sort
+// was 0.2 s of the 6,144-node room's assembly).
 std::int64_t mergeRow(RowSparse& f, RowSparse& e, std::int64_t s, std::int64_t m, std::vector<int>& order,
                       std::vector<int>& col, std::vector<double>& fv, std::vector<double>& ev) {
   int* cols = f.innerIndexPtr() + s;
   double *fs = f.valuePtr() + s, *es = e.valuePtr() + s;
   order.resize(size_t(m));
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return cols[a] < cols[b]; });
+  const auto by_column = [&](int a, int b) { return cols[a] < cols[b]; };
+  thread_local std::vector<std::int64_t> runs;
+  runs.assign(1, 0);
+  for (std::int64_t k = 1; k < m; ++k)
+    if (cols[k] < cols[k - 1]) runs.push_back(k);
+  runs.push_back(m);
+  while (runs.size() > 2) {
+    size_t kept = 0;
+    for (size_t r = 0; r + 1 < runs.size(); r += 2) {
+      runs[kept++] = runs[r];
+      if (r + 2 < runs.size())
+        std::inplace_merge(order.begin() + runs[r], order.begin() + runs[r + 1], order.begin() + runs[r + 2], by_column);
+    }
+    runs[kept++] = runs.back();
+    runs.resize(kept);
+  }
   col.clear();
   fv.clear();
   ev.clear();
