@@ -1,5 +1,6 @@
 #include "orbits/direct_loads.hpp"
 
+#include "geometry/irradiance/open_sides.hpp"
 #include "geometry/irradiance/sun_clip.hpp"
 #include "geometry/irradiance/sun_grid.hpp"
 
@@ -10,6 +11,8 @@
 namespace radnet::orbits {
 
 namespace {
+
+using OpenSides = std::vector<std::uint8_t>;  // geometry/irradiance/open_sides.hpp
 
 // Sunlight that mirrors and windows pass on (the whole arrival at each node it reaches: the
 // network takes its κ share, the tracer carries the rest on), added to the direct load.
@@ -27,7 +30,8 @@ void redirectedSunlight(const geometry::RayCaster& caster, const Eigen::VectorXd
 // The lit projection (m²) and its σ of every node at one position, by the case's method:
 // exact clipping (the default), the shadow grid (shadow_cell_m) or per-node rays.
 void litProjectionOnce(const geometry::RayCaster& caster, const SweepPosition& pos, const EnvironmentOptions& opt,
-                       Eigen::VectorXd& projected_m2, Eigen::VectorXd& stderr_m2, EnvironmentLoads& out) {
+                       const OpenSides& open, Eigen::VectorXd& projected_m2, Eigen::VectorXd& stderr_m2,
+                       EnvironmentLoads& out) {
   if (opt.shadow_samples > 0) {
     geometry::LitArea lit = geometry::litArea(caster, pos.sun_body, opt.shadow_samples, opt.seed);
     out.shadow_rays += lit.rays_cast;
@@ -45,27 +49,30 @@ void litProjectionOnce(const geometry::RayCaster& caster, const SweepPosition& p
     out.shadow_rays += lit.cells + lit.node_rays;
     out.shadow_cell_m = lit.cell_m;
   } else {
-    lit = geometry::exactSunlitArea(caster.scene(), pos.sun_body);
+    geometry::ExactSunOptions exact;
+    if (!open.empty()) exact.open_sides = &open;
+    lit = geometry::exactSunlitArea(caster.scene(), pos.sun_body, exact);
   }
   projected_m2 = std::move(lit.projected_m2), stderr_m2 = std::move(lit.stderr_m2);
 }
 
 void litProjection(const geometry::RayCaster& caster, const SweepPosition& pos, const EnvironmentOptions& opt,
-                   Eigen::VectorXd& projected_m2, Eigen::VectorXd& stderr_m2, EnvironmentLoads& out, LitCache& cache) {
+                   const OpenSides& open, Eigen::VectorXd& projected_m2, Eigen::VectorXd& stderr_m2,
+                   EnvironmentLoads& out, LitCache& cache) {
   const bool exact = opt.shadow_samples <= 0 && !(opt.shadow_cell_m > 0);  // no rays to count twice across ranks
   if (!exact || !cache.serves(pos))
-    return litProjectionOnce(caster, pos, opt, projected_m2, stderr_m2, out);
+    return litProjectionOnce(caster, pos, opt, open, projected_m2, stderr_m2, out);
   if (cache.projected_m2.size() == 0)
-    litProjectionOnce(caster, cache.first, opt, cache.projected_m2, cache.stderr_m2, out);
+    litProjectionOnce(caster, cache.first, opt, open, cache.projected_m2, cache.stderr_m2, out);
   projected_m2 = cache.projected_m2, stderr_m2 = cache.stderr_m2;
 }
 
 // Direct irradiance and its σ at one lit position, W/m².
 void directLoads(const geometry::RayCaster& caster, const Eigen::VectorXd& area, const SweepPosition& pos,
-                 const EnvironmentOptions& opt, EnvironmentLoads& out, int p, LitCache& cache) {
+                 const EnvironmentOptions& opt, const OpenSides& open, EnvironmentLoads& out, int p, LitCache& cache) {
   const double flux = pos.solar_flux_w_m2 * pos.sunlit_fraction;
   Eigen::VectorXd projected_m2, stderr_m2;
-  litProjection(caster, pos, opt, projected_m2, stderr_m2, out, cache);
+  litProjection(caster, pos, opt, open, projected_m2, stderr_m2, out, cache);
   out.direct.col(p) = flux * projected_m2.cwiseQuotient(area);
   out.direct_stderr.col(p) = flux * stderr_m2.cwiseQuotient(area);
   redirectedSunlight(caster, area, pos, opt, flux, out, p);
@@ -86,20 +93,23 @@ void directLoadsAt(const geometry::RayCaster& caster, const Eigen::VectorXd& are
 #else
   const bool parallel = false;
 #endif
+  // The scene's open sides once for the sweep (exact clipping skips their search).
+  const bool clipped = opt.shadow_samples <= 0 && !(opt.shadow_cell_m > 0);
+  const OpenSides open = clipped && !lit.empty() ? geometry::openSides(caster.scene()) : OpenSides{};
   if (!parallel) {
-    for (const int p : lit) directLoads(caster, area, positions[static_cast<size_t>(p)], opt, out, p, cache);
+    for (const int p : lit) directLoads(caster, area, positions[static_cast<size_t>(p)], opt, open, out, p, cache);
     return;
   }
   // The shared projection first, if any position takes it: the loop only reads the cache.
   bool shared = false;
   for (const int p : lit) shared = shared || cache.serves(positions[static_cast<size_t>(p)]);
   if (shared && cache.projected_m2.size() == 0)
-    litProjectionOnce(caster, cache.first, opt, cache.projected_m2, cache.stderr_m2, out);
+    litProjectionOnce(caster, cache.first, opt, open, cache.projected_m2, cache.stderr_m2, out);
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 1)
 #endif
   for (int k = 0; k < static_cast<int>(lit.size()); ++k)
-    directLoads(caster, area, positions[static_cast<size_t>(lit[static_cast<size_t>(k)])], opt, out,
+    directLoads(caster, area, positions[static_cast<size_t>(lit[static_cast<size_t>(k)])], opt, open, out,
                 lit[static_cast<size_t>(k)], cache);
 }
 

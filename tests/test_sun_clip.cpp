@@ -2,6 +2,7 @@
 // a parallel square, a fin through a plate, closed boxes in any orientation (nothing inside),
 // a convex sphere (nothing shadowed, a bound of zero), and per-node shadow rays as a second
 // method on a scene of overlapping, tilted occluders.
+#include "geometry/irradiance/open_sides.hpp"
 #include "geometry/irradiance/queries.hpp"
 #include "geometry/irradiance/sun_clip.hpp"
 #include "geometry/scene/primitives.hpp"
@@ -139,4 +140,41 @@ TEST_CASE("exact sunlight: overlapping tilted occluders agree with per-node shad
     }
     CHECK(exact.occluding_pairs > 0);
   }
+}
+
+TEST_CASE("open sides: a box's outward faces have nothing in front, its inward ones and those a plate faces do") {
+  // A box (outward fronts) and a plate beside its +x face, facing it: the box's fronts are
+  // open but +x's (the plate lies in front of it), no back is (the box's other faces are in
+  // front of each inward side), the plate's side away from the box is open. Exact sunlight
+  // with the open sides skipped equals it without, bit for bit, from directions that light
+  // the plate's shadow onto +x and that do not.
+  geometry::Scene scene;
+  const auto faces = geometry::boxFaces(Vec3(0, 0, 0), Vec3(1, 1, 1), 2);
+  for (int f = 0; f < 6; ++f) {
+    const std::string name = geometry::kBoxFaceNames[static_cast<size_t>(f)];
+    scene.addSurface(name, name, faces[static_cast<size_t>(f)], "out" + name, "in" + name);
+  }
+  // At x = 1.5, its front (u × v = −x) towards the box.
+  scene.addSurface("plate", "plate", geometry::rectangle(Vec3(1.5, 0.2, 0.2), Vec3(0, 0, 0.6), Vec3(0, 0.6, 0), 1, 1),
+                   "plate_front", "plate_back");
+  const std::vector<std::uint8_t> open = geometry::openSides(scene);
+  REQUIRE(open.size() == scene.faces().size());
+  for (size_t k = 0; k < scene.faces().size(); ++k) {
+    const geometry::Face& f = scene.faces()[k];
+    const std::string& front = scene.nodes()[static_cast<size_t>(f.front_node)].name;
+    INFO("face " << k << " front node " << front);
+    const bool plate = front == "plate_front";
+    CHECK(((open[k] & geometry::kFrontOpen) != 0) == (!plate && front != "out+x"));
+    CHECK(((open[k] & geometry::kBackOpen) != 0) == plate);
+  }
+  for (const Vec3& dir : {Vec3(1, 0.1, 0.05), Vec3(0.3, -0.5, 1.0), Vec3(-1, 0.2, 0.3)}) {
+    const Vec3 d = dir.normalized();
+    geometry::ExactSunOptions skip;
+    skip.open_sides = &open;
+    const geometry::SunlitArea all = geometry::exactSunlitArea(scene, d), skipped = geometry::exactSunlitArea(scene, d, skip);
+    CHECK(all.projected_m2 == skipped.projected_m2);
+    CHECK(all.stderr_m2 == skipped.stderr_m2);
+  }
+  const Vec3 toward_plate = Vec3(1, 0.1, 0.05).normalized();  // the plate shades part of +x
+  CHECK(geometry::exactSunlitArea(scene, toward_plate).occluding_pairs > 0);
 }

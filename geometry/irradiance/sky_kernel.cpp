@@ -1,11 +1,8 @@
 #include "geometry/irradiance/sky_kernel.hpp"
 
+#include "geometry/irradiance/open_sides.hpp"
 #include "geometry/irradiance/sky_region.hpp"
 #include "geometry/rays/sampling.hpp"
-
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Surface_mesh.h>
-#include <CGAL/convex_hull_3.h>
 
 #include <algorithm>
 #include <cmath>
@@ -168,51 +165,6 @@ double blockedSigma(const SkyCounts& c) {
   return c.ray_share * std::sqrt(std::max(0.0, (sum2 - kReplicas * mean * mean) / (kReplicas - 1)) / kReplicas);
 }
 
-// The scene's extreme points (the vertices of its convex hull: a plane has every vertex
-// behind it exactly when it has these behind it) and their bounding box: what the test
-// below reads, so that it costs triangles × hull vertices, not triangles × vertices (a
-// 100,000-triangle mesh of convex nodes would have asked 10¹⁰ products). Every vertex when
-// the hull cannot be formed (fewer than four points, all on a line).
-struct SceneExtent {
-  std::vector<Vec3> vertices;
-  Vec3 lo = Vec3::Constant(HUGE_VAL), hi = Vec3::Constant(-HUGE_VAL);
-  double tolerance = 0.0;  ///< m: what counts as on a plane (round-off of coplanar neighbours)
-
-  explicit SceneExtent(const Scene& scene) {
-    using Hull = CGAL::Exact_predicates_inexact_constructions_kernel;
-    std::vector<Hull::Point_3> points;
-    points.reserve(3 * scene.faces().size());
-    for (const Face& f : scene.faces())
-      for (const Vec3& v : f.v) points.emplace_back(v.x(), v.y(), v.z()), lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
-    tolerance = points.empty() ? 0.0 : 1e-9 * std::max(1.0, (hi - lo).norm());
-    CGAL::Surface_mesh<Hull::Point_3> hull;
-    if (points.size() >= 4) CGAL::convex_hull_3(points.begin(), points.end(), hull);
-    if (hull.number_of_vertices() >= 3)
-      for (const auto& p : hull.points()) vertices.emplace_back(p.x(), p.y(), p.z());
-    else
-      for (const auto& p : points) vertices.emplace_back(p.x(), p.y(), p.z());
-  }
-};
-
-// Whether nothing of the scene lies in front of any of the node's triangles: every vertex
-// on or behind each triangle's plane (facing the node's side). A ray leaving such a node
-// meets nothing, so its kernel is exactly empty and costs no ray (a wing's outer face, a
-// bus face nothing overhangs: half the nodes of the bench satellites). The box first (its
-// farthest corner along the normal), then the vertices, stopping at the first in front.
-bool nothingInFront(const Scene& scene, const Node& node, const SceneExtent& extent) {
-  for (const int f : node.faces) {
-    const Face& face = scene.faces()[static_cast<size_t>(f)];
-    const Vec3 n = node.side * face.normal;
-    const Vec3 corner((n.x() > 0 ? extent.hi : extent.lo).x(), (n.y() > 0 ? extent.hi : extent.lo).y(),
-                      (n.z() > 0 ? extent.hi : extent.lo).z());
-    const double plane = n.dot(face.v[0]) + extent.tolerance;
-    if (n.dot(corner) <= plane) continue;
-    for (const Vec3& v : extent.vertices)
-      if (n.dot(v) > plane) return false;
-  }
-  return true;
-}
-
 // The kernel of a node's counts with its new rays' minority (c.counts_open) added.
 // The new rays' keys sorted (32-bit keys: a sort of (key, count) pairs was 5 % of the
 // cast), counted, and merged with the earlier counts (ascending already).
@@ -246,11 +198,13 @@ std::int64_t regionRaysPerReplica(const SkyKernelOptions& opt, const SkyRegion& 
 // `blockers`, a flat node's rays are drawn in its region alone (sky_region.hpp) and count
 // the blocked ones.
 NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& opt, const NodeSky* before,
-                    const SceneExtent* extent, const BlockerSpheres* blockers, std::int64_t& cast) {
+                    const std::vector<std::uint8_t>* open_sides, const BlockerSpheres* blockers, std::int64_t& cast) {
   const bool fixed = !opt.node_rays.empty();
   const std::int64_t asked = fixed ? opt.node_rays[static_cast<size_t>(node)] : opt.max_rays_per_node;
   std::int64_t cap = std::max<std::int64_t>(1, (asked + kReplicas - 1) / kReplicas);
-  if (extent && nothingInFront(caster.scene(), caster.scene().nodes()[static_cast<size_t>(node)], *extent)) {
+  // A node with nothing in front of any of its triangles (open_sides.hpp): a ray leaving it
+  // meets nothing, so its kernel is exactly empty and costs no ray.
+  if (open_sides && nodeOpen(caster.scene().nodes()[static_cast<size_t>(node)], *open_sides)) {
     NodeSky open;  // what the asked rays would all find, none traced
     open.rays = cap * kReplicas;
     return open;
@@ -298,7 +252,7 @@ NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& o
   // A region's open rays outside it are not traced: it counts the blocked ones.
   const bool counts_open = region.whole && blocked > 0.5 * double(c.per_replica * kReplicas);
   // The earlier rays kept only their minority: if the majority turned, cast them all again.
-  if (start > 0 && counts_open != c.counts_open) return castNodeSky(caster, node, opt, nullptr, extent, blockers, cast);
+  if (start > 0 && counts_open != c.counts_open) return castNodeSky(caster, node, opt, nullptr, open_sides, blockers, cast);
   c.counts_open = counts_open;
   NodeSky sky = countedSky(c, rays);
   sky.region = region;
@@ -345,9 +299,9 @@ SkyKernel skyKernel(const RayCaster& caster, const SkyKernelOptions& opt) {
     throw std::invalid_argument("sky kernel: the earlier kernel must have one entry per node");
   std::int64_t rays = 0, cast = 0;
   // A resumed cast re-casts nodes whose first rays met something: none is free, so the
-  // extent (the scene's hull) is formed only for a first cast.
-  std::optional<SceneExtent> extent;
-  if (!opt.prefix) extent.emplace(caster.scene());
+  // open sides (the scene's hull) are found only for a first cast.
+  std::optional<std::vector<std::uint8_t>> open_sides;
+  if (!opt.prefix) open_sides.emplace(openSides(caster.scene()));
   const BlockerSpheres blockers(caster.scene(), caster.originOffset());
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : rays, cast)
@@ -357,7 +311,7 @@ SkyKernel skyKernel(const RayCaster& caster, const SkyKernelOptions& opt) {
     if (!opt.node_rays.empty() && opt.node_rays[static_cast<size_t>(i)] <= 0) continue;
     const NodeSky* before = opt.prefix ? &opt.prefix->nodes[static_cast<size_t>(i)] : nullptr;
     kernel.nodes[static_cast<size_t>(i)] =
-        castNodeSky(caster, i, opt, before, extent ? &*extent : nullptr, &blockers, cast);
+        castNodeSky(caster, i, opt, before, open_sides ? &*open_sides : nullptr, &blockers, cast);
     rays += kernel.nodes[static_cast<size_t>(i)].rays;
   }
   kernel.rays = rays;

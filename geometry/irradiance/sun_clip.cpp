@@ -1,5 +1,7 @@
 #include "geometry/irradiance/sun_clip.hpp"
 
+#include "geometry/irradiance/open_sides.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -315,6 +317,8 @@ SunlitArea exactSunlitArea(const Scene& scene, const Vec3& toward_sun, const Exa
   for (const Face& f : scene.faces())
     for (const Vec3& v : f.v) coord_m = std::max(coord_m, v.cwiseAbs().maxCoeff());
   const int m = static_cast<int>(flats.size());
+  const std::vector<std::uint8_t>* open =
+      options.open_sides && options.open_sides->size() == scene.faces().size() ? options.open_sides : nullptr;
   std::vector<double> lit(static_cast<size_t>(m), 0.0), dropped(static_cast<size_t>(m), 0.0);
   std::int64_t pairs = 0;
   // Inside a parallel loop (a sweep's positions, orbits/direct_loads) on its own thread.
@@ -328,7 +332,12 @@ SunlitArea exactSunlitArea(const Scene& scene, const Vec3& toward_sun, const Exa
 #pragma omp for schedule(dynamic, 64)
 #endif
     for (int k = 0; k < m; ++k) {
-      if (flats[static_cast<size_t>(k)].node < 0) continue;
+      const Flat& flat = flats[static_cast<size_t>(k)];
+      if (flat.node < 0) continue;
+      if (open && ((*open)[static_cast<size_t>(flat.face)] & (flat.facing > 0 ? kFrontOpen : kBackOpen))) {
+        lit[static_cast<size_t>(k)] = flat.projected;  // nothing can be in front of it
+        continue;
+      }
       std::int64_t clipped = 0;
       lit[static_cast<size_t>(k)] = litProjection(scene, flats, bins, k, tol, coord_m, options.sliver_fraction, s,
                                                   dropped[static_cast<size_t>(k)], clipped);
