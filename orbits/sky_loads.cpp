@@ -91,7 +91,8 @@ void countedLoad(const std::array<Table, kChannels>& estimates, const Eigen::Arr
 
 // One node's loads and σ at every position of a block, from its kernel, per channel. The
 // σ: the spread of the 32 replicas' own estimates (each from its counted rays' bins) and
-// the binning error. Each bin's radiance over the block is one row: the sums run along them.
+// the binning error. Each bin's radiance over its span of the block's positions (the planet
+// reaches it nowhere else) is one row: the sums run along them.
 // The binning errors are summed over the bins, not in quadrature: the bins a limb or
 // terminator crosses err the same way (in quadrature a CAD model's wing cells, seeing a
 // sliver of the planet past the bus, came out 3–8σ low).
@@ -100,7 +101,6 @@ void nodeLoads(const geometry::NodeSky& sky, const RadianceTables& t, const Rows
   const int c0 = uniform_ir > 0 ? 1 : 0;  // uniform IR: the view factor's sums are the IR's / flux
   const Eigen::Index B = t.positions;
   Rows counted = Rows::Zero(kChannels, B), binning = Rows::Zero(kChannels, B);
-  // Each bin's entries over its span of the block (the planet reaches it nowhere else).
   for (size_t j = 0; j < sky.bins.size(); ++j) {
     const int u = sky.bins[j];
     const RadianceTables::Span& span = t.spans[static_cast<size_t>(u)];

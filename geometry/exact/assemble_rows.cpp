@@ -134,18 +134,12 @@ void spaceTerms(const std::vector<char>& sampled_rows, ViewFactorEstimate& out) 
   }
 }
 
-}  // namespace
-
-void assemblePairRows(const std::vector<int>& patch_node, std::vector<std::vector<PairValue>>& values,
-                      const Eigen::VectorXd& area, const std::vector<char>& sampled_rows, int threads,
-                      ViewFactorEstimate& out) {
-  const auto n = static_cast<size_t>(area.size());
-  const std::vector<size_t> chunks = creditChunks(values);
-  const size_t chunk_count = chunks.size() - 1;
-  // Chunk c fills row i from fill[c × n + i]: after the row's entries from the chunks before
-  // it, so each row holds its entries in the order one pass over the values would give.
-  std::vector<std::int64_t> fill = chunkRowCounts(patch_node, values, sampled_rows, chunks, threads);
-  std::vector<std::int64_t> length(n, 0), start(n, 0);
+// Turns the chunks' counts (fill[c × n + i]) into where chunk c writes row i: after the row's
+// entries from the chunks before it, so each row holds its entries in the order one pass
+// over the values would give. Sets each row's start and length; returns the total.
+std::int64_t rowOffsets(size_t chunk_count, std::vector<std::int64_t>& fill, std::vector<std::int64_t>& start,
+                        std::vector<std::int64_t>& length) {
+  const size_t n = start.size();
   std::int64_t total = 0;
   for (size_t i = 0; i < n; ++i) {
     start[i] = total;
@@ -156,6 +150,66 @@ void assemblePairRows(const std::vector<int>& patch_node, std::vector<std::vecto
     }
     length[i] = total - start[i];
   }
+  return total;
+}
+
+// Credits every chunk's values to F's and σ's rows (A_P F_PQ / A_i at the chunk's place in
+// row i), chunks in parallel. A pair with an inactive side adds to F_blocked: kept per chunk
+// and added in the chunks' order (the same sums whatever the threads). The values are freed
+// as they are read and, when they are large, their pages handed back after every round of
+// chunks: they sit in the worker threads' malloc arenas, which keep freed pages resident, and
+// F and σ fill as they empty (on the 6,144-node room the values are 0.25 GB and F with σ
+// 0.75 GB: 1.0 GB at once otherwise).
+void creditValues(const std::vector<int>& patch_node, std::vector<std::vector<PairValue>>& values,
+                  const Eigen::VectorXd& area, const std::vector<char>& sampled_rows, const std::vector<size_t>& chunks,
+                  std::vector<std::int64_t>& fill, int threads, ViewFactorEstimate& out) {
+  const size_t n = sampled_rows.size(), chunk_count = chunks.size() - 1;
+  RowSparse &f = out.view_factors, &e = out.standard_error;
+  struct Blocked {
+    int row;
+    double share, error;
+  };
+  std::vector<std::vector<Blocked>> blocked(chunk_count);
+  auto credit = [&](std::int64_t* row_fill, std::vector<Blocked>& lost, int i, int j, double g, double err) {
+    if (i < 0 || sampled_rows[size_t(i)]) return;
+    if (j < 0) return lost.push_back({i, g / area[i], err / area[i]});
+    const auto at = row_fill[i]++;
+    f.innerIndexPtr()[at] = j;
+    f.valuePtr()[at] = g / area[i];
+    e.valuePtr()[at] = err / area[i];
+  };
+  const bool hand_back = double(f.nonZeros()) / 2 * sizeof(PairValue) > 64e6;  // over 64 MB (a value credits two entries)
+  const size_t round = hand_back ? static_cast<size_t>(std::max(1, threads)) : chunk_count;
+  for (size_t first = 0; first < chunk_count; first += round) {
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+#endif
+    for (size_t c = first; c < std::min(chunk_count, first + round); ++c)
+      for (size_t a = chunks[c]; a < chunks[c + 1]; ++a) {
+        for (const PairValue& v : values[a]) {
+          const int i = patch_node[a], j = patch_node[size_t(v.q)];
+          credit(fill.data() + c * n, blocked[c], i, j, v.exchange_area, v.error);
+          credit(fill.data() + c * n, blocked[c], j, i, v.exchange_area, v.error);
+        }
+        std::vector<PairValue>().swap(values[a]);
+      }
+    if (hand_back) solver::releaseFreedMemory();
+  }
+  out.blocked = out.blocked_error = Eigen::VectorXd::Zero(area.size());
+  for (const std::vector<Blocked>& lost : blocked)
+    for (const Blocked& b : lost) out.blocked[b.row] += b.share, out.blocked_error[b.row] += b.error;
+}
+
+}  // namespace
+
+void assemblePairRows(const std::vector<int>& patch_node, std::vector<std::vector<PairValue>>& values,
+                      const Eigen::VectorXd& area, const std::vector<char>& sampled_rows, int threads,
+                      ViewFactorEstimate& out) {
+  const auto n = static_cast<size_t>(area.size());
+  const std::vector<size_t> chunks = creditChunks(values);
+  std::vector<std::int64_t> fill = chunkRowCounts(patch_node, values, sampled_rows, chunks, threads);
+  std::vector<std::int64_t> length(n, 0), start(n, 0);
+  const std::int64_t total = rowOffsets(chunks.size() - 1, fill, start, length);
   // Filled straight into F's and σ's own buffers (at 6,144 nodes F has 31 M entries: a
   // staging copy would be 0.6 GB of fresh memory more).
   RowSparse& f = out.view_factors;
@@ -164,51 +218,7 @@ void assemblePairRows(const std::vector<int>& patch_node, std::vector<std::vecto
     m->resize(area.size(), area.size());
     m->resizeNonZeros(static_cast<Eigen::Index>(total));
   }
-  out.blocked = out.blocked_error = Eigen::VectorXd::Zero(area.size());
-  // A pair with an inactive side adds to F_blocked: kept per chunk and added in the chunks'
-  // order (the same sums whatever the threads).
-  struct Blocked {
-    int row;
-    double share, error;
-  };
-  std::vector<std::vector<Blocked>> blocked(chunk_count);
-  auto credit = [&](std::int64_t* row_fill, std::vector<Blocked>& lost, int i, int j, double g, double err) {
-    if (i < 0 || sampled_rows[size_t(i)]) return;
-    if (j < 0) {
-      lost.push_back({i, g / area[i], err / area[i]});
-      return;
-    }
-    const auto at = row_fill[i]++;
-    f.innerIndexPtr()[at] = j;
-    f.valuePtr()[at] = g / area[i];
-    e.valuePtr()[at] = err / area[i];
-  };
-  // The pair values are freed as they are read and, when they are large, their pages handed
-  // back after every round of chunks: they sit in the worker threads' malloc arenas, which keep
-  // freed pages resident, and F and σ fill as they empty (on the 6,144-node room the values
-  // are 0.25 GB and F with σ 0.75 GB: 1.0 GB at once otherwise).
-  const bool hand_back = double(total) / 2 * sizeof(PairValue) > 64e6;  // over 64 MB (a value credits two entries)
-  const size_t round = hand_back ? static_cast<size_t>(std::max(1, threads)) : chunk_count;
-  for (size_t first = 0; first < chunk_count; first += round) {
-    const size_t last = std::min(chunk_count, first + round);
-#ifdef _OPENMP
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-#endif
-    for (size_t c = first; c < last; ++c) {
-      std::int64_t* row_fill = fill.data() + c * n;
-      for (size_t a = chunks[c]; a < chunks[c + 1]; ++a) {
-        for (const PairValue& v : values[a]) {
-          const int i = patch_node[a], j = patch_node[size_t(v.q)];
-          credit(row_fill, blocked[c], i, j, v.exchange_area, v.error);
-          credit(row_fill, blocked[c], j, i, v.exchange_area, v.error);
-        }
-        std::vector<PairValue>().swap(values[a]);
-      }
-    }
-    if (hand_back) solver::releaseFreedMemory();
-  }
-  for (const std::vector<Blocked>& lost : blocked)
-    for (const Blocked& b : lost) out.blocked[b.row] += b.share, out.blocked_error[b.row] += b.error;
+  creditValues(patch_node, values, area, sampled_rows, chunks, fill, threads, out);
 #ifdef _OPENMP
 #pragma omp parallel num_threads(threads)
 #endif

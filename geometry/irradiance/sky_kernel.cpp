@@ -196,14 +196,13 @@ std::int64_t regionRaysPerReplica(const SkyKernelOptions& opt, const SkyRegion& 
 // (or to a count per node). With `before` (the same seed's first points, cast earlier) the
 // stream resumes after them and only the new rays are traced; `cast` counts those. With
 // `blockers`, a flat node's rays are drawn in its region alone (sky_region.hpp) and count
-// the blocked ones.
+// the blocked ones. A node with nothing in front of any of its triangles (`open_sides`,
+// open_sides.hpp) meets nothing: its kernel is exactly empty and costs no ray.
 NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& opt, const NodeSky* before,
                     const std::vector<std::uint8_t>* open_sides, const BlockerSpheres* blockers, std::int64_t& cast) {
   const bool fixed = !opt.node_rays.empty();
   const std::int64_t asked = fixed ? opt.node_rays[static_cast<size_t>(node)] : opt.max_rays_per_node;
   std::int64_t cap = std::max<std::int64_t>(1, (asked + kReplicas - 1) / kReplicas);
-  // A node with nothing in front of any of its triangles (open_sides.hpp): a ray leaving it
-  // meets nothing, so its kernel is exactly empty and costs no ray.
   if (open_sides && nodeOpen(caster.scene().nodes()[static_cast<size_t>(node)], *open_sides)) {
     NodeSky open;  // what the asked rays would all find, none traced
     open.rays = cap * kReplicas;
