@@ -1,6 +1,5 @@
 #include "orbits/direct_loads.hpp"
 
-#include "geometry/irradiance/open_sides.hpp"
 #include "geometry/irradiance/sun_clip.hpp"
 #include "geometry/irradiance/sun_grid.hpp"
 
@@ -12,7 +11,7 @@ namespace radnet::orbits {
 
 namespace {
 
-using OpenSides = std::vector<std::uint8_t>;  // geometry/irradiance/open_sides.hpp
+using OpenSides = std::vector<std::uint8_t>;  // geometry/scene/open_sides.hpp
 
 // Sunlight that mirrors and windows pass on (the whole arrival at each node it reaches: the
 // network takes its κ share, the tracer carries the rest on), added to the direct load.
@@ -93,9 +92,10 @@ void directLoadsAt(const geometry::RayCaster& caster, const Eigen::VectorXd& are
 #else
   const bool parallel = false;
 #endif
-  // The scene's open sides once for the sweep (exact clipping skips their search).
+  // The scene's open sides (found once per geometry; exact clipping skips their search).
   const bool clipped = opt.shadow_samples <= 0 && !(opt.shadow_cell_m > 0);
-  const OpenSides open = clipped && !lit.empty() ? geometry::openSides(caster.scene()) : OpenSides{};
+  static const OpenSides none;
+  const OpenSides& open = clipped && !lit.empty() ? caster.openSides() : none;
   if (!parallel) {
     for (const int p : lit) directLoads(caster, area, positions[static_cast<size_t>(p)], opt, open, out, p, cache);
     return;

@@ -2,7 +2,7 @@
 // a parallel square, a fin through a plate, closed boxes in any orientation (nothing inside),
 // a convex sphere (nothing shadowed, a bound of zero), and per-node shadow rays as a second
 // method on a scene of overlapping, tilted occluders.
-#include "geometry/irradiance/open_sides.hpp"
+#include "geometry/scene/open_sides.hpp"
 #include "geometry/irradiance/queries.hpp"
 #include "geometry/irradiance/sun_clip.hpp"
 #include "geometry/scene/primitives.hpp"

@@ -1,13 +1,12 @@
 #include "geometry/irradiance/sky_kernel.hpp"
 
-#include "geometry/irradiance/open_sides.hpp"
 #include "geometry/irradiance/sky_region.hpp"
+#include "geometry/scene/open_sides.hpp"
 #include "geometry/rays/sampling.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <optional>
 #include <stdexcept>
 
 namespace radnet::geometry {
@@ -297,10 +296,9 @@ SkyKernel skyKernel(const RayCaster& caster, const SkyKernelOptions& opt) {
   if (opt.prefix && opt.prefix->nodes.size() != static_cast<size_t>(n))
     throw std::invalid_argument("sky kernel: the earlier kernel must have one entry per node");
   std::int64_t rays = 0, cast = 0;
-  // A resumed cast re-casts nodes whose first rays met something: none is free, so the
-  // open sides (the scene's hull) are found only for a first cast.
-  std::optional<std::vector<std::uint8_t>> open_sides;
-  if (!opt.prefix) open_sides.emplace(openSides(caster.scene()));
+  // A resumed cast re-casts nodes whose first rays met something: none is free, so only a
+  // first cast asks for the open sides.
+  const std::vector<std::uint8_t>* open_sides = opt.prefix ? nullptr : &caster.openSides();
   const BlockerSpheres blockers(caster.scene(), caster.originOffset());
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : rays, cast)
@@ -310,7 +308,7 @@ SkyKernel skyKernel(const RayCaster& caster, const SkyKernelOptions& opt) {
     if (!opt.node_rays.empty() && opt.node_rays[static_cast<size_t>(i)] <= 0) continue;
     const NodeSky* before = opt.prefix ? &opt.prefix->nodes[static_cast<size_t>(i)] : nullptr;
     kernel.nodes[static_cast<size_t>(i)] =
-        castNodeSky(caster, i, opt, before, open_sides ? &*open_sides : nullptr, &blockers, cast);
+        castNodeSky(caster, i, opt, before, open_sides, &blockers, cast);
     rays += kernel.nodes[static_cast<size_t>(i)].rays;
   }
   kernel.rays = rays;

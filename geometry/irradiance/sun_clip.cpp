@@ -1,6 +1,6 @@
 #include "geometry/irradiance/sun_clip.hpp"
 
-#include "geometry/irradiance/open_sides.hpp"
+#include "geometry/scene/open_sides.hpp"
 
 #include <algorithm>
 #include <array>

@@ -25,7 +25,7 @@ struct ExactSunOptions {
   /// Cut-off pieces below this fraction of their triangle's projection are dropped (and
   /// counted in the error bound): slivers of round-off width along shared edges, –
   double sliver_fraction = 1e-12;
-  /// The scene's open sides (open_sides.hpp), if known: a sun-facing side with nothing in
+  /// The scene's open sides (scene/open_sides.hpp), if known: a sun-facing side with nothing in
   /// front of it is lit whole without looking for occluders (a sweep finds them once; on the
   /// 2,306-node satellite, inertial, the sides that found no occluder took 94 % of the
   /// candidates tested, and skipping the open ones among them took the clipping's CPU time

@@ -1,5 +1,7 @@
 #include "geometry/rays/ray_caster.hpp"
 
+#include "geometry/scene/open_sides.hpp"
+
 #include <algorithm>
 #include <array>
 #include <limits>
@@ -27,6 +29,11 @@ RayCaster::RayCaster(const Scene& scene) : scene_(scene), bvh_(sceneTriangles(sc
   // A point interpolated on a triangle carries a rounding error of a few ulps of the
   // largest coordinate; 64 ulps leaves a safe margin and stays far below any feature size.
   offset_scale_ = 64.0 * std::numeric_limits<double>::epsilon() * std::max(max_coord, 1e-300);
+}
+
+const std::vector<std::uint8_t>& RayCaster::openSides() const {
+  std::call_once(open_once_, [this] { open_sides_ = geometry::openSides(scene_); });
+  return open_sides_;
 }
 
 Vec3 RayCaster::offsetOrigin(const Vec3& point, const Vec3& side_normal) const {

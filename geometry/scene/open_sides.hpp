@@ -3,7 +3,8 @@
 // on or behind the side's plane. Such a side sees only sky: a ray leaving it meets nothing
 // (the sky kernel casts none from a node of such sides) and any collimated source it faces
 // lights it whole (exact sunlight skips its clipping). Wings' outer faces, bus faces nothing
-// overhangs: half the triangles of the bench satellites.
+// overhangs: half the triangles of the bench satellites. Found once per geometry:
+// RayCaster::openSides() (rays/ray_caster.hpp) holds them for every stage that asks.
 #include "geometry/scene/scene.hpp"
 
 #include <cstdint>

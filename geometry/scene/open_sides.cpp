@@ -1,10 +1,11 @@
-#include "geometry/irradiance/open_sides.hpp"
+#include "geometry/scene/open_sides.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/convex_hull_3.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace radnet::geometry {
@@ -20,10 +21,17 @@ struct SceneExtent {
 
   explicit SceneExtent(const Scene& scene) {
     using Hull = CGAL::Exact_predicates_inexact_constructions_kernel;
-    std::vector<Hull::Point_3> points;
-    points.reserve(3 * scene.faces().size());
+    // Each vertex once (a face holds copies of its corners: three times the points, and the
+    // hull of a 100,002-node model's 600 k copies took 0.27 s).
+    std::vector<std::array<double, 3>> corners;
+    corners.reserve(3 * scene.faces().size());
     for (const Face& f : scene.faces())
-      for (const Vec3& v : f.v) points.emplace_back(v.x(), v.y(), v.z()), lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+      for (const Vec3& v : f.v) corners.push_back({v.x(), v.y(), v.z()}), lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+    std::sort(corners.begin(), corners.end());
+    corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+    std::vector<Hull::Point_3> points;
+    points.reserve(corners.size());
+    for (const auto& c : corners) points.emplace_back(c[0], c[1], c[2]);
     tolerance = points.empty() ? 0.0 : 1e-9 * std::max(1.0, (hi - lo).norm());
     CGAL::Surface_mesh<Hull::Point_3> hull;
     if (points.size() >= 4) CGAL::convex_hull_3(points.begin(), points.end(), hull);
