@@ -72,12 +72,11 @@ struct Angle {
 // positive arc hg given:
 // f = A + B cos u, g = a + b cos(u − δ). The product's antiderivative
 //     A a u + A b sin(u − δ) + a B sin u + ½ B b (u cos δ + ½ sin(2u − δ))
-// at the ends of f's positive arc against g's and its copies 2π apart; the ends' sines by
-// the angle-addition formulas from the arcs' and the gap's cosines and sines.
-double ringIntegral(const Wave& f, const Wave& g, const PositiveArc& hg, const PhaseGap& gap) {
-  if (hg.none) return 0.0;
-  const PositiveArc hf = positiveArc(f);
-  if (hf.none) return 0.0;
+// at the ends of f's positive arc hf against g's and its copies 2π apart; the ends' sines
+// by the angle-addition formulas from the arcs' and the gap's cosines and sines. (hf given:
+// the albedo's and the IR's integrals of one ring share the plane's arc and its acos.)
+double ringIntegral(const Wave& f, const PositiveArc& hf, const Wave& g, const PositiveArc& hg, const PhaseGap& gap) {
+  if (hg.none || hf.none) return 0.0;
   const double cd = gap.cos_delta, sd = gap.sin_delta;
   const auto antiderivative = [&](const Angle& x) {
     const double sin_u_minus_delta = x.s * cd - x.c * sd;
@@ -223,8 +222,11 @@ PlanetChannels PlanetRings::loads(const Eigen::Vector3d& normal) const {
   const auto add = [&](const Point& p) {
     const Wave plane{n_full.wave.a * p.cos_theta, n_full.wave.b * p.sin_theta};
     const Wave sun{p.sun_a, p.sun_b};
-    if (lit_) sum.albedo += p.jacobian * v.albedo * v.solar_flux_w_m2 * ringIntegral(plane, sun, p.sun_arc, gap);
-    if (warm_) sum.ir += p.jacobian * k_ * ringIntegral(plane, Wave{sun.a - c0_, sun.b}, p.warm_arc, gap);
+    const bool albedo = lit_ && !p.sun_arc.none, ir = warm_ && !p.warm_arc.none;
+    if (!albedo && !ir) return;
+    const PositiveArc plane_arc = positiveArc(plane);
+    if (albedo) sum.albedo += p.jacobian * v.albedo * v.solar_flux_w_m2 * ringIntegral(plane, plane_arc, sun, p.sun_arc, gap);
+    if (ir) sum.ir += p.jacobian * k_ * ringIntegral(plane, plane_arc, Wave{sun.a - c0_, sun.b}, p.warm_arc, gap);
   };
   for (size_t k = 0; k + 1 < cuts_.size(); ++k) {
     const double g0 = cuts_[k], g1 = cuts_[k + 1];
