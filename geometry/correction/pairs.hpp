@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -103,12 +104,13 @@ bool forEachSymmetricPair(const RowSparse& f, Visit&& visit) {
 // B; the product sums each block apart, on all cores, then the blocks in order (the same
 // bits for any thread count).
 inline constexpr double kMultiplierTolerance = 1e-13;
+inline constexpr double kClosureTolerance = 1e-14;  // of a row's area: F's closure, –
 inline constexpr int kMultiplierMaxIterations = 2000;
 inline constexpr int kCouplingBlocks = 8;
 
 template <class Couplings>
 bool conjugateGradients(const Couplings& couplings, const Eigen::VectorXd& d, const Eigen::VectorXd& rhs,
-                        Eigen::VectorXd& mu) {
+                        const Eigen::VectorXd& area, Eigen::VectorXd& mu) {
   const Eigen::Index n = rhs.size();
   mu = Eigen::VectorXd::Zero(n);
   const double threshold = kMultiplierTolerance * kMultiplierTolerance * rhs.squaredNorm();
@@ -118,10 +120,19 @@ bool conjugateGradients(const Couplings& couplings, const Eigen::VectorXd& d, co
     solver::parallelFor(kCouplingBlocks, [&](long long b) {
       Eigen::VectorXd& part = partial[static_cast<size_t>(b)];
       part.setZero();
+      // Row i's own sum is kept in a register while its couplings come (they come row by
+      // row): added through memory, each term waited on the store of the one before.
+      int row = -1;
+      double row_sum = 0.0;
       couplings(static_cast<int>(b), kCouplingBlocks, [&](int i, int j, double v) {
-        part[i] += v * x[j];
+        if (i != row) {
+          if (row >= 0) part[row] += row_sum;
+          row = i, row_sum = 0.0;
+        }
+        row_sum += v * x[j];
         part[j] += v * x[i];
       });
+      if (row >= 0) part[row] += row_sum;
     });
     y = d.cwiseProduct(x);
     for (const Eigen::VectorXd& part : partial) y += part;
@@ -133,7 +144,10 @@ bool conjugateGradients(const Couplings& couplings, const Eigen::VectorXd& d, co
     const double alpha = rz / p.dot(kp);
     mu += alpha * p;
     r -= alpha * kp;
-    if (r.squaredNorm() < threshold) return mu.allFinite();
+    // r is each row's closure error in conductance (m²): every row closed to kClosureTolerance
+    // of its area is as closed as F's rounding leaves it (a room's 21 products were 17).
+    if (r.squaredNorm() < threshold || (r.cwiseAbs().array() <= kClosureTolerance * area.array()).all())
+      return mu.allFinite();
     z = r.cwiseQuotient(d);
     const double rz_next = r.dot(z);
     p = z + (rz_next / rz) * p;
@@ -149,36 +163,56 @@ bool conjugateGradients(const Couplings& couplings, const Eigen::VectorXd& d, co
 // off the diagonal, by the same blocks. The blocks' sums are formed on all cores, each apart,
 // then added in block order (the same bits for any thread count; a pass over the 15.7 M pairs
 // of a 6,144-node room was 0.38 s on one core, per round of pinning).
+// The free pairs' sums per coupling block: each row's Σ ĝ and Σ v, and the off-diagonal
+// entries. add() is the one place they are summed, so a correction that forms them while
+// visiting the pairs for its own reasons (the in-place one, as it reads their variances)
+// hands closureMultipliers the same bits it would form itself.
+struct PairSums {
+  /// A block's count on a cache line of its own (counted on all cores at once).
+  struct alignas(64) Count {
+    Eigen::Index value = 0;
+  };
+  std::vector<Eigen::VectorXd> rhs_part, diag_part;
+  std::vector<Count> off_part;
+  explicit PairSums(Eigen::Index n)
+      : rhs_part(kCouplingBlocks, Eigen::VectorXd::Zero(n)), diag_part(kCouplingBlocks, Eigen::VectorXd::Zero(n)),
+        off_part(kCouplingBlocks) {}
+  void add(size_t block, const Pair& p) {
+    Eigen::VectorXd &r = rhs_part[block], &d = diag_part[block];
+    r[p.i] += p.g_hat;
+    d[p.i] += p.var;
+    if (p.i != p.j) {
+      r[p.j] += p.g_hat;
+      d[p.j] += p.var;
+      off_part[block].value += 2;
+    }
+  }
+};
+
 template <class FreePairs, class Couplings>
 Eigen::VectorXd closureMultipliers(const FreePairs& free_pairs, const Couplings& couplings,
-                                   const Eigen::VectorXd& free_rhs, const Eigen::VectorXd& free_variance) {
+                                   const Eigen::VectorXd& free_rhs, const Eigen::VectorXd& free_variance,
+                                   const Eigen::VectorXd& area, const PairSums* known = nullptr) {
   const Eigen::Index n = free_rhs.size();
-  std::vector<Eigen::VectorXd> rhs_part(kCouplingBlocks), diag_part(kCouplingBlocks);
-  std::vector<Eigen::Index> off_part(kCouplingBlocks, 0);
-  solver::parallelFor(kCouplingBlocks, [&](long long block) {
-    const auto b = static_cast<size_t>(block);
-    Eigen::VectorXd& r = rhs_part[b] = Eigen::VectorXd::Zero(n);
-    Eigen::VectorXd& d = diag_part[b] = Eigen::VectorXd::Zero(n);
-    free_pairs(static_cast<int>(block), kCouplingBlocks, [&](const Pair& p) {
-      r[p.i] += p.g_hat;
-      d[p.i] += p.var;
-      if (p.i != p.j) {
-        r[p.j] += p.g_hat;
-        d[p.j] += p.var;
-        off_part[b] += 2;
-      }
+  std::optional<PairSums> formed;
+  if (!known) {
+    formed.emplace(n);
+    solver::parallelFor(kCouplingBlocks, [&](long long block) {
+      free_pairs(static_cast<int>(block), kCouplingBlocks, [&](const Pair& p) { formed->add(size_t(block), p); });
     });
-  });
+  }
+  const PairSums& sums = known ? *known : *formed;
+  const std::vector<Eigen::VectorXd>&rhs_part = sums.rhs_part, &diag_part = sums.diag_part;
   Eigen::VectorXd rhs = free_rhs, diag = free_variance;
   Eigen::Index off_diagonal = 0;
-  for (size_t b = 0; b < rhs_part.size(); ++b) rhs -= rhs_part[b], diag += diag_part[b], off_diagonal += off_part[b];
+  for (size_t b = 0; b < rhs_part.size(); ++b) rhs -= rhs_part[b], diag += diag_part[b], off_diagonal += sums.off_part[b].value;
   for (Eigen::Index i = 0; i < n; ++i)
     if (!(diag[i] > 0)) diag[i] = 1.0;  // isolated rows: μ = 0
   Eigen::VectorXd mu = Eigen::VectorXd::Zero(n);
   // A dense pattern (every cell of a closed room sees the others): the factor fills in to n²
   // and costs n³/3; K is diagonally dominant (each diagonal holds its row's variances), so
   // Jacobi-preconditioned conjugate gradients converge in tens of products.
-  if (off_diagonal + n > kDirectSolveEntries && conjugateGradients(couplings, diag, rhs, mu)) return mu;
+  if (off_diagonal + n > kDirectSolveEntries && conjugateGradients(couplings, diag, rhs, area, mu)) return mu;
   std::vector<Eigen::Triplet<double>> k;
   for (int b = 0; b < kCouplingBlocks; ++b)
     couplings(b, kCouplingBlocks, [&](int i, int j, double v) {
@@ -234,11 +268,12 @@ struct NodeTerms {
 // rounds); pin_pairs(μ) pins the pairs' and says whether any was.
 template <class FreePairs, class Couplings, class PinPairs>
 Eigen::VectorXd pinnedMultipliers(const Eigen::VectorXd& area, NodeTerms& terms, const FreePairs& free_pairs,
-                                  const Couplings& couplings, const PinPairs& pin_pairs) {
+                                  const Couplings& couplings, const PinPairs& pin_pairs,
+                                  const PairSums* first_sums = nullptr) {
   Eigen::VectorXd mu = Eigen::VectorXd::Zero(area.size());
   for (int pass = 0; pass < 20; ++pass) {
     mu = closureMultipliers(free_pairs, couplings, area - terms.g_space - terms.g_blocked,
-                            terms.v_space + terms.v_blocked);
+                            terms.v_space + terms.v_blocked, area, pass == 0 ? first_sums : nullptr);
     const bool pairs_pinned = pin_pairs(mu);
     if (!terms.pinNegative(mu) && !pairs_pinned) break;
   }

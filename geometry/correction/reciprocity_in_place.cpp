@@ -3,6 +3,7 @@
 #include "geometry/correction/pairs.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <numeric>
 #include <optional>
@@ -30,15 +31,30 @@ class PairsInPlace {
       first_pair_[row + 1] = first_pair_[row] + static_cast<size_t>(outer[i + 1] - upper_start_[row]);
     }
     var_.resize(first_pair_.back());
+    // The pass that reads the variances also forms the first closure system's sums (the
+    // same blocks, the same order: closureMultipliers' bits) and each row's smallest ĝ / v.
     std::vector<char> block_symmetric(kCouplingBlocks, 1);
+    std::vector<Eigen::VectorXd> smallest(kCouplingBlocks);
+    std::vector<PairSums::Count> entries(kCouplingBlocks);
     solver::parallelFor(kCouplingBlocks, [&](long long b) {
+      Eigen::VectorXd& least = smallest[size_t(b)] = Eigen::VectorXd::Constant(n_, INFINITY);
       block_symmetric[size_t(b)] = forEachPairOfBlock(static_cast<int>(b), [&](size_t u, int i, int j, int k, int k_ji) {
-        var_[u] = pair(i, j, k, k_ji).var;
+        const Pair p = pair(i, j, k, k_ji);
+        var_[u] = p.var;
+        if (p.var == 0.0) return;
+        first_sums_.add(size_t(b), p);
+        const double ratio = p.g_hat / p.var;
+        least[i] = std::min(least[i], ratio), least[j] = std::min(least[j], ratio);
+        entries[size_t(b)].value += i == j ? 1 : 2;
       });
     });
     symmetric_ = std::all_of(block_symmetric.begin(), block_symmetric.end(), [](char s) { return s != 0; });
+    least_ratio_ = Eigen::VectorXd::Constant(n_, INFINITY);
+    for (const Eigen::VectorXd& least : smallest) least_ratio_ = least_ratio_.cwiseMin(least);
+    for (const PairSums::Count& e : entries) free_entries_ += e.value;
   }
   bool symmetric() const { return symmetric_; }
+  const PairSums& firstSums() const { return first_sums_; }
 
   // closureMultipliers' visitors: the pairs not pinned, and their couplings by blocks of
   // rows, each starting at the first row at or after its share of the pairs.
@@ -61,22 +77,41 @@ class PairsInPlace {
     }
   }
   // Pins the pairs μ drives below zero; counts the corrected F's entries (the others').
+  // A pair's corrected g = v (ĝ/v + μ_i + μ_j) is positive wherever row i's smallest ĝ/v
+  // (a bound on every pair it holds) plus μ_i and the smallest μ_j is: when every row
+  // passes, no pair is visited (on a room of exact pairs the bound holds a thousandfold;
+  // the pass was a sixth of the correction).
   bool pinNegative(const Eigen::VectorXd& mu) {
-    std::vector<long long> pinned(kCouplingBlocks, 0), entries(kCouplingBlocks, 0);
+    if (!pinned_any_ && mu.size() == n_ && mu.allFinite()) {
+      // A margin of 1e-9 of the ratio: g is formed in floating point, where a bound met by
+      // rounding's width would not keep it positive.
+      const double mu_least = std::min(0.0, mu.minCoeff());
+      bool all_positive = true;
+      for (int i = 0; i < n_ && all_positive; ++i)
+        all_positive = std::isinf(least_ratio_[i]) || least_ratio_[i] + mu[i] + mu_least > 1e-9 * std::abs(least_ratio_[i]);
+      if (all_positive) {
+        corrected_nonzeros_ = free_entries_;
+        return false;
+      }
+    }
+    pinned_any_ = true;  // the bound is of the pairs as first read: from here, every pair visited
+    std::vector<PairSums::Count> pinned(kCouplingBlocks), entries(kCouplingBlocks);
     solver::parallelFor(kCouplingBlocks, [&](long long b) {
       forEachPairOfBlock(static_cast<int>(b), [&](size_t u, int i, int j, int k, int k_ji) {
         if (var_[u] == 0.0) return;
         const double g = corrected(pair(i, j, k, k_ji), mu);
         if (g < 0) {
           var_[u] = 0.0;
-          ++pinned[size_t(b)];
+          ++pinned[size_t(b)].value;
         } else if (g > 0) {
-          entries[size_t(b)] += i == j ? 1 : 2;
+          entries[size_t(b)].value += i == j ? 1 : 2;
         }
       });
     });
-    corrected_nonzeros_ = std::accumulate(entries.begin(), entries.end(), 0LL);
-    return std::accumulate(pinned.begin(), pinned.end(), 0LL) > 0;
+    long long any_pinned = 0;
+    corrected_nonzeros_ = 0;
+    for (size_t b = 0; b < entries.size(); ++b) corrected_nonzeros_ += entries[b].value, any_pinned += pinned[b].value;
+    return any_pinned > 0;
   }
   long long correctedNonZeros() const { return corrected_nonzeros_; }
 
@@ -162,6 +197,10 @@ class PairsInPlace {
   std::vector<bool> pinned_;
   bool symmetric_ = false;
   long long corrected_nonzeros_ = 0;
+  PairSums first_sums_{n_};
+  Eigen::VectorXd least_ratio_;   // per row, the smallest ĝ / v of its free pairs (∞: none)
+  long long free_entries_ = 0;    // F's entries of the free pairs as first read
+  bool pinned_any_ = false;
 };
 
 }  // namespace
@@ -176,7 +215,7 @@ std::optional<ReciprocityCorrection> enforceReciprocityInPlace(const Eigen::Vect
   const Eigen::VectorXd mu = pinnedMultipliers(
       area, terms, [&](int block, int blocks, auto&& fn) { pairs.freePairs(block, blocks, fn); },
       [&](int block, int blocks, auto&& fn) { pairs.couplings(block, blocks, fn); },
-      [&](const Eigen::VectorXd& m) { return pairs.pinNegative(m); });
+      [&](const Eigen::VectorXd& m) { return pairs.pinNegative(m); }, &pairs.firstSums());
   pairs.keepOnlyPinned();
   if (before_overwrite) before_overwrite(pairs.correctedNonZeros());
   ReciprocityCorrection out;
