@@ -19,6 +19,14 @@ std::int64_t mergeRow(RowSparse& f, RowSparse& e, std::int64_t s, std::int64_t m
                       std::vector<int>& col, std::vector<double>& fv, std::vector<double>& ev) {
   int* cols = f.innerIndexPtr() + s;
   double *fs = f.valuePtr() + s, *es = e.valuePtr() + s;
+  // Most rows arrive in order already, without repeats (one patch a node: the values of the
+  // patches before it, then its own, ascending): left as they are, σ's columns copied.
+  bool in_order = true;
+  for (std::int64_t k = 1; k < m && in_order; ++k) in_order = cols[k] > cols[k - 1];
+  if (in_order) {
+    std::copy(cols, cols + m, e.innerIndexPtr() + s);
+    return m;
+  }
   order.resize(size_t(m));
   std::iota(order.begin(), order.end(), 0);
   const auto by_column = [&](int a, int b) { return cols[a] < cols[b]; };
@@ -63,8 +71,10 @@ void compact(RowSparse& m, const std::vector<std::int64_t>& start, const std::ve
   const auto n = static_cast<Eigen::Index>(length.size());
   for (Eigen::Index i = 0; i < n; ++i) {
     const std::int64_t s = start[size_t(i)], len = length[size_t(i)];
-    std::copy(m.innerIndexPtr() + s, m.innerIndexPtr() + s + len, m.innerIndexPtr() + at);
-    std::copy(m.valuePtr() + s, m.valuePtr() + s + len, m.valuePtr() + at);
+    if (s != at) {  // rows that lost no repeated column (all of them, often) stay where they are
+      std::copy(m.innerIndexPtr() + s, m.innerIndexPtr() + s + len, m.innerIndexPtr() + at);
+      std::copy(m.valuePtr() + s, m.valuePtr() + s + len, m.valuePtr() + at);
+    }
     m.outerIndexPtr()[i] = static_cast<int>(at);
     at += len;
   }
