@@ -367,3 +367,40 @@ TEST_CASE("exact method: walls standing on a plate (the view jumps across their 
   // The inside sees the footprint: F_inside→plate by reciprocity, A_inside = 4 × 0.36.
   CHECK(std::abs(r.view_factors.coeff(2, 0) - expected * 4.0 / 1.44) <= 1e-6);
 }
+
+TEST_CASE("exact method: a row mask integrates those rows alone, as the whole run does (a turning part's rows)") {
+  // The rows asked take every pair they hold (with the rows left out too) and nothing is
+  // credited to the rows left out. A pair is integrated from whichever side visits it, so an
+  // entry may differ from the whole run's by the quadrature's own error: each is held to
+  // the larger of the two error estimates (plus rounding); F_space and F_blocked, sums over a
+  // row of a few pairs at 1e-7 each, to 1e-6.
+  for (const Scene& scene : {room(3), occludedSquares(4)}) {
+    const ExactOptions whole_opt = ExactOptions::withTolerance(1e-7);
+    const ExactResult whole = exactViewFactors(scene, whole_opt);
+    const size_t n = scene.nodes().size();
+    ExactOptions opt = whole_opt;
+    opt.rows.assign(n, 0);
+    for (size_t i = 0; i < n; i += 2) opt.rows[i] = 1;
+    const ExactResult some = exactViewFactors(scene, opt);
+    INFO(n << " nodes");
+    for (size_t i = 0; i < n; ++i) {
+      const auto row = static_cast<Eigen::Index>(i);
+      CHECK(static_cast<bool>(some.sampled_rows[i]) == !opt.rows[i]);
+      if (!opt.rows[i]) {
+        CHECK(some.view_factors.row(row).nonZeros() == 0);
+        continue;
+      }
+      for (size_t j = 0; j < n; ++j) {
+        const auto col = static_cast<Eigen::Index>(j);
+        const double allowed =
+            std::max(whole.standard_error.coeff(row, col), some.standard_error.coeff(row, col)) + 1e-14;
+        CHECK(std::abs(some.view_factors.coeff(row, col) - whole.view_factors.coeff(row, col)) <= allowed);
+      }
+      CHECK(some.space[row] == Approx(whole.space[row]).margin(1e-6));
+      CHECK(some.blocked[row] == Approx(whole.blocked[row]).margin(1e-6));
+    }
+  }
+  ExactOptions wrong = ExactOptions::withTolerance(1e-6);
+  wrong.rows.assign(1, 1);
+  CHECK_THROWS_AS(exactViewFactors(room(2), wrong), std::invalid_argument);
+}

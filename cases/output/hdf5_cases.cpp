@@ -183,6 +183,8 @@ void writeArticulation(Hdf5Writer& h5, const GeometryCase& c, const GeometryRunR
   h5.attribute("/report", "articulation_configurations", static_cast<long long>(a.vertices.size()));
   h5.attribute("/report", "articulation_recast_rows", static_cast<long long>(a.recast_rows));
   h5.attribute("/report", "articulation_rays", static_cast<long long>(a.rays));
+  h5.attribute("/report", "articulation_integrated_rows", static_cast<long long>(a.integrated_rows));
+  h5.attribute("/report", "articulation_pairs", static_cast<long long>(a.pairs));
   h5.attribute("/report", "articulation_largest_update_rank",
                static_cast<long long>(*std::max_element(a.update_rank.begin(), a.update_rank.end())));
 }

@@ -299,7 +299,8 @@ void printGeometrySummary(const GeometryCase& c, const GeometryRunResult& r, std
       << r.correction.max_change_sigma << " σ); closure error " << r.correction.max_closure_error << "\n";
   if (r.articulation && !r.articulation->vertices.empty())
     out << "articulation: " << r.articulation->vertices.size() << " configurations on the one decomposition, "
-        << r.articulation->recast_rows << " rows recast in each (" << r.articulation->rays
+        << r.articulation->recast_rows << " rows recomputed in each (" << r.articulation->integrated_rows
+        << " integrated: " << r.articulation->pairs << " patch pairs; the others by rays: " << r.articulation->rays
         << " rays traced again), update ranks up to "
         << *std::max_element(r.articulation->update_rank.begin(), r.articulation->update_rank.end()) << "\n";
   const solver::EigenPairs& pairs = r.radiative.pairs;

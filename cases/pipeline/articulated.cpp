@@ -30,117 +30,8 @@ double updateFloor(const solver::EigenPairs& pairs) {
 
 }  // namespace
 
-std::vector<char> turningRows(const GeometryCase& c) {
-  std::vector<char> rows(c.scene.nodes().size(), 0);
-  for (const Drive& d : c.articulation.drives) {
-    for (int i : d.nodes) rows[static_cast<size_t>(i)] = 1;
-    const std::vector<char> facing =
-        geometry::nodesFacing(c.scene, geometry::sweptCylinder(c.scene, d.surfaces, d.point, d.direction));
-    for (size_t i = 0; i < rows.size(); ++i) rows[i] = rows[i] || facing[i];
-  }
-  return rows;
-}
-
-namespace {
-
-// Every ray of a recast row is tested against each cylinder (a hot path): beyond this many
-// geometry entries (a CAD assembly of hundreds of parts) they share one cylinder.
-constexpr size_t kMaxEntryCylinders = 8;
-
-// The scene's surfaces grouped by geometry entry (the surface name up to its first '.': a
-// grid's cells, a box's faces), those of `drive` (or, with drive < 0, of no drive) only; one
-// group of them all beyond kMaxEntryCylinders entries.
-std::vector<std::vector<int>> entries(const GeometryCase& c, int drive) {
-  const std::vector<std::string>& names = c.scene.surfaceNames();
-  std::vector<int> owner(names.size(), -1);
-  for (size_t d = 0; d < c.articulation.drives.size(); ++d)
-    for (int s : c.articulation.drives[d].surfaces) owner[static_cast<size_t>(s)] = static_cast<int>(d);
-  std::map<std::string, std::vector<int>> by_entry;
-  for (size_t s = 0; s < names.size(); ++s)
-    if (owner[s] == drive) by_entry[names[s].substr(0, names[s].find('.'))].push_back(static_cast<int>(s));
-  std::vector<std::vector<int>> out;
-  for (auto& [name, surfaces] : by_entry) out.push_back(std::move(surfaces));
-  if (out.size() > kMaxEntryCylinders) {
-    for (size_t k = 1; k < out.size(); ++k) out.front().insert(out.front().end(), out[k].begin(), out[k].end());
-    out.resize(1);
-  }
-  return out;
-}
-
-// `around` grown to hold the cylinder `other` (about another axis) at every angle of its own:
-// its bounding sphere, taken about `around`'s axis.
-void holdSweep(geometry::SweptCylinder& around, const geometry::SweptCylinder& other) {
-  const Eigen::Vector3d mid = other.point + 0.5 * (other.axial_min + other.axial_max) * other.axis;
-  const double reach = std::hypot(other.radius, 0.5 * (other.axial_max - other.axial_min));
-  const Eigen::Vector3d to = mid - around.point;
-  const double t = to.dot(around.axis);
-  around.axial_min = std::min(around.axial_min, t - reach);
-  around.axial_max = std::max(around.axial_max, t + reach);
-  around.radius = std::max(around.radius, (to - t * around.axis).norm() + reach);
-}
-
-bool meetsAny(const std::vector<geometry::SweptCylinder>& cylinders, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
-  for (const geometry::SweptCylinder& c : cylinders)
-    if (c.meets(o, d)) return true;
-  return false;
-}
-
-}  // namespace
-
-geometry::RayMayChange redirectableRays(const GeometryCase& c) {
-  // One cylinder per geometry entry (tighter than one per drive: a wing's, not the span of both).
-  const geometry::Scene& scene = c.scene;
-  const std::vector<Drive>& drives = c.articulation.drives;
-  std::vector<int> drive_of(scene.nodes().size(), -1);
-  std::vector<geometry::SweptCylinder> sweeps;  // every turning entry about its drive's axis
-  std::vector<std::vector<geometry::SweptCylinder>> rest(drives.size());  // what drive d's parts may meet
-  for (size_t d = 0; d < drives.size(); ++d) {
-    for (int i : drives[d].nodes) drive_of[static_cast<size_t>(i)] = static_cast<int>(d);
-    for (const std::vector<int>& entry : entries(c, static_cast<int>(d)))
-      sweeps.push_back(geometry::sweptCylinder(scene, entry, drives[d].point, drives[d].direction));
-  }
-  for (size_t d = 0; d < drives.size(); ++d) {
-    for (const std::vector<int>& entry : entries(c, -1))
-      rest[d].push_back(geometry::sweptCylinder(scene, entry, drives[d].point, drives[d].direction));
-    for (size_t e = 0; e < drives.size(); ++e) {  // another drive's parts, at any of its angles
-      if (e == d) continue;
-      for (const std::vector<int>& entry : entries(c, static_cast<int>(e))) {
-        geometry::SweptCylinder held = geometry::sweptCylinder(scene, {}, drives[d].point, drives[d].direction);
-        held.axial_min = INFINITY, held.axial_max = -INFINITY;
-        holdSweep(held, geometry::sweptCylinder(scene, entry, drives[e].point, drives[e].direction));
-        rest[d].push_back(held);
-      }
-    }
-  }
-  return [drive_of, sweeps, rest](int node, const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) {
-    const int d = drive_of[static_cast<size_t>(node)];
-    return meetsAny(d >= 0 ? rest[static_cast<size_t>(d)] : sweeps, origin, direction);
-  };
-}
-
-ArticulatedBase articulatedBase(const GeometryCase& c, const geometry::RayCaster& caster,
-                                geometry::ViewFactorEstimate estimate, Eigen::VectorXd rays, std::ostream& progress) {
-  ArticulatedBase base;
-  base.rows = turningRows(c);
-  for (size_t i = 0; i < base.rows.size(); ++i)
-    if (base.rows[i]) base.changed.push_back(static_cast<int>(i));
-  base.may_change = redirectableRays(c);
-  geometry::ViewFactorOptions opt = c.view_factors.monte_carlo;
-  opt.cast_rows = base.rows;
-  // `method: exact` sets no target for rays: the recast rows are sampled all the same, to the
-  // error budget's target (rays given in the case are kept as given).
-  if (!c.view_factors.rays_pinned && !(opt.target_error > 0)) opt.target_error = kViewFactorShare * c.solver.accuracy;
-  const geometry::ViewFactorResult vf = geometry::castPlannedRows(caster, opt, base.may_change, base.plan);
-  for (int i : base.changed) rays[i] = double(vf.rays[static_cast<size_t>(i)]);
-  base.estimate = geometry::withSampledRows(estimate, vf, base.rows);
-  base.rays = std::move(rays);
-  std::int64_t traced = 0;
-  for (std::int64_t t : base.plan.traced) traced += t;
-  progress << "radnet: articulation: " << base.changed.size() << " of " << base.rows.size()
-           << " rows can change as the parts turn (their own and those facing the cylinders they sweep): "
-           << vf.total_rays << " rays, of which " << traced << " a turn can redirect, traced again in every "
-           << "configuration\n";
-  return base;
+int Articulated::integratedRows() const {
+  return static_cast<int>(std::count(base_.exact_rows.begin(), base_.exact_rows.end(), 1));
 }
 
 Articulated::Articulated(const GeometryCase& c, ArticulatedBase base, const geometry::RayCaster& base_caster,
@@ -164,6 +55,7 @@ Articulated::Articulated(const GeometryCase& c, ArticulatedBase base, const geom
   for (const Drive& d : c.articulation.drives)
     moving_surfaces_.insert(moving_surfaces_.end(), d.surfaces.begin(), d.surfaces.end());
   written_meetings_ = geometry::meetingSurfaces(c.scene, moving_surfaces_);
+
 }
 
 void Articulated::warnCollisions(const Configuration& k, std::ostream& progress) const {
@@ -180,6 +72,85 @@ void Articulated::warnCollisions(const Configuration& k, std::ostream& progress)
            << "' meets '" << names[static_cast<size_t>(fresh[0].second)] << "'";
   if (fresh.size() > 1) progress << " (and " << fresh.size() - 1 << " other pair(s))";
   progress << "; the results there are of interpenetrating geometry (move the axis, or limit the angles)\n";
+}
+
+// The base estimate with the turning rows of a configuration's scene: the integrated ones
+// integrated again, with auto's plan (a row whose pairs the turn made dearer than its rays,
+// a wing turned to face the bus: 30,000 occluded pairs, 1.4 s, is cast as rays in this
+// configuration instead), their node pairs a turn can change alone (changesWithTurn: every
+// other row faces away from what turns, so its entries stay the base's, and so do the other
+// pairs of a turning row); the base's ray rows traced again where a turn can redirect their
+// rays. The ray counts go into `rays`.
+geometry::ViewFactorEstimate Articulated::turnedRows(const geometry::Scene& scene, const geometry::RayCaster& caster,
+                                                     const std::vector<Eigen::Isometry3d>& motion,
+                                                     Eigen::VectorXd& rays) {
+  const size_t n = base_.rows.size();
+  geometry::ViewFactorEstimate estimate;
+  const geometry::ViewFactorEstimate* from = &base_.estimate;
+  std::vector<char> recast = base_.ray_rows;
+  if (std::find(base_.exact_rows.begin(), base_.exact_rows.end(), 1) != base_.exact_rows.end()) {
+    geometry::ExactOptions opt = plannedExactOptions(c_);
+    opt.rows = base_.exact_rows;
+    opt.node_pairs = [this](int i, int j) { return base_.changesWithTurn(i, j); };
+    const geometry::ExactResult ex = geometry::exactViewFactors(scene, opt);
+    pairs_ += ex.pairs_unoccluded + ex.pairs_occluded;
+    std::vector<char> integrated(n, 0);
+    for (size_t i = 0; i < n; ++i) {
+      integrated[i] = base_.exact_rows[i] && !ex.sampled_rows[i];
+      recast[i] = recast[i] || (base_.exact_rows[i] && ex.sampled_rows[i]);
+    }
+    estimate = overlaidRows(*from, ex, integrated);
+    from = &estimate;
+  }
+  if (std::find(recast.begin(), recast.end(), 1) == recast.end()) return estimate;
+  const geometry::ViewFactorResult vf = geometry::recastRows(caster, base_.plan, base_.may_change, motion, recast);
+  rays_ += vf.total_rays;
+  for (size_t i = 0; i < n; ++i)
+    if (recast[i]) rays[static_cast<Eigen::Index>(i)] = double(vf.rays[i]);
+  return geometry::withSampledRows(*from, vf, recast);
+}
+
+
+// `base` with rows `rows` overlaid by `fresh`: in each, the entries of node pairs that can
+// change taken from `fresh`, the others kept; F_blocked from `fresh` (its pairs with inactive
+// sides are all integrated again), F_space what the row leaves, its σ summed as the exact
+// method's.
+geometry::ViewFactorEstimate Articulated::overlaidRows(const geometry::ViewFactorEstimate& base,
+                                                       const geometry::ViewFactorEstimate& fresh,
+                                                       const std::vector<char>& rows) const {
+  using Sparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+  const Eigen::Index n = base.view_factors.rows();
+  std::vector<Eigen::Triplet<double>> f_entries, e_entries;
+  f_entries.reserve(static_cast<size_t>(base.view_factors.nonZeros()));
+  e_entries.reserve(static_cast<size_t>(base.view_factors.nonZeros()));
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const bool overlaid = rows[static_cast<size_t>(i)] != 0;
+    for (Sparse::InnerIterator f(base.view_factors, i); f; ++f)
+      if (!overlaid || !base_.changesWithTurn(static_cast<int>(i), static_cast<int>(f.col())))
+        f_entries.emplace_back(i, f.col(), f.value());
+    for (Sparse::InnerIterator e(base.standard_error, i); e; ++e)
+      if (!overlaid || !base_.changesWithTurn(static_cast<int>(i), static_cast<int>(e.col())))
+        e_entries.emplace_back(i, e.col(), e.value());
+    if (!overlaid) continue;
+    for (Sparse::InnerIterator f(fresh.view_factors, i); f; ++f)
+      if (base_.changesWithTurn(static_cast<int>(i), static_cast<int>(f.col()))) f_entries.emplace_back(i, f.col(), f.value());
+    for (Sparse::InnerIterator e(fresh.standard_error, i); e; ++e)
+      if (base_.changesWithTurn(static_cast<int>(i), static_cast<int>(e.col()))) e_entries.emplace_back(i, e.col(), e.value());
+  }
+  geometry::ViewFactorEstimate out;
+  out.view_factors.resize(n, n);
+  out.view_factors.setFromTriplets(f_entries.begin(), f_entries.end());
+  out.standard_error.resize(n, n);
+  out.standard_error.setFromTriplets(e_entries.begin(), e_entries.end());
+  out.space = base.space, out.space_error = base.space_error;
+  out.blocked = base.blocked, out.blocked_error = base.blocked_error;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (!rows[static_cast<size_t>(i)]) continue;
+    out.blocked[i] = fresh.blocked[i], out.blocked_error[i] = fresh.blocked_error[i];
+    out.space[i] = std::max(0.0, 1.0 - out.view_factors.row(i).sum() - out.blocked[i]);
+    out.space_error[i] = out.standard_error.row(i).sum() + out.blocked_error[i];
+  }
+  return out;
 }
 
 std::unique_ptr<Configuration> Articulated::make(const std::vector<double>& angles, std::ostream& progress) {
@@ -199,11 +170,8 @@ std::unique_ptr<Configuration> Articulated::make(const std::vector<double>& angl
                                    Eigen::Translation3d(-drive.point);
     for (int i : drive.nodes) motion[static_cast<size_t>(i)] = turn;
   }
-  const geometry::ViewFactorResult vf = geometry::recastRows(*k->own_caster, base_.plan, base_.may_change, motion);
-  rays_ += vf.total_rays;
-  const geometry::ViewFactorEstimate estimate = geometry::withSampledRows(base_.estimate, vf, base_.rows);
   Eigen::VectorXd rays = base_.rays;
-  for (int i : base_.changed) rays[i] = double(vf.rays[static_cast<size_t>(i)]);
+  const geometry::ViewFactorEstimate estimate = turnedRows(*k->own_scene, *k->own_caster, motion, rays);
   geometry::ReciprocityCorrection correction = geometry::enforceReciprocity(area_, estimate, rays);
   RadiativeNetwork& net = k->own_radiative;
   net.network = buildNetwork(c_, area_, correction);
@@ -286,20 +254,6 @@ const solver::ExchangeFactors& Articulated::exchange(int k, int optics, StageTim
   return *ex;
 }
 
-ArticulatedBase turningBase(const GeometryCase& c, const geometry::RayCaster& caster, const Eigen::VectorXd& area,
-                            const geometry::ViewFactorEstimate& estimate, const Eigen::VectorXd& rays,
-                            GeometryRunResult& r, std::ostream& progress) {
-  StageTimer timer(r.timings, Stage::Articulation);
-  ArticulatedBase base = articulatedBase(c, caster, estimate, rays, progress);
-  r.correction = geometry::enforceReciprocity(area, base.estimate, base.rays);
-  r.raw_view_factors = base.estimate.view_factors;
-  r.view_factor_stderr = base.estimate.standard_error;
-  r.row_stderr_max = solver::rowLargestEntries(r.view_factor_stderr, r.view_factor_stderr.rows());
-  r.lost_view_factor_stderr =
-      (base.estimate.space_error.array().square() + base.estimate.blocked_error.array().square()).sqrt();
-  return base;
-}
-
 ArticulationResult articulationResult(const GeometryCase& c, Articulated* a, StageTimings& timings) {
   ArticulationResult out;
   out.names = c.articulation.names();
@@ -314,7 +268,9 @@ ArticulationResult articulationResult(const GeometryCase& c, Articulated* a, Sta
     out.update_rank.push_back(conf.update.update_rank);
   }
   out.rays = a->rays();
+  out.pairs = a->pairs();
   out.recast_rows = a->recastRows();
+  out.integrated_rows = a->integratedRows();
   return out;
 }
 

@@ -36,14 +36,24 @@ struct Configuration {
   solver::PairUpdateStats update;
 };
 
-/// The base F with the rows a turning part can change cast as rays, and each row's rays.
+/// The base F with the rows a turning part can change recomputed in every configuration:
+/// those the run integrated by the exact method integrated again on each configuration's
+/// scene (their pairs alone), the rest cast as rays, and each row's rays.
 struct ArticulatedBase {
   geometry::ViewFactorEstimate estimate;  ///< before the reciprocity correction
   Eigen::VectorXd rays;                   ///< per row: its variance weight
-  std::vector<char> rows;                 ///< per node: recast in every configuration
+  std::vector<char> rows;                 ///< per node: recomputed in every configuration
   std::vector<int> changed;               ///< the same, as indices
-  geometry::RecastPlan plan;              ///< the rows' rays and what no turn can redirect
+  std::vector<char> exact_rows;           ///< of rows, those integrated again in each configuration
+  std::vector<char> ray_rows;             ///< of rows, those whose rays are traced again
+  geometry::RecastPlan plan;              ///< the ray rows' rays and what no turn can redirect
   geometry::RayMayChange may_change;      ///< which rays a turn can redirect
+  std::vector<char> turning_node;                ///< per node: on a moving drive's parts
+  std::vector<Eigen::AlignedBox3d> node_box;     ///< per node, its triangles' box as written, m
+  std::vector<Eigen::AlignedBox3d> swept_boxes;  ///< the box of every turning entry's swept cylinder, m
+  /// Whether the entries of nodes i and j can change as the parts turn: one of them turns, or
+  /// the box holding both (and so every line between them) meets a swept cylinder's box.
+  bool changesWithTurn(int i, int j) const;
 };
 
 /// Which rays the case's drives can redirect: from a fixed node, a ray meeting a cylinder a
@@ -55,9 +65,12 @@ geometry::RayMayChange redirectableRays(const GeometryCase& c);
 std::vector<char> turningRows(const GeometryCase& c);
 
 /// Replaces the turning rows of `estimate` by rays on the as-written scene (the base every
-/// configuration differs from), updating `rays`.
+/// configuration differs from), updating `rays`; with `sampled_rows` (the exact method's
+/// rows left to rays, per node) only the turning rows among those: the others stay the
+/// run's integrated rows, integrated again in every configuration.
 ArticulatedBase articulatedBase(const GeometryCase& c, const geometry::RayCaster& caster,
-                                geometry::ViewFactorEstimate estimate, Eigen::VectorXd rays, std::ostream& progress);
+                                geometry::ViewFactorEstimate estimate, Eigen::VectorXd rays,
+                                const std::vector<char>& sampled_rows, std::ostream& progress);
 
 class Articulated {
  public:
@@ -77,9 +90,11 @@ class Articulated {
   /// Configuration k's GR for optical set `optics` (formed when first asked).
   /// @throws NumericalError when it cannot be formed
   const solver::ExchangeFactors& exchange(int k, int optics, StageTimings& timings);
-  /// Summed over the configurations made: recast rays, update ranks.
+  /// Summed over the configurations made: recast rays, integrated patch pairs.
   std::int64_t rays() const { return rays_; }
+  std::int64_t pairs() const { return pairs_; }
   int recastRows() const { return static_cast<int>(base_.changed.size()); }
+  int integratedRows() const;
   /// Per node: 1 when its row (and what it receives) can change as the parts turn.
   const std::vector<char>& rows() const { return base_.rows; }
   int largestUpdateRank() const;
@@ -87,6 +102,11 @@ class Articulated {
  private:
   int configurationOf(const std::vector<double>& angles, StageTimings& timings, std::ostream& progress);
   std::unique_ptr<Configuration> make(const std::vector<double>& angles, std::ostream& progress);
+  geometry::ViewFactorEstimate turnedRows(const geometry::Scene& scene, const geometry::RayCaster& caster,
+                                          const std::vector<Eigen::Isometry3d>& motion, Eigen::VectorXd& rays);
+  geometry::ViewFactorEstimate overlaidRows(const geometry::ViewFactorEstimate& base,
+                                            const geometry::ViewFactorEstimate& fresh,
+                                            const std::vector<char>& rows) const;
   /// A warning when configuration k's parts meet the fixed spacecraft where they did not as written.
   void warnCollisions(const Configuration& k, std::ostream& progress) const;
 
@@ -100,7 +120,7 @@ class Articulated {
   std::vector<Eigen::VectorXd> emissivities_;  ///< every optical set's ε (the GR probes')
   std::vector<int> moving_surfaces_;
   std::vector<std::pair<int, int>> written_meetings_;  ///< moving/fixed surfaces that meet as written
-  std::int64_t rays_ = 0;
+  std::int64_t rays_ = 0, pairs_ = 0;
 };
 
 /// The base of a run with turning parts: articulatedBase, and the run's F corrected from it

@@ -141,6 +141,7 @@ struct ExactViewFactorStats {
   /// Predicted time of the view-factor stage, s (auto's cost model: pair integrals over the
   /// threads plus the rows it casts); 0 when nothing was planned.
   double predicted_seconds = 0.0;
+  std::vector<char> sampled_row_mask;  ///< per node: its row was left to rays
 };
 
 /// The design cases of a geometry run (docs/case-files.md, "Design cases"): what each is
@@ -191,7 +192,9 @@ struct ArticulationResult {
   std::vector<solver::ExchangeFactors> exchange;  ///< per configuration, GR of the base optics
   std::vector<int> update_rank;       ///< per configuration, the rank of its update of the pairs
   std::int64_t rays = 0;              ///< rays recast over all configurations
-  int recast_rows = 0;                ///< rows recast in each configuration
+  int recast_rows = 0;                ///< rows recomputed in each configuration (integrated or cast)
+  int integrated_rows = 0;            ///< of those, integrated by the exact method
+  std::int64_t pairs = 0;             ///< patch pairs integrated over all configurations
 };
 
 /// A geometry-form run.

@@ -96,15 +96,22 @@ std::int64_t pairEntriesCap(const GeometryCase& c) {
   return pairEntriesCap(c, memory);
 }
 
-// F by the exact method into `estimate`, with the rows it leaves to sampling (auto) cast as rays.
-void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, GeometryRunResult& r,
-                Eigen::VectorXd& rays, bool show_progress, std::ostream& progress,
-                geometry::ViewFactorEstimate& estimate, bool shared) {
+geometry::ExactOptions plannedExactOptions(const GeometryCase& c) {
   geometry::ExactOptions opt = c.view_factors.exact;
   const bool automatic = c.view_factors.method == ViewFactorMethod::Auto;
   opt.max_blockers = !automatic ? -1 : (opt.max_blockers >= 0 ? opt.max_blockers : geometry::kAutoMaxBlockers);
   opt.max_patches = automatic ? geometry::kAutoMaxPatches : -1;
   opt.row_sampling_seconds = automatic ? rowRays(c) * geometry::kSecondsPerRay : 0.0;
+  opt.max_entries = -1;
+  return opt;
+}
+
+// F by the exact method into `estimate`, with the rows it leaves to sampling (auto) cast as rays.
+void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, GeometryRunResult& r,
+                Eigen::VectorXd& rays, bool show_progress, std::ostream& progress,
+                geometry::ViewFactorEstimate& estimate, bool shared) {
+  geometry::ExactOptions opt = plannedExactOptions(c);
+  const bool automatic = c.view_factors.method == ViewFactorMethod::Auto;
   opt.max_entries = automatic ? pairEntriesCap(c) : -1;
   if (show_progress) opt.progress = progressBar(progress, "view factors", "patches");
   if (cluster::distributed()) {  // the pair integrals shared out over the ranks by emitting patch
@@ -144,6 +151,7 @@ void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, Geomet
   moveEstimate(ex, estimate);
   if (shared) keepHeldRows(estimate, clusterRowShare());
   for (char row : ex.sampled_rows) r.exact->sampled_rows += row;
+  r.exact->sampled_row_mask = ex.sampled_rows;
   if (ex.rows_for_memory > 0)
     progress << "radnet: view factors: " << ex.rows_for_memory << " row(s) cast as rays instead of integrated: "
              << "their pairs' " << ex.entries_for_memory << " entries of F would not fit in "

@@ -21,6 +21,11 @@ namespace radnet::cases {
 geometry::ViewFactorResult castRays(const GeometryCase& c, const geometry::RayCaster& caster, std::vector<char> rows,
                                    bool show_progress, std::ostream& progress, bool shared = false);
 
+/// The case's exact-method options with `method: auto`'s plan (which rows go to rays: too
+/// many blockers, or pairs dearer than the row's rays), its cap on F's entries left off (it
+/// is agreed over MPI ranks; exactStage sets it).
+geometry::ExactOptions plannedExactOptions(const GeometryCase& c);
+
 /// Moves F, σ and the per-node vectors of `from` into `to` (swapped: no copy).
 void moveEstimate(geometry::ViewFactorEstimate& from, geometry::ViewFactorEstimate& to);
 

@@ -211,4 +211,20 @@ std::vector<Occluder> buildOccluders(const Scene& scene) {
   return out;
 }
 
+std::vector<Vec3> pointsOf(const Patch& p) {
+  std::vector<Vec3> out;
+  for (const Loop& l : p.pieces) out.insert(out.end(), l.begin(), l.end());
+  return out;
+}
+
+std::vector<Loop> clippedPieces(const Patch& a, const Patch& b) {
+  std::vector<Loop> out;
+  const Vec3 point = b.offset * b.region.normal;
+  for (const Loop& piece : a.pieces) {
+    Loop kept = clipToHalfSpace(piece, point, b.region.normal);
+    if (!kept.empty()) out.push_back(std::move(kept));
+  }
+  return out;
+}
+
 }  // namespace radnet::geometry

@@ -42,6 +42,11 @@ bool allBehind(const std::vector<Vec3>& points, const Patch& plane, double tol);
 /// to the part in front).
 bool anyBehind(const std::vector<Vec3>& points, const Patch& plane, double tol);
 
+/// The corners of a patch's pieces, m.
+std::vector<Vec3> pointsOf(const Patch& p);
+/// The convex pieces of `a` in front of b's plane.
+std::vector<Loop> clippedPieces(const Patch& a, const Patch& b);
+
 /// Every scene triangle as part of one convex occluder.
 std::vector<Occluder> buildOccluders(const Scene& scene);
 

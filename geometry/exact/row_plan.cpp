@@ -40,6 +40,7 @@ double concludePlan(const ExactOptions& opt, const std::vector<std::int64_t>& co
   for (size_t i = 0; i < rows.size(); ++i)
     rows[i] = rows[i] || crowded[i] || (opt.row_sampling_seconds > 0 && double(cost[i]) > limit_ns);
   capEntries(opt, entries, rows, res);
+  res.row_nanoseconds = cost;
   double predicted = 0.0;
   for (size_t i = 0; i < rows.size(); ++i) {
     // Each pair's cost was counted on both its rows: half per exact row (a pair with a row

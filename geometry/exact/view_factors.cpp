@@ -23,23 +23,6 @@ namespace {
 // Free: in a free cluster pair (unoccluded and unclipped, known without classifying).
 enum class PairKind { Culled, Hidden, Unoccluded, Occluded, Sampled, Free };
 
-std::vector<Vec3> pointsOf(const Patch& p) {
-  std::vector<Vec3> out;
-  for (const Loop& l : p.pieces) out.insert(out.end(), l.begin(), l.end());
-  return out;
-}
-
-// The convex pieces of `a` in front of b's plane.
-std::vector<Loop> clippedPieces(const Patch& a, const Patch& b) {
-  std::vector<Loop> out;
-  const Vec3 point = b.offset * b.region.normal;
-  for (const Loop& piece : a.pieces) {
-    Loop kept = clipToHalfSpace(piece, point, b.region.normal);
-    if (!kept.empty()) out.push_back(std::move(kept));
-  }
-  return out;
-}
-
 // What every thread reads: patches, occluders, their clusters and point rules, and each
 // patch's share of its node's area.
 struct ExactScene {
@@ -196,6 +179,13 @@ bool visitedFrom(const ExactScene& scene, int a, int b) {
   return b != a && (scene.sampled[static_cast<size_t>(b)] || b > a);
 }
 
+// Whether the caller's node-pair filter leaves the pair of patches a, b out.
+bool filteredOut(const ExactScene& scene, const ExactOptions& opt, int a, int b) {
+  if (!opt.node_pairs) return false;
+  const int na = scene.patches[static_cast<size_t>(a)].node, nb = scene.patches[static_cast<size_t>(b)].node;
+  return na >= 0 && nb >= 0 && !opt.node_pairs(na, nb);
+}
+
 // Calls visit(b, free) for every pair visited from `a`, cluster by cluster, until it
 // returns false; pairs of culled cluster pairs are only counted. `free`: the pair lies in a
 // free cluster pair (whole and unoccluded without further tests).
@@ -265,6 +255,7 @@ std::int64_t planRows(ExactScene& scene, const ExactOptions& opt, std::vector<ch
       const int node_a = scene.patches[static_cast<size_t>(a)].node;
       std::int64_t patch_ns = 0;
       forPairs(scene, a, culled, [&](int b, bool free) {
+        if (filteredOut(scene, opt, a, b)) return true;
         const PairKind kind = free ? PairKind::Free : solver.classify(static_cast<size_t>(a), static_cast<size_t>(b));
         ++planned;
         const bool value = kind == PairKind::Free || kind == PairKind::Unoccluded || kind == PairKind::Occluded;
@@ -324,6 +315,10 @@ PairCounts integratePairs(const ExactScene& scene, const ExactOptions& opt, int 
       const int a = exact[k];
       values[static_cast<size_t>(a)].reserve(pairsFrom(scene, a));
       forPairs(scene, a, culled, [&](int b, bool free) {
+        if (filteredOut(scene, opt, a, b)) {
+          ++culled;
+          return true;
+        }
         PairKind kind = PairKind::Free;
         if (free)
           solver.setFree(static_cast<size_t>(a), static_cast<size_t>(b));
@@ -370,6 +365,11 @@ ExactResult exactViewFactors(const Scene& scene, const ExactOptions& opt) {
   const size_t n = scene.nodes().size();
   ExactResult res;
   res.sampled_rows = shared.presample(n, opt.max_patches);
+  if (!opt.rows.empty()) {
+    if (opt.rows.size() != n) throw std::invalid_argument("exact view factors: the row mask must have one entry per node");
+    for (size_t i = 0; i < n; ++i) res.sampled_rows[i] = res.sampled_rows[i] || !opt.rows[i];
+    shared.markSampled(res.sampled_rows);
+  }
   std::int64_t stored = 0;  // pairs the plan expects a value of
   if (opt.max_blockers >= 0 || opt.row_sampling_seconds > 0 || opt.max_entries >= 0)
     res.pairs_planned = planRows(shared, opt, res.sampled_rows, threads, res.predicted_seconds, stored, res);

@@ -56,6 +56,14 @@ struct ExactOptions {
   int threads = 0;    ///< 0: OpenMP's default
   /// Called as emitting patches finish (one thread at a time): (done, total).
   std::function<void(int, int)> progress;
+  /// Per node (empty: all): only these rows are integrated; the others are left out as rows
+  /// sampled elsewhere (their pairs with the rows asked are integrated and credited to the
+  /// rows asked alone). A turning part's configuration recomputes its changing rows so.
+  std::vector<char> rows;
+  /// Which pairs of nodes (i, j ≥ 0) to integrate (null: all): the others are skipped, their
+  /// entries left to the caller (a turning part's configuration keeps the base's where no
+  /// turn can change them). Pairs with an inactive side are always integrated (F_blocked).
+  std::function<bool(int, int)> node_pairs;
   /// The pair integrals shared out over `parts` processes (MPI ranks, docs/mpi.md): this
   /// one integrates the emitting patches k (in plan order) with k % parts == part, and
   /// `gather` returns every process's packed values concatenated in process order. Each
@@ -85,6 +93,9 @@ struct ExactResult : ViewFactorEstimate {
   /// Per node: 1 when its row is left to ray casting (empty here, space and blocked 0).
   std::vector<char> sampled_rows;
   int rows_for_memory = 0;            ///< of those, left to rays by max_entries
+  /// auto's plan, per node: the predicted cost of the pairs its row holds, ns on one thread
+  /// (a pair counted on both its rows); empty when nothing was planned.
+  std::vector<std::int64_t> row_nanoseconds;
   std::int64_t entries_for_memory = 0;  ///< the entries their pairs would have made
   long long evaluations = 0;          ///< integrand evaluations (outer contour points, visibility points)
   double seconds = 0.0;

@@ -163,7 +163,7 @@ ViewFactorResult castPlannedRows(const RayCaster& caster, const ViewFactorOption
 }
 
 ViewFactorResult recastRows(const RayCaster& moved, const RecastPlan& plan, const RayMayChange& may_change,
-                            const std::vector<Eigen::Isometry3d>& node_motion) {
+                            const std::vector<Eigen::Isometry3d>& node_motion, const std::vector<char>& only) {
   const auto t0 = std::chrono::steady_clock::now();
   const int n = static_cast<int>(moved.scene().nodes().size());
   std::vector<std::vector<std::pair<int, double>>> rows(static_cast<size_t>(n)), errors(static_cast<size_t>(n));
@@ -174,7 +174,7 @@ ViewFactorResult recastRows(const RayCaster& moved, const RecastPlan& plan, cons
 #endif
   for (int i = 0; i < n; ++i) {
     const std::int64_t per_replica = plan.per_replica[static_cast<size_t>(i)];
-    if (per_replica == 0) continue;
+    if (per_replica == 0 || (!only.empty() && !only[static_cast<size_t>(i)])) continue;
     const NodeSampler sampler(moved.scene(), i);
     Streams streams(plan.options, i);
     std::vector<tally::Tally> moving(static_cast<size_t>(plan.options.replicas));

@@ -50,7 +50,8 @@ ViewFactorResult castPlannedRows(const RayCaster& caster, const ViewFactorOption
 /// The plan's rows in a moved arrangement of the same scene: the same rays, the kept counts
 /// where no motion can redirect them, the rest traced in `moved`.
 /// @param node_motion  per node, the rigid motion of its part (empty, or identity: fixed)
+/// @param rows  per node (empty: all the plan's): the plan's rows to recast, the others left empty
 ViewFactorResult recastRows(const RayCaster& moved, const RecastPlan& plan, const RayMayChange& may_change,
-                            const std::vector<Eigen::Isometry3d>& node_motion = {});
+                            const std::vector<Eigen::Isometry3d>& node_motion = {}, const std::vector<char>& rows = {});
 
 }  // namespace radnet::geometry
