@@ -230,14 +230,11 @@ NodeSky castNodeSky(const RayCaster& caster, int node, const SkyKernelOptions& o
     for (int r = 0; r < kReplicas; ++r)
       for (std::int64_t k = c.per_replica; k < per_replica; ++k) {
         const std::array<double, 4> u = streams[static_cast<size_t>(r)].next();
-        // A region's point outside the disc is a ray that meets nothing: counted (by
-        // per_replica), not traced, its point not even placed (a flat node's region does not
-        // depend on it). A region's node counts its blocked rays only (below): its open rays
-        // are neither binned nor kept (the bin was 9 % of the cast).
-        Vec3 region_direction;
-        if (!region.whole && !region.direction(u[2], u[3], region_direction)) continue;
         NodeSampler::Ray ray = region.whole ? sampler.map(u) : sampler.mapPoint(u[0], u[1]);
-        if (!region.whole) ray.direction = region_direction;
+        // A region's point outside the disc is a ray that meets nothing: counted (by
+        // per_replica), not traced. A region's node counts its blocked rays only (below):
+        // its open rays are neither binned nor kept (the bin was 9 % of the cast).
+        if (!region.whole && !region.direction(u[2], u[3], ray.direction)) continue;
         const bool blocked = caster.occluded(caster.offsetOrigin(ray.point, ray.normal), ray.direction, ray.face);
         if (blocked || region.whole)
           rays.push_back(static_cast<std::uint32_t>(SkyBins::bin(ray.direction) * kReplicas + r) | (blocked ? kBlockedBit : 0u));
