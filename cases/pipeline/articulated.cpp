@@ -75,12 +75,12 @@ void Articulated::warnCollisions(const Configuration& k, std::ostream& progress)
 }
 
 // The base estimate with the turning rows of a configuration's scene: the integrated ones
-// integrated again, with auto's plan (a row whose pairs the turn made dearer than its rays,
-// a wing turned to face the bus: 30,000 occluded pairs, 1.4 s, is cast as rays in this
-// configuration instead), their node pairs a turn can change alone (changesWithTurn: every
-// other row faces away from what turns, so its entries stay the base's, and so do the other
-// pairs of a turning row); the base's ray rows traced again where a turn can redirect their
-// rays. The ray counts go into `rays`.
+// integrated again, their node pairs a turn can change alone (changesWithTurn: every other
+// row faces away from what turns, so its entries stay the base's, and so do the other pairs
+// of a turning row), with auto's plan: a row whose pairs the turn made dearer than its rays
+// (a wing turned to face the bus: 30,000 occluded pairs, 1.4 s) has its rays traced again in
+// this configuration instead, as the base's ray rows do where a turn can redirect them. The
+// ray counts go into `rays`.
 geometry::ViewFactorEstimate Articulated::turnedRows(const geometry::Scene& scene, const geometry::RayCaster& caster,
                                                      const std::vector<Eigen::Isometry3d>& motion,
                                                      Eigen::VectorXd& rays) {
@@ -102,7 +102,7 @@ geometry::ViewFactorEstimate Articulated::turnedRows(const geometry::Scene& scen
     estimate = overlaidRows(*from, ex, integrated);
     from = &estimate;
   }
-  if (std::find(recast.begin(), recast.end(), 1) == recast.end()) return estimate;
+  if (std::find(recast.begin(), recast.end(), 1) == recast.end()) return *from;
   const geometry::ViewFactorResult vf = geometry::recastRows(caster, base_.plan, base_.may_change, motion, recast);
   rays_ += vf.total_rays;
   for (size_t i = 0; i < n; ++i)
