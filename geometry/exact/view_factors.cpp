@@ -68,10 +68,10 @@ struct ExactScene {
 // measured on bench_exact_view_factors' 1,600-node satellite, about 2 µs an unoccluded
 // pair by the contour integral and 0.1 ms an occluded one (430 visibility points of a few
 // blockers each); a pair of a free cluster pair about 0.15 µs (mostly the order-1 rule).
-// Every pair with a value costs about 0.3 µs more in one thread after the integrals
-// (compressed rows, the reciprocity/closure correction: 5.3 s for 15.7 M pairs on the
-// 6,144-node room).
-constexpr double kStoredPairSeconds = 0.3e-6;
+// Every pair with a value costs about 0.15 µs more of wall time after the integrals (its
+// credit to F's compressed rows, the reciprocity/closure correction: 2.0–2.6 s for 15.7 M
+// pairs on the 6,144-node room, session 20; 0.3 µs before the correction lost its passes).
+constexpr double kStoredPairSeconds = 0.15e-6;
 std::int64_t pairNanoseconds(PairKind kind, size_t blockers) {
   if (kind == PairKind::Free) return 150;
   if (kind == PairKind::Unoccluded) return 2000;
