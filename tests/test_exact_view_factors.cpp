@@ -400,6 +400,30 @@ TEST_CASE("exact method: a row mask integrates those rows alone, as the whole ru
       CHECK(some.blocked[row] == Approx(whole.blocked[row]).margin(1e-6));
     }
   }
+  // A node-pair filter (a turning part's configuration: only the pairs a turn can change):
+  // the pairs it keeps as the whole run has them, the others absent from the rows asked.
+  {
+    const Scene scene = room(3);
+    const size_t n = scene.nodes().size();
+    const ExactResult whole = exactViewFactors(scene, ExactOptions::withTolerance(1e-7));
+    ExactOptions opt = ExactOptions::withTolerance(1e-7);
+    opt.rows.assign(n, 1);
+    opt.node_pairs = [](int i, int j) { return i == 0 || j == 0; };
+    const ExactResult some = exactViewFactors(scene, opt);
+    for (size_t i = 0; i < n; ++i)
+      for (size_t j = 0; j < n; ++j) {
+        const auto row = static_cast<Eigen::Index>(i), col = static_cast<Eigen::Index>(j);
+        INFO("F(" << i << ", " << j << ")");
+        if (i != 0 && j != 0) {
+          CHECK(some.view_factors.coeff(row, col) == 0.0);
+          continue;
+        }
+        const double allowed =
+            std::max(whole.standard_error.coeff(row, col), some.standard_error.coeff(row, col)) + 1e-14;
+        CHECK(std::abs(some.view_factors.coeff(row, col) - whole.view_factors.coeff(row, col)) <= allowed);
+        if (i != j) CHECK(some.view_factors.coeff(row, col) > 0.0);  // a closed room: every other node is seen
+      }
+  }
   ExactOptions wrong = ExactOptions::withTolerance(1e-6);
   wrong.rows.assign(1, 1);
   CHECK_THROWS_AS(exactViewFactors(room(2), wrong), std::invalid_argument);

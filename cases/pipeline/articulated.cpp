@@ -120,28 +120,36 @@ geometry::ViewFactorEstimate Articulated::overlaidRows(const geometry::ViewFacto
                                                        const std::vector<char>& rows) const {
   using Sparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;
   const Eigen::Index n = base.view_factors.rows();
-  std::vector<Eigen::Triplet<double>> f_entries, e_entries;
-  f_entries.reserve(static_cast<size_t>(base.view_factors.nonZeros()));
-  e_entries.reserve(static_cast<size_t>(base.view_factors.nonZeros()));
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const bool overlaid = rows[static_cast<size_t>(i)] != 0;
-    for (Sparse::InnerIterator f(base.view_factors, i); f; ++f)
-      if (!overlaid || !base_.changesWithTurn(static_cast<int>(i), static_cast<int>(f.col())))
-        f_entries.emplace_back(i, f.col(), f.value());
-    for (Sparse::InnerIterator e(base.standard_error, i); e; ++e)
-      if (!overlaid || !base_.changesWithTurn(static_cast<int>(i), static_cast<int>(e.col())))
-        e_entries.emplace_back(i, e.col(), e.value());
-    if (!overlaid) continue;
-    for (Sparse::InnerIterator f(fresh.view_factors, i); f; ++f)
-      if (base_.changesWithTurn(static_cast<int>(i), static_cast<int>(f.col()))) f_entries.emplace_back(i, f.col(), f.value());
-    for (Sparse::InnerIterator e(fresh.standard_error, i); e; ++e)
-      if (base_.changesWithTurn(static_cast<int>(i), static_cast<int>(e.col()))) e_entries.emplace_back(i, e.col(), e.value());
-  }
+  // Row by row into the compressed arrays (no triplets: at tens of thousands of nodes F has
+  // millions of entries, each configuration): an overlaid row is the base's entries no turn
+  // changes and the fresh ones it does, two disjoint column-ordered lists merged.
+  auto merge = [&](const Sparse& kept, const Sparse& turned) {
+    Sparse m(n, n);
+    m.reserve(kept.nonZeros() + turned.nonZeros());
+    for (Eigen::Index i = 0; i < n; ++i) {
+      m.startVec(i);
+      const bool overlaid = rows[static_cast<size_t>(i)] != 0;
+      const auto changes = [&](Eigen::Index j) { return base_.changesWithTurn(static_cast<int>(i), static_cast<int>(j)); };
+      Sparse::InnerIterator k(kept, i);
+      Sparse::InnerIterator t(turned, overlaid ? i : 0);
+      const auto skip = [&] {
+        while (k && overlaid && changes(k.col())) ++k;
+        while (overlaid && t && !changes(t.col())) ++t;
+      };
+      for (skip(); k || (overlaid && t); skip()) {
+        const bool from_kept = k && (!overlaid || !t || k.col() < t.col());
+        Sparse::InnerIterator& it = from_kept ? k : t;
+        m.insertBack(i, it.col()) = it.value();
+        ++it;
+      }
+    }
+    m.finalize();
+    return m;
+  };
   geometry::ViewFactorEstimate out;
-  out.view_factors.resize(n, n);
-  out.view_factors.setFromTriplets(f_entries.begin(), f_entries.end());
-  out.standard_error.resize(n, n);
-  out.standard_error.setFromTriplets(e_entries.begin(), e_entries.end());
+  Sparse f = merge(base.view_factors, fresh.view_factors), e = merge(base.standard_error, fresh.standard_error);
+  out.view_factors.swap(f);
+  out.standard_error.swap(e);
   out.space = base.space, out.space_error = base.space_error;
   out.blocked = base.blocked, out.blocked_error = base.blocked_error;
   for (Eigen::Index i = 0; i < n; ++i) {

@@ -156,13 +156,6 @@ bool conjugateGradients(const Couplings& couplings, const Eigen::VectorXd& d, co
   return false;
 }
 
-// The Lagrange multipliers μ of the closure constraints: K μ = c − (row sums of the
-// estimates), K = Σ v over each row's terms (diagonal) and v_ij off it. Pinned pairs are
-// fixed at zero (their estimate leaves the right-hand side). free_pairs(b, B, fn(const Pair&))
-// visits block b of B of the pairs not pinned; couplings(b, B, fn(i, j, v)) the same pairs
-// off the diagonal, by the same blocks. The blocks' sums are formed on all cores, each apart,
-// then added in block order (the same bits for any thread count; a pass over the 15.7 M pairs
-// of a 6,144-node room was 0.38 s on one core, per round of pinning).
 // The free pairs' sums per coupling block: each row's Σ ĝ and Σ v, and the off-diagonal
 // entries. add() is the one place they are summed, so a correction that forms them while
 // visiting the pairs for its own reasons (the in-place one, as it reads their variances)
@@ -189,6 +182,14 @@ struct PairSums {
   }
 };
 
+// The Lagrange multipliers μ of the closure constraints: K μ = c − (row sums of the
+// estimates), K = Σ v over each row's terms (diagonal) and v_ij off it. Pinned pairs are
+// fixed at zero (their estimate leaves the right-hand side). free_pairs(b, B, fn(const Pair&))
+// visits block b of B of the pairs not pinned; couplings(b, B, fn(i, j, v)) the same pairs
+// off the diagonal, by the same blocks. The blocks' sums are formed on all cores, each apart,
+// then added in block order (the same bits for any thread count; a pass over the 15.7 M pairs
+// of a 6,144-node room was 0.38 s on one core, per round of pinning). `known`: the first
+// round's sums, formed already (PairSums).
 template <class FreePairs, class Couplings>
 Eigen::VectorXd closureMultipliers(const FreePairs& free_pairs, const Couplings& couplings,
                                    const Eigen::VectorXd& free_rhs, const Eigen::VectorXd& free_variance,
