@@ -1,9 +1,12 @@
 // GR held as its factors (direct E G E sparse + E V (C − Λ) Vᵀ E) against the dense forms,
-// the result file's sparse layout (CSR groups, GR factors) written and read back, and the
-// memory estimate's sampled count of F's non-zeros.
+// the result file's sparse layout (CSR groups, GR factors) written and read back, the n × n
+// matrices' chunks (shuffled where dense), and the memory estimate's sampled count of F's
+// non-zeros.
 #include "cases/config/errors.hpp"
 #include "cases/config/work_estimate.hpp"
+#include "cases/output/hdf5_chunks.hpp"
 #include "cases/output/hdf5_matrix_reader.hpp"
+#include "cases/output/hdf5_writer.hpp"
 #include "geometry/rays/view_factors.hpp"
 #include "geometry/scene/primitives.hpp"
 #include "solver/radiative/eigenpairs.hpp"
@@ -12,7 +15,9 @@
 #include "temp_dir.hpp"
 
 #include <catch2/catch.hpp>
+#include <hdf5.h>
 
+#include <cmath>
 #include <random>
 
 using namespace radnet;
@@ -199,4 +204,62 @@ TEST_CASE("memory estimate: sampled rows' entries match the rows cast in full, w
   INFO("full mean " << mean << ", sd " << sd << ", sampled " << sampled);
   REQUIRE(mean > 50.0);  // the rays reach many nodes: the estimate has something to find
   CHECK(std::abs(sampled - mean) <= 3.0 * sd / 8.0);
+}
+
+TEST_CASE("n × n chunks: dense ones shuffled, mostly-zero ones not, and HDF5 reads both back bit for bit") {
+  // HDF5's shuffle on three 3-byte elements: byte b of element i goes to b × 3 + i; a
+  // trailing byte (10 bytes, not 9) stays where it was.
+  const std::vector<unsigned char> in{1, 2, 3, 4, 5, 6, 7, 8, 9, 10};
+  std::vector<unsigned char> out(in.size());
+  cases::shuffleBytes(in.data(), in.size(), 3, out.data());
+  CHECK(out == std::vector<unsigned char>{1, 4, 7, 2, 5, 8, 3, 6, 9, 10});
+
+  // 600 × 600 in 256 × 256 chunks: chunk (0, 0) dense (random doubles), chunk (0, 1) one
+  // entry in ten, chunk (1, 1) all zeros (not written: the fill value), the edge chunks
+  // (rows 512 …) dense where the matrix reaches and zero-padded by HDF5.
+  const Eigen::Index n = 600;
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(n, n);
+  for (Eigen::Index i = 0; i < 256; ++i)
+    for (Eigen::Index j = 0; j < 256; ++j) m(i, j) = u(rng) * std::pow(10.0, 8.0 * u(rng));
+  for (Eigen::Index i = 0; i < 256; ++i)
+    for (Eigen::Index j = 256; j < 512; j += 10) m(i, j) = u(rng);
+  for (Eigen::Index i = 512; i < n; ++i)
+    for (Eigen::Index j = 0; j < n; ++j) m(i, j) = u(rng);
+  test::TempDir dir;
+  const std::string path = (dir.path / "chunks.h5").string();
+  {
+    cases::Hdf5Writer h5(path);
+    h5.attribute("/meta", "program", std::string("radnet"));
+    h5.writeMatrix("/m", m, "1");  // from 512 × 512 on: chunks compressed by radnet, not HDF5
+    h5.commit();
+  }
+  const cases::Hdf5Reader h5(path);
+  const Eigen::MatrixXd back = h5.matrix("/m");
+  REQUIRE(back.rows() == n);
+  CHECK((back.array() == m.array()).all());
+
+  // Each written chunk's filter mask (bit 0: the shuffle skipped), read from the file.
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t ds = H5Dopen2(file, "/m", H5P_DEFAULT);
+  const hid_t dcpl = H5Dget_create_plist(ds);
+  REQUIRE(H5Pget_nfilters(dcpl) == 2);
+  unsigned flags = 0, config = 0;
+  size_t cd_count = 0;
+  CHECK(H5Pget_filter2(dcpl, 0, &flags, &cd_count, nullptr, 0, nullptr, &config) == H5Z_FILTER_SHUFFLE);
+  const auto maskAt = [&](hsize_t row, hsize_t col) {
+    const hsize_t offset[2] = {row, col};
+    unsigned mask = 99;
+    haddr_t address = 0;
+    hsize_t bytes = 0;
+    return H5Dget_chunk_info_by_coord(ds, offset, &mask, &address, &bytes) >= 0 && bytes > 0 ? int(mask) : -1;
+  };
+  CHECK(maskAt(0, 0) == 0);      // dense: shuffled, then deflated
+  CHECK(maskAt(0, 256) == 1);    // one entry in ten: deflated as it is
+  CHECK(maskAt(256, 256) == -1);  // zeros: never written
+  CHECK(maskAt(512, 512) == 1);  // an edge chunk counts HDF5's padding: 88 × 88 of 256 × 256 filled
+  H5Pclose(dcpl);
+  H5Dclose(ds);
+  H5Fclose(file);
 }

@@ -65,12 +65,13 @@ void Hdf5Writer::writeMatrix(const std::string& path, const SparseRowsRef& m, co
       units);
 }
 
-// The layout writeArray gives a large matrix (256 × 256 chunks, deflate level 1), but each
-// chunk filled (from a dense or a sparse matrix), compressed here on all cores, and handed
-// to HDF5 ready (H5Dwrite_chunk): HDF5 1.10 runs its filters on one core, which made writing
-// the five n × n matrices the largest stage of a 6,402-node run (14 s), and no row-major
-// copy of the whole matrix is needed. Readers see an ordinary deflated dataset; chunks are
-// written in order, so the file does not depend on the thread count.
+// The layout writeArray gives a large matrix (256 × 256 chunks, shuffle and deflate level 1),
+// but each chunk filled (from a dense or a sparse matrix), compressed here on all cores, and
+// handed to HDF5 ready (H5Dwrite_chunk): HDF5 1.10 runs its filters on one core, which made
+// writing the five n × n matrices the largest stage of a 6,402-node run (14 s), and no
+// row-major copy of the whole matrix is needed. Readers see an ordinary shuffled and deflated
+// dataset (mostly-zero chunks skip the shuffle, hdf5_chunks.hpp); chunks are written in
+// order, so the file does not depend on the thread count.
 void Hdf5Writer::writeChunkedMatrix(const std::string& path, Eigen::Index rows, Eigen::Index cols,
                                     const ChunkFill& fill, const std::string& units) {
   const hsize_t dims[2] = {static_cast<hsize_t>(rows), static_cast<hsize_t>(cols)};
@@ -78,6 +79,7 @@ void Hdf5Writer::writeChunkedMatrix(const std::string& path, Eigen::Index rows, 
   Handle space{checkId(H5Screate_simple(2, dims, nullptr), "dataspace"), H5Sclose};
   Handle dcpl{checkId(H5Pcreate(H5P_DATASET_CREATE), "dataset properties"), H5Pclose};
   check(H5Pset_chunk(dcpl.id, 2, chunk), "chunking");
+  check(H5Pset_shuffle(dcpl.id), "shuffle");
   check(H5Pset_deflate(dcpl.id, 1), "deflate");
   Handle lcpl{createLinkProps(), H5Pclose};
   Handle ds{checkId(H5Dcreate2(static_cast<hid_t>(file_), path.c_str(), H5T_IEEE_F64LE, space.id, lcpl.id, dcpl.id,
@@ -87,15 +89,15 @@ void Hdf5Writer::writeChunkedMatrix(const std::string& path, Eigen::Index rows, 
   const Eigen::Index col_chunks = (cols + kMatrixChunk - 1) / kMatrixChunk;
   const long long chunks = static_cast<long long>((rows + kMatrixChunk - 1) / kMatrixChunk * col_chunks);
   deflateChunks(
-      chunks, sizeof(double) * kMatrixChunk * kMatrixChunk,
+      chunks, sizeof(double) * kMatrixChunk * kMatrixChunk, sizeof(double),
       [&](long long k, unsigned char* bytes) {
         ChunkBlock block(reinterpret_cast<double*>(bytes), kMatrixChunk, kMatrixChunk);
         fill(k / col_chunks * kMatrixChunk, k % col_chunks * kMatrixChunk, block);
       },
-      [&](long long k, const std::vector<unsigned char>& bytes) {
+      [&](long long k, const std::vector<unsigned char>& bytes, unsigned filter_mask) {
         const hsize_t offset[2] = {static_cast<hsize_t>(k / col_chunks * kMatrixChunk),
                                    static_cast<hsize_t>(k % col_chunks * kMatrixChunk)};
-        check(H5Dwrite_chunk(ds.id, H5P_DEFAULT, 0, offset, bytes.size(), bytes.data()), "write " + path);
+        check(H5Dwrite_chunk(ds.id, H5P_DEFAULT, filter_mask, offset, bytes.size(), bytes.data()), "write " + path);
       },
       path);
   addUnits(ds.id, units);
