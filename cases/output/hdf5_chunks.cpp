@@ -3,23 +3,32 @@
 #include "cases/config/errors.hpp"
 #include "solver/parallel.hpp"
 
-#include <zlib.h>
+#include <libdeflate.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <memory>
 #include <string>
 
 namespace radnet::cases {
 namespace {
 
-// Deflate level 1 (a zlib stream, what H5Z deflate reads); empty on failure. Level 4 took a
-// third longer on a 6,402-node run for a file 7 % smaller.
+// Deflate level 1 as a zlib stream (what HDF5's deflate filter reads) by libdeflate, one
+// compressor per thread; empty on failure. On the 6,144-node room's shuffled F, G, GR and
+// σ(F) chunks libdeflate's level 1 ran 1.85× as fast as zlib's (205 against 111 MB/s, one
+// core) for 2 % fewer bytes. zlib's level 4 had taken a third longer than its level 1 on a
+// 6,402-node run for a file 7 % smaller.
 std::vector<unsigned char> deflate(const unsigned char* raw, std::size_t bytes) {
-  uLongf out_size = compressBound(static_cast<uLong>(bytes));
-  std::vector<unsigned char> out(out_size);
-  if (compress2(out.data(), &out_size, raw, static_cast<uLong>(bytes), 1) != Z_OK) return {};
-  out.resize(out_size);
+  struct Free {
+    void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
+  };
+  thread_local std::unique_ptr<libdeflate_compressor, Free> compressor(libdeflate_alloc_compressor(1));
+  if (!compressor) return {};
+  std::vector<unsigned char> out(libdeflate_zlib_compress_bound(compressor.get(), bytes));
+  const std::size_t size = libdeflate_zlib_compress(compressor.get(), raw, bytes, out.data(), out.size());
+  if (size == 0) return {};
+  out.resize(size);
   return out;
 }
 
