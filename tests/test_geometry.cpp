@@ -348,6 +348,21 @@ TEST_CASE("coincident surfaces: a radiator laid on a face is found, lifted or ba
   Scene plain;
   plain.addSurface("p", "rectangle 'p'", rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 20, 20), "p", "p.back");
   CHECK(coincidentFaces(plain).empty());
+
+  // Long thin cells and a large patch across many of them (the grid of boxes: cells of the
+  // median box, a face in every cell it reaches, each pair tested once): a strip 40 m × 0.1 m
+  // cut 800 × 2 with a 3 m × 0.1 m cover at one end, cut 7 × 3, its area found once in all.
+  Scene strip;
+  strip.addSurface("strip", "rectangle 'strip'", rectangle(Vec3(0, 0, 0), Vec3(40, 0, 0), Vec3(0, 0.1, 0), 800, 2),
+                   "strip", "");
+  strip.addSurface("cover", "rectangle 'cover'", rectangle(Vec3(36.5, 0, 0), Vec3(3, 0, 0), Vec3(0, 0.1, 0), 7, 3),
+                   "cover", "");
+  double covered = 0.0;
+  for (const Coincidence& c : coincidentFaces(strip, 100000)) {
+    CHECK((c.face_a < 3200) != (c.face_b < 3200));  // one face of each surface: the strip's own pairs share edges only
+    covered += c.overlap_m2;
+  }
+  CHECK(covered == Approx(0.3).epsilon(1e-9));
 }
 
 namespace {

@@ -104,6 +104,63 @@ double perimeter(const std::array<Vec2, 3>& c) {
 
 using PlaneKey = std::tuple<long long, long long, long long, long long>;
 
+// Cell index of x on a grid from `origin` of cells `width` wide (clamped: a far outlier
+// lands in the last cell, where the boxes' own test still tells it apart).
+long cellOf(double x, double origin, double width, long cells) {
+  return std::clamp(static_cast<long>(std::floor((x - origin) / width)), 0L, cells - 1);
+}
+
+// Calls fn(p, q) once for every two faces of one plane whose boxes overlap, until fn returns
+// false. A grid of cells as wide as the median box along each axis (doubled while the faces
+// would enter more than 8 cells each on average, or the cells outnumber the faces 4 to 1): a
+// face enters every cell its box reaches, and a pair is tested only in the cell that holds
+// the lower corner of its boxes' overlap. A sweep along one axis tested every two faces of a
+// long row: 7e10 pairs, a minute, on a plate cut 10,000 × 180 (a fuzzed case file).
+template <class Fn>
+void forOverlappingBoxes(const std::vector<Planar>& faces, Fn&& fn) {
+  const size_t m = faces.size();
+  double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+  std::vector<double> wx, wy;
+  for (const Planar& f : faces) {
+    x0 = std::min(x0, f.x_min), x1 = std::max(x1, f.x_max), y0 = std::min(y0, f.y_min), y1 = std::max(y1, f.y_max);
+    wx.push_back(f.x_max - f.x_min), wy.push_back(f.y_max - f.y_min);
+  }
+  std::nth_element(wx.begin(), wx.begin() + static_cast<std::ptrdiff_t>(m / 2), wx.end());
+  std::nth_element(wy.begin(), wy.begin() + static_cast<std::ptrdiff_t>(m / 2), wy.end());
+  const double floor_width = std::max(1e-9 * std::max(x1 - x0, y1 - y0), 1e-300);
+  double cx = std::max(wx[m / 2], floor_width), cy = std::max(wy[m / 2], floor_width);
+  long nx = 1, ny = 1;
+  for (;;) {
+    nx = static_cast<long>(std::min((x1 - x0) / cx, 1e9)) + 1, ny = static_cast<long>(std::min((y1 - y0) / cy, 1e9)) + 1;
+    double entries = 0.0;
+    for (const Planar& f : faces)
+      entries += double(cellOf(f.x_max, x0, cx, nx) - cellOf(f.x_min, x0, cx, nx) + 1) *
+                 double(cellOf(f.y_max, y0, cy, ny) - cellOf(f.y_min, y0, cy, ny) + 1);
+    if ((entries <= 8.0 * double(m) && double(nx) * double(ny) <= 4.0 * double(m) + 16) || (nx == 1 && ny == 1)) break;
+    cx *= 2, cy *= 2;
+  }
+  // The faces of each cell, by a counting sort over the cells (in face order within one).
+  std::vector<long> start(static_cast<size_t>(nx * ny) + 1, 0);
+  const auto span = [&](const Planar& f, auto&& visit) {
+    for (long j = cellOf(f.y_min, y0, cy, ny); j <= cellOf(f.y_max, y0, cy, ny); ++j)
+      for (long i = cellOf(f.x_min, x0, cx, nx); i <= cellOf(f.x_max, x0, cx, nx); ++i) visit(j * nx + i);
+  };
+  for (const Planar& f : faces) span(f, [&](long c) { ++start[static_cast<size_t>(c) + 1]; });
+  for (size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+  std::vector<int> members(static_cast<size_t>(start.back()));
+  std::vector<long> fill(start.begin(), start.end() - 1);
+  for (size_t k = 0; k < m; ++k) span(faces[k], [&](long c) { members[static_cast<size_t>(fill[static_cast<size_t>(c)]++)] = static_cast<int>(k); });
+  for (long c = 0; c < nx * ny; ++c)
+    for (long a = start[static_cast<size_t>(c)]; a < start[static_cast<size_t>(c) + 1]; ++a)
+      for (long b = a + 1; b < start[static_cast<size_t>(c) + 1]; ++b) {
+        const Planar &p = faces[static_cast<size_t>(members[static_cast<size_t>(a)])];
+        const Planar &q = faces[static_cast<size_t>(members[static_cast<size_t>(b)])];
+        if (q.x_min >= p.x_max || p.x_min >= q.x_max || q.y_min >= p.y_max || p.y_min >= q.y_max) continue;
+        const long corner = cellOf(std::max(p.y_min, q.y_min), y0, cy, ny) * nx + cellOf(std::max(p.x_min, q.x_min), x0, cx, nx);
+        if (corner == c && !fn(p, q)) return;
+      }
+}
+
 }  // namespace
 
 std::vector<Coincidence> coincidentFaces(const Scene& scene, size_t max_pairs) {
@@ -138,24 +195,20 @@ std::vector<Coincidence> coincidentFaces(const Scene& scene, size_t max_pairs) {
     const Vec3 u = (std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized(), v = n.cross(u);
     std::vector<Planar> faces;
     for (int m : members) faces.push_back(planar(scene, m, u, v));
-    std::sort(faces.begin(), faces.end(), [](const Planar& a, const Planar& b) { return a.x_min < b.x_min; });
-    for (size_t a = 0; a < faces.size() && found.size() < max_pairs; ++a)
-      for (size_t b = a + 1; b < faces.size() && faces[b].x_min < faces[a].x_max; ++b) {
-        const Planar &p = faces[a], &q = faces[b];
-        if (q.y_min >= p.y_max || p.y_min >= q.y_max) continue;
-        if (!((p.up && q.up) || (p.down && q.down))) continue;
-        if (!coplanar(scene, p, q, tol)) continue;
-        const double overlap = overlapArea(p.corner, q.corner);
-        const double smaller = std::min(scene.faces()[static_cast<size_t>(p.face)].area_m2,
-                                        scene.faces()[static_cast<size_t>(q.face)].area_m2);
-        // Round-off can open a strip `tol` wide along the edges two neighbours share (or along
-        // a vertex that lies on a neighbour's edge): only an overlap above that is one.
-        const double round_off = tol * std::max(perimeter(p.corner), perimeter(q.corner));
-        const std::pair<int, int> pair{std::min(p.face, q.face), std::max(p.face, q.face)};
-        if (overlap > std::max(kCoincidenceMinShare * smaller, round_off) && seen.insert(pair).second)
-          found.push_back({pair.first, pair.second, overlap});
-        if (found.size() >= max_pairs) break;
-      }
+    forOverlappingBoxes(faces, [&](const Planar& p, const Planar& q) {
+      if (!((p.up && q.up) || (p.down && q.down))) return true;
+      if (!coplanar(scene, p, q, tol)) return true;
+      const double overlap = overlapArea(p.corner, q.corner);
+      const double smaller = std::min(scene.faces()[static_cast<size_t>(p.face)].area_m2,
+                                      scene.faces()[static_cast<size_t>(q.face)].area_m2);
+      // Round-off can open a strip `tol` wide along the edges two neighbours share (or along
+      // a vertex that lies on a neighbour's edge): only an overlap above that is one.
+      const double round_off = tol * std::max(perimeter(p.corner), perimeter(q.corner));
+      const std::pair<int, int> pair{std::min(p.face, q.face), std::max(p.face, q.face)};
+      if (overlap > std::max(kCoincidenceMinShare * smaller, round_off) && seen.insert(pair).second)
+        found.push_back({pair.first, pair.second, overlap});
+      return found.size() < max_pairs;
+    });
   }
   return found;
 }
