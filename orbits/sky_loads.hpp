@@ -97,10 +97,9 @@ void skyKernelSweep(const geometry::SkyKernel& kernel, const std::vector<PlanetV
 /// with what its error asks.
 inline constexpr std::int64_t kSkyKernelFirstRays = 1024;
 /// Planet rays replace the kernel at a node-position only where its σ exceeds the target
-/// this many times. The target's halves are a sufficient bound (the albedo and the IR
-/// each against their own largest, added as if both peaked together and erred the same
-/// way); one channel at twice its half is within the loads' share unless the other channel
-/// is as large and as far off at the same position. A node at 65,536 rays just over its
+/// this many times (the mean of its two channels' ratios, KernelTargets::over). The targets
+/// are a sufficient bound (the albedo and the IR each against their own largest, added as
+/// if both peaked together and erred the same way). A node at 65,536 rays just over its
 /// half (bus faces of the 1,602-node satellite, Sun-pointing: albedo σ 0.14 W/m² against
 /// 0.13) cost 8.3 M planet rays for 417 node-positions; the run's final check of every
 /// node's absorbed-power σ against the accuracy asked (`nodes_over_budget`) stays the judge.
@@ -115,7 +114,7 @@ inline constexpr std::int64_t kMinPartlyBlockedRays = 4096;
 /// albedo σ with α σ_A ≤ ½ share Q_max and an IR σ with ε σ_I ≤ ½ share Q_max keep the
 /// absorbed power's within the share (the two added as if both peaked together and erred
 /// the same way: they share the blocked sky). Hence the targets
-///     σ_A ≤ ½ share max_p (D_p + A_p + r_ε I_p),   σ_I ≤ ½ share max_p (r_α (D_p + A_p) + I_p),
+///     T_A = ½ share max_p (D_p + A_p + r_ε I_p),   T_I = ½ share max_p (r_α (D_p + A_p) + I_p),
 /// r_α and r_ε the node's smallest α/ε and ε/α over every optical set the loads serve (0
 /// when not known: then the albedo's target holds for any optics and the IR's is a share of
 /// the node's largest IR, as before the direct load entered). Each at least the load of a
@@ -124,9 +123,15 @@ inline constexpr std::int64_t kMinPartlyBlockedRays = 4096;
 /// ones (the old per-position target cast 3× the rays on the 1,602-node satellite). A node
 /// in sunlight, whose orbit maximum the direct load sets, takes fewer rays than against its
 /// largest albedo and IR alone (1,602-node satellite, inertial: 8.6 M rays → 6.7 M).
+/// Each target alone gives α T_A ≤ ½ share Q_max and ε T_I ≤ ½ share Q_max, so a
+/// node-position is within when the two are met together, σ_A / T_A + σ_I / T_I ≤ 2:
+/// α σ_A + ε σ_I ≤ ½ share Q_max (σ_A / T_A + σ_I / T_I) ≤ share Q_max. A channel well inside
+/// its half leaves the rest to the other (2,306-node satellite, inertial: 1.97 → 1.48 M
+/// kernel rays against each channel held to its own half).
 struct KernelTargets {
   std::vector<double> albedo, ir;  ///< per node, W/m²
-  /// How far node i's σ at position p is over its target (≤ 1: within).
+  /// How far node i's σ at position p is over its target: (σ_A / T_A + σ_I / T_I) / 2, ≤ 1
+  /// within.
   double over(const EnvironmentLoads& out, Eigen::Index i, int p) const;
 };
 

@@ -3,6 +3,7 @@
 // The sky kernel's rounds: the first cast, the nodes' targets over the sweep, the re-casts
 // of the nodes over them (orbits/sky_loads.hpp, kernelLoads).
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -37,14 +38,35 @@ KernelTargets kernelTargets(const EnvironmentLoads& out, const std::vector<Plane
   return t;
 }
 
-// What more rays can do at one node-position for one channel: the sampling σ over the room
-// the binning error leaves in the target (0: within, or nothing rays can do when the
-// binning error alone is 99.5 % of the target: that node-position is the fallback's).
-double samplingRatio(double sigma, double binning, double target) {
-  if (sigma <= target) return 0.0;
-  const double room2 = target * target - binning * binning;
-  if (room2 <= 0.01 * target * target) return 0.0;
-  return std::sqrt(std::max(0.0, sigma * sigma - binning * binning) / room2);
+// What more rays can do at one node-position: 1/u for the factor u < 1 on both channels'
+// sampling σ that brings σ_A / T_A + σ_I / T_I down to 2 (KernelTargets); 0 when the sum is
+// within already, or when nothing rays can do (the binning errors, which more rays leave,
+// are 99.5 % of it alone, or a channel is over a target of 0: that node-position is the
+// fallback's). The sum is monotone in u: 50 halvings find u to 1e-15. With one channel
+// alone this is its sampling σ over the room its binning leaves in twice its target.
+double samplingRatio(const std::array<double, 2>& sigma, const std::array<double, 2>& binning,
+                     const std::array<double, 2>& target) {
+  std::array<double, 2> sampling{}, floor{};
+  double now = 0.0;  // the sum at u = 1, σ over its target per channel
+  for (size_t c = 0; c < 2; ++c) {
+    if (!(target[c] > 0)) {
+      if (sigma[c] > 0) return 0.0;
+      continue;
+    }
+    now += sigma[c] / target[c];
+    sampling[c] = std::sqrt(std::max(0.0, sigma[c] * sigma[c] - binning[c] * binning[c])) / target[c];
+    floor[c] = binning[c] / target[c];
+  }
+  if (now <= 2.0 || floor[0] + floor[1] >= 0.995 * 2.0) return 0.0;
+  const auto sum = [&](double u) {
+    return std::hypot(sampling[0] * u, floor[0]) + std::hypot(sampling[1] * u, floor[1]);
+  };
+  double lo = 0.0, hi = 1.0;  // sum(lo) < 2 < sum(hi)
+  for (int k = 0; k < 50; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (sum(mid) <= 2.0 ? lo : hi) = mid;
+  }
+  return 1.0 / std::max(lo, 1e-12);
 }
 
 // The rays each node over its target somewhere in the sweep asks for, 0 for the nodes
@@ -65,8 +87,9 @@ std::vector<std::int64_t> refinedRays(const geometry::SkyKernel& kernel, const E
     if (!candidates[static_cast<size_t>(i)] || present <= 0 || present >= kMaxPlanetRays) continue;
     double worst = 0.0;
     for (int p = 0; p < P; ++p)
-      worst = std::max({worst, samplingRatio(out.albedo_stderr(i, p), binning.albedo(i, p), t.albedo[static_cast<size_t>(i)]),
-                        samplingRatio(out.earth_ir_stderr(i, p), binning.ir(i, p), t.ir[static_cast<size_t>(i)])});
+      worst = std::max(worst, samplingRatio({out.albedo_stderr(i, p), out.earth_ir_stderr(i, p)},
+                                            {binning.albedo(i, p), binning.ir(i, p)},
+                                            {t.albedo[static_cast<size_t>(i)], t.ir[static_cast<size_t>(i)]}));
     // A node partly blocked is not judged on the spread of 32 replicas of 32 rays: where a
     // thin blocker meets a few rays of each, that spread is itself too uncertain (a node
     // reported 54.50 ± 0.39 W/m² at 1,024 rays against 52.09 ± 0.02). From kMinPartlyBlockedRays
@@ -80,7 +103,7 @@ std::vector<std::int64_t> refinedRays(const geometry::SkyKernel& kernel, const E
     const bool partly = b > 0.0 && b < 1.0 && static_cast<double>(present) < floor_rays;
     if (worst <= 1.0 && !partly) continue;
     const double wanted = std::max(static_cast<double>(present) * std::pow(worst, 4.0 / 3.0), partly ? floor_rays : 0.0);
-    const double more = std::max(1.25 * static_cast<double>(present), wanted);
+    const double more = std::min(std::max(1.25 * static_cast<double>(present), wanted), double(kMaxPlanetRays));
     const std::int64_t r = (static_cast<std::int64_t>(std::ceil(more)) + 31) / 32 * 32;
     rays[static_cast<size_t>(i)] = std::min(r, kMaxPlanetRays);
   }
@@ -119,7 +142,7 @@ void refineKernel(const geometry::RayCaster& caster, const std::vector<PlanetVie
 double KernelTargets::over(const EnvironmentLoads& out, Eigen::Index i, int p) const {
   const size_t k = static_cast<size_t>(i);
   const auto ratio = [](double sigma, double target) { return target > 0 ? sigma / target : (sigma > 0 ? 1e300 : 0.0); };
-  return std::max(ratio(out.albedo_stderr(i, p), albedo[k]), ratio(out.earth_ir_stderr(i, p), ir[k]));
+  return 0.5 * (ratio(out.albedo_stderr(i, p), albedo[k]) + ratio(out.earth_ir_stderr(i, p), ir[k]));
 }
 
 KernelTargets kernelLoads(const geometry::RayCaster& caster, const std::vector<PlanetView>& views,
