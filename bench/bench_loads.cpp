@@ -109,7 +109,7 @@ int main(int argc, char** argv) {
         "body frame (nadir) and at every position otherwise;\n"
      << "- **kernel**: the sky kernel (each node's blocked sky cast once, `environment.planet_method: sky_kernel`), "
         "planet rays only for node-positions over the error target (fallbacks). The default (`auto`) is the kernel "
-        "for Sun-pointing and inertial sweeps and rays for nadir.\n\n"
+        "for Sun-pointing and inertial sweeps, and for nadir from 12 nodes a position (docs/orbits.md).\n\n"
      << "| model | nodes | triangles | attitude | rays (s) | kernel (s) | of which casting the kernel (s) | rays "
         "(ms/position) | kernel (ms/position, after casting) | kernel faster | rays cast, rays (M) | rays cast, "
         "kernel (M) | fallbacks | IR: median / 99 % of abs(Δ)/σ | albedo: median / 99 % | largest abs(Δ) / "
