@@ -199,8 +199,8 @@ TEST_CASE("sky kernel: every node meets its target, the loads' share of its abso
   // ε I (what the node absorbs of its own irradiance, a lower bound of its orbit-maximum
   // absorbed power; or the floor of a tenth of the cap), add to at most 2, after 1,024 rays
   // and the rounds of re-casting; none of this scene's node-positions needs the planet rays'
-  // fallback. (So α σ_A + ε σ_I is within relative_error × that bound where both floors are
-  // the bound.)
+  // fallback. (Where that bound exceeds both floors, α σ_A + ε σ_I is within relative_error
+  // of it.)
   const geometry::Scene s = floorAndWall();
   geometry::RayCaster caster(s);
   const auto ps = tumblingPositions(24, 5);
