@@ -139,6 +139,14 @@ for p in range(len(angle)):
         previous = p - 1 if p > 0 else len(angle) - 1
         check(angle[p] == angle[previous], "tracking: position %d in eclipse does not hold the last angle" % p)
 check(track["report"].attrs["eigendecompositions"] == 1, "tracking: one eigendecomposition")
+# `radnet validate` counts the configurations the run makes (its memory estimate holds one
+# network and GR per configuration): the same number, not one per step of the drive.
+r = subprocess.run([RADNET, "validate", os.path.join(WORK, "track.yaml")], capture_output=True, text=True)
+counted = re.search(r"; (\d+) configurations of the turning parts", r.stdout)
+made = int(track["report"].attrs["articulation_configurations"])
+check(r.returncode == 0 and counted is not None and int(counted.group(1)) == made,
+      "tracking: validate counts %s configurations, the run made %d (%s)" %
+      (counted.group(1) if counted else "no", made, r.stdout.strip()))
 check(set(np.round(conf_angle[1:], 6)) | {0.0} >= set(np.round(angle, 6)), "tracking: every angle is a configuration's")
 check(all(conf_angle[config[p]] == angle[p] for p in range(len(angle))), "tracking: positions in their configuration")
 for k in sorted(set(config))[:2]:

@@ -77,6 +77,8 @@ int validateCommand(const std::vector<std::string>& paths, const Guard& guarded)
                          std::cout << "; about " << std::setprecision(3) << w.total() / 1e9 << " GB of memory, "
                                    << (w.sparse ? "sparse" : "dense") << " matrices: "
                                    << std::setprecision(2) << 100.0 * w.facing_share << " % of node pairs face each other";
+                         if (w.configurations > 0)
+                           std::cout << "; " << w.configurations << " configurations of the turning parts";
                        }
                        std::cout << ")\n";
                        return 0;

@@ -84,6 +84,9 @@ struct WorkEstimate {
   double planet_bytes = 0;    ///< planet-ray hit points kept for the reuse over positions (24 B each)
   double position_bytes = 0;  ///< per-position results: loads, heat flows, temperatures, ParaView copies
   long long positions = 0;    ///< over every design and orbit case
+  /// Turning parts: the configurations the run will make (the geometry as written and each
+  /// distinct binned angle tuple over every design case's positions); 0 without drives.
+  double configurations = 0;
   /// The peak: on a sparse network the planet rays' hit points are cast after the view
   /// factors' peak, beside the copies kept from then on (kSparseHeldShare of the non-zeros'
   /// bytes); on a dense one everything counts at once.
