@@ -246,6 +246,12 @@ def main():
     same_result(sun, ranks=3)
     # Sun-tracking wings: every configuration's rows, loads and GR on every rank alike.
     same_result(SOURCE / "cases/examples/tracking-wings.yaml")
+    # The same spinning: the planet moves in the body frame, so each configuration's turning
+    # rows take a sky kernel of their own (10 configurations), their nodes shared out.
+    spin = WORK / "tracking-wings-spin.yaml"
+    spin.write_text((SOURCE / "cases/examples/tracking-wings.yaml").read_text().replace(
+        "attitude: {mode: nadir}", "attitude: {mode: spin, quaternion: [1, 0, 0, 0], spin_axis: [0, 0, 1], spin_rate: 0.3}"))
+    same_result(spin)
     # Three ranks for two design cases: one rank solves none; 64 samples split unevenly.
     same_result(SOURCE / "cases/examples/cubesat-hot-cold.yaml", ranks=3)
     shared_rows()
