@@ -164,6 +164,13 @@ std::vector<std::string> Articulation::names() const {
   return out;
 }
 
+Eigen::MatrixXd Articulation::movingAngles(const std::vector<orbits::SweepPosition>& positions) const {
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(positions.size()), static_cast<Eigen::Index>(drives.size()));
+  for (size_t d = 0; d < drives.size(); ++d)
+    out.col(static_cast<Eigen::Index>(d)) = Eigen::Map<const Eigen::VectorXd>(drives[d].angles(positions).data(), out.rows());
+  return out;
+}
+
 std::vector<double> Drive::angles(const std::vector<orbits::SweepPosition>& positions) const {
   const size_t P = positions.size();
   std::vector<double> out(P, angle_deg);

@@ -39,6 +39,10 @@ struct Articulation {
   bool empty() const { return drives.empty() && fixed_drives.empty(); }
   /// Every drive's name: the moving ones, then the fixed ones.
   std::vector<std::string> names() const;
+  /// The moving drives' angles at each position (positions × drives, deg, binned): a
+  /// configuration per distinct row (Articulated::configure; counted ahead by the memory
+  /// estimate, work_estimate.cpp).
+  Eigen::MatrixXd movingAngles(const std::vector<orbits::SweepPosition>& positions) const;
 };
 
 /// The step a drive defaults to under `solver.accuracy`: the largest divisor of 360° whose

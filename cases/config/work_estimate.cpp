@@ -1,9 +1,9 @@
 #include "cases/config/work_estimate.hpp"
 
 #include "geometry/exact/view_factors.hpp"
-#include "orbits/sweep.hpp"
 #include "geometry/rays/recast_rows.hpp"
 #include "geometry/rays/view_factors.hpp"
+#include "orbits/sweep.hpp"
 #include "solver/radiative/policy.hpp"
 
 #include <sys/resource.h>
@@ -14,7 +14,6 @@
 #include <numeric>
 #include <random>
 #include <set>
-#include <stdexcept>
 #include <sstream>
 
 namespace radnet::cases {
@@ -46,39 +45,38 @@ double cgroupLimit() {
   }
 }
 
-// The configurations the turning parts take: the distinct angle tuples, binned to the
-// drives' steps, over every design case's positions (what Articulated::configure makes of
-// them), and the geometry as written. The sweeps are flown here as the run flies them (a
-// few milliseconds); counting every step of every drive instead (360° / step) took a
-// steered dish's ±30° table for 73 configurations where it makes 13, and its estimate to
-// 5.2 GB for a run that peaks at 0.37 GB (refused outright below that on a dense network).
-// A sweep that cannot be flown is refused where it is parsed, and over a million positions
-// is refused for their results' memory: for those every step counts.
+// The configurations the turning parts take: the distinct rows of the drives' binned angles
+// over every design case's positions (Articulation::movingAngles, what
+// Articulated::configure makes of them), and the geometry as written. The sweeps are flown
+// here as the run flies them (a few milliseconds); counting every step of every drive
+// instead (360° / step) took a steered dish's ±30° table for 73 configurations where it
+// makes 13, and its estimate to 5.2 GB for a run that peaks at 0.37 GB (refused outright
+// below that on a dense network). Over a million positions (refused for their results'
+// memory) or where a sweep cannot be flown (refused where it is parsed), every step counts.
 double turningConfigurations(const GeometryCase& c, double positions) {
   const std::vector<Drive>& drives = c.articulation.drives;
+  double every_step = 1.0;
+  for (const Drive& d : drives) every_step *= d.step_deg > 0 ? std::floor(360.0 / d.step_deg) + 1.0 : positions;
+  every_step = std::min(every_step, positions + 1.0);
+  if (positions > 1e6) return every_step;
+  std::set<std::vector<double>> seen{std::vector<double>(drives.size(), 0.0)};
   try {
-    if (positions > 1e6) throw std::length_error("too many positions to fly for an estimate");
-    std::set<std::vector<double>> seen{std::vector<double>(drives.size(), 0.0)};
     for (const DesignCase& d : c.design_cases) {
       if (!d.orbit) continue;
       for (const OrbitCase& oc : d.orbit->cases) {
         if (!oc.orbit) continue;
-        const std::vector<orbits::SweepPosition> sweep = orbits::sweepOrbit(*oc.orbit, d.orbit->attitude, d.orbit->sweep);
-        std::vector<std::vector<double>> per_drive;
-        for (const Drive& drive : drives) per_drive.push_back(drive.angles(sweep));
-        for (size_t p = 0; p < sweep.size(); ++p) {
-          std::vector<double> at;
-          for (const std::vector<double>& a : per_drive) at.push_back(a[p]);
-          seen.insert(std::move(at));
+        const Eigen::MatrixXd angles =
+            c.articulation.movingAngles(orbits::sweepOrbit(*oc.orbit, d.orbit->attitude, d.orbit->sweep));
+        for (Eigen::Index p = 0; p < angles.rows(); ++p) {
+          const Eigen::RowVectorXd row = angles.row(p);
+          seen.emplace(row.data(), row.data() + row.size());
         }
       }
     }
-    return static_cast<double>(seen.size());
   } catch (const std::exception&) {
-    double bound = 1.0;
-    for (const Drive& d : drives) bound *= d.step_deg > 0 ? std::floor(360.0 / d.step_deg) + 1.0 : positions;
-    return std::min(bound, positions + 1.0);
+    return every_step;
   }
+  return static_cast<double>(seen.size());
 }
 
 }  // namespace

@@ -215,10 +215,7 @@ std::vector<int> Articulated::configure(const std::vector<orbits::SweepPosition>
   const Eigen::Index P = static_cast<Eigen::Index>(positions.size());
   const Eigen::Index moving = static_cast<Eigen::Index>(a.drives.size());
   angles.resize(P, moving + static_cast<Eigen::Index>(a.fixed_drives.size()));
-  for (Eigen::Index d = 0; d < moving; ++d) {
-    const std::vector<double> drive = a.drives[static_cast<size_t>(d)].angles(positions);
-    for (Eigen::Index p = 0; p < P; ++p) angles(p, d) = drive[static_cast<size_t>(p)];
-  }
+  angles.leftCols(moving) = a.movingAngles(positions);
   for (size_t f = 0; f < a.fixed_drives.size(); ++f) angles.col(moving + static_cast<Eigen::Index>(f)).setConstant(a.fixed_drives[f].second);
   std::vector<int> config(static_cast<size_t>(P));
   const int before = size();
