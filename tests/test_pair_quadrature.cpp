@@ -94,6 +94,51 @@ TEST_CASE("point rules: the true error is below the estimate for at least 99 % o
   }
 }
 
+// One patch from a loop (counter-clockwise about `normal`).
+Patch loopPatch(const Loop& loop, const Vec3& normal) {
+  Patch p;
+  p.node = 0;
+  p.region = {{loop}, normal};
+  p.pieces = {loop};
+  p.offset = normal.dot(loop[0]);
+  for (size_t k = 1; k + 1 < loop.size(); ++k) p.area_m2 += 0.5 * (loop[k] - loop[0]).cross(loop[k + 1] - loop[0]).norm();
+  return p;
+}
+
+TEST_CASE("order 0+: the Taylor term is the centroid value's error to leading order") {
+  // A tilted triangle and a skewed parallelogram facing it about 1 m away, shrunk by h: the
+  // centroid value errs as h², the Taylor value as h⁴ (a second method: the contour integral
+  // at 1e-14). Halving h must cut the Taylor value's error by about 16 (asserted > 10: the
+  // h⁶ terms still count at h = 0.1) and leave it well under the centroid value's.
+  const Vec3 np = Vec3(0.2, -0.1, 1).normalized(), nq = Vec3(-0.3, 0.2, -1).normalized();
+  const Vec3 up = np.cross(Vec3(1, 0, 0)).normalized(), vp = np.cross(up);
+  const Vec3 uq = nq.cross(Vec3(0, 1, 0)).normalized(), vq = nq.cross(uq);
+  const Vec3 cq(0.3, -0.2, 1.0);
+  double previous = 0.0;
+  for (double h : {0.2, 0.1, 0.05}) {
+    // About fixed centroids (the triangle's vertex mean at 0, the parallelogram's at cq).
+    const Loop tri = {h * (up - 0.7 / 3 * up - 0.2 * vp), h * (0.3 * up + vp - 0.7 / 3 * up - 0.2 * vp),
+                      h * (-0.6 * up - 0.4 * vp - 0.7 / 3 * up - 0.2 * vp)};
+    const Vec3 mid = cq - h * (0.7 * uq + 0.4 * vq);
+    const Loop quad = {mid, mid + h * uq, mid + h * (1.4 * uq + 0.8 * vq), mid + h * (0.4 * uq + 0.8 * vq)};
+    const std::vector<Patch> patches = {loopPatch(tri, np), loopPatch(quad, nq)};
+    const PatchRules rules(patches);
+    bool found = false;
+    const FactorEstimate taylor = rules.exchangeArea(0, 1, 0.0, 0.5, found);  // a loose target: order 0+ is taken
+    REQUIRE(found);
+    REQUIRE(taylor.evaluations == 1);
+    const double exact = polygonExchangeArea(patches[0].region, patches[1].region, 1e-14).value;
+    const double centroid_error = std::abs(rules.centroidValue(0, 1) - exact);
+    const double taylor_error = std::abs(taylor.value - exact);
+    INFO("h " << h << ": centroid error " << centroid_error / exact << ", Taylor error " << taylor_error / exact
+              << " (relative), estimate " << taylor.error / exact);
+    CHECK(taylor_error <= 0.05 * centroid_error);
+    CHECK(taylor_error <= taylor.error);  // the reported error covers it
+    if (previous > 0) CHECK(previous / taylor_error > 10.0);
+    previous = taylor_error;
+  }
+}
+
 TEST_CASE("exact method with relative targets: cell rows sum to the room's closed forms") {
   const int k = 8;
   const Scene s = cellRoom(k);

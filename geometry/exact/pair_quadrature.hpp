@@ -5,12 +5,18 @@
 // is smooth when the patches are small against their distance, so a product rule of a few
 // points on each side gets it to the pair's target far more cheaply than the contour
 // integral. A ladder of rules, each checked against the one below it:
-//   order 0  centroid to centroid (View3D's 1AI);
+//   order 0  centroid to centroid (View3D's 1AI), I_0;
+//   order 0+ I_0 plus its second-order Taylor term T = A_P A_Q ½ tr(H (M_P + M_Q)), H the
+//            kernel's Hessian at the centroids' offset and M the patches' second moments
+//            about their centroids: one kernel value and a 3 × 3 contraction;
 //   order 1  degree 3: 2 × 2 Gauss on a parallelogram, the 3-point rule on fan triangles;
 //   order 2  degree 5 (4 on triangles): 3 × 3 Gauss, Dunavant's 6-point rule.
-// Order k is accepted when |I_k − I_(k−1)| is within the target, and that difference is
-// the error reported: it measures the lower order's error, of which the accepted one's is a
-// small fraction (the rules converge as (size/distance)^2 and ^4). Pairs too near for the
+// Order 0+ is accepted when |T| + 8 ρ² |I_0| (ρ: the patches' spread against their distance
+// squared, the bound of the next term) is within the target, order k ≥ 1 when |I_k − I_(k−1)| is,
+// and that quantity is the error reported: it measures the order below's error, of which
+// the accepted one's is a small fraction (the centroid value errs as (size/distance)², order
+// 0+ and order 1 as ⁴, order 2 as ⁶). Order 0+ takes the pairs order 1 would have (|T| and
+// |I_1 − I_0| agree to leading order) at a twentieth of the cost. Pairs too near for the
 // ladder (ratio of radii to distance ≥ kNearRatio) or of patches of many pieces are left to
 // the contour integral.
 #include "geometry/exact/patches.hpp"
@@ -48,10 +54,16 @@ class PatchRules {
     std::vector<int> start;          // per patch, its first point; start[n] = total
   };
   double product(const Points& rule, size_t p, size_t q) const;
+  double secondOrderTerm(size_t p, size_t q) const;  // the centroid value's Taylor term, m²
   void addRules(const Patch& patch);
 
   std::vector<Vec3> centroid_, normal_;
   std::vector<double> area_, radius_;
+  struct Spread {  // second moment about the centroid per unit area, m² (symmetric: 6 terms)
+    double xx = 0, yy = 0, zz = 0, xy = 0, xz = 0, yz = 0;
+    double trace() const { return xx + yy + zz; }
+  };
+  std::vector<Spread> spread_;
   std::vector<char> usable_;
   Points order1_, order2_;
 };
