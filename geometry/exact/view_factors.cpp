@@ -67,13 +67,14 @@ struct ExactScene {
 // Predicted cost of a pair, ns (integers, so that sums do not depend on the thread split):
 // measured on bench_exact_view_factors' 1,600-node satellite, about 2 µs an unoccluded
 // pair by the contour integral and 0.1 ms an occluded one (430 visibility points of a few
-// blockers each); a pair of a free cluster pair about 0.15 µs (mostly the order-1 rule).
+// blockers each); a pair of a free cluster pair about 0.1 µs (order 0+ and its value's
+// store: 1.2–1.9 s of CPU for 15.7 M pairs on the 6,144-node room; 0.15 µs with order 1).
 // Every pair with a value costs about 0.15 µs more of wall time after the integrals (its
 // credit to F's compressed rows, the reciprocity/closure correction: 2.0–2.6 s for 15.7 M
 // pairs on the 6,144-node room, session 20; 0.3 µs before the correction lost its passes).
 constexpr double kStoredPairSeconds = 0.15e-6;
 std::int64_t pairNanoseconds(PairKind kind, size_t blockers) {
-  if (kind == PairKind::Free) return 150;
+  if (kind == PairKind::Free) return 100;
   if (kind == PairKind::Unoccluded) return 2000;
   if (kind == PairKind::Culled || kind == PairKind::Hidden) return 0;
   return 100000 + 25000 * static_cast<std::int64_t>(blockers);
