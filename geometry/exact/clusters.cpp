@@ -71,10 +71,22 @@ ClusterPair classify(const OccluderIndex& index, const Outline& a, const Outline
   return blockers.empty() ? ClusterPair::Free : ClusterPair::Mixed;
 }
 
+// Whether the caller keeps any pair of a patch of one cluster with a patch of the other (an
+// inactive side, node −1, is always kept: as the exact method's filter).
+bool anyKept(const std::vector<Patch>& patches, const std::vector<int>& a, const std::vector<int>& b,
+             const std::function<bool(int, int)>& node_pairs) {
+  for (int p : a)
+    for (int q : b) {
+      const int i = patches[size_t(p)].node, j = patches[size_t(q)].node;
+      if (i < 0 || j < 0 || node_pairs(i, j)) return true;
+    }
+  return false;
+}
+
 }  // namespace
 
 PatchClusters::PatchClusters(const std::vector<Patch>& patches, const OccluderIndex& index, double tol,
-                             int threads) {
+                             int threads, const std::function<bool(int, int)>& node_pairs) {
   // Clusters of about √n / 4 patches (at least 16): the table of cluster pairs stays near
   // n / 16 entries while most pairs of a flat, finely meshed face share one.
   const size_t size = std::max<size_t>(16, static_cast<size_t>(std::sqrt(double(patches.size())) / 4));
@@ -117,7 +129,9 @@ PatchClusters::PatchClusters(const std::vector<Patch>& patches, const OccluderIn
 #endif
     for (size_t a = 0; a < count; ++a)
       for (size_t b = a + 1; b < count; ++b) {
-        const ClusterPair kind = outlines[a].points.size() < 3 || outlines[b].points.size() < 3
+        const ClusterPair kind = node_pairs && !anyKept(patches, members_[a], members_[b], node_pairs)
+                                     ? ClusterPair::Culled
+                                 : outlines[a].points.size() < 3 || outlines[b].points.size() < 3
                                      ? ClusterPair::Mixed
                                      : classify(index, outlines[a], outlines[b], tol, candidates, blockers);
         table_[a * count + b] = table_[b * count + a] = kind;

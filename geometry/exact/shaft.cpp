@@ -130,11 +130,9 @@ void pairBlockers(const OccluderIndex& index, const Patch& p, const std::vector<
   if (candidates.empty()) return;
   std::vector<Vec3> all = pp;
   all.insert(all.end(), qq.begin(), qq.end());
-  std::vector<HalfSpace> hull;
-  if (pp.size() * qq.size() <= kMaxHullCombinations) {
-    hullPlanes(p_pieces, qq, all, tol, hull);
-    hullPlanes(q_pieces, pp, all, tol, hull);
-  }
+  // The plane tests first: the hull's planes cost |P| |Q| (|P| + |Q|) products, and where
+  // every candidate lies behind a patch or beside both (a cluster pair of a flat bus face
+  // and a wing: most of them), they are not needed.
   for (int id : candidates) {
     const Occluder& o = index.occluders()[static_cast<size_t>(id)];
     // Behind or in either patch's plane: no segment between them gets there.
@@ -142,14 +140,18 @@ void pairBlockers(const OccluderIndex& index, const Patch& p, const std::vector<
     if (allOutside(o.polygon, -q.region.normal, -q.offset, tol)) continue;
     // P and Q on one side of the occluder's plane: no segment crosses it.
     if (allOutside(all, o.normal, o.offset, tol) || allOutside(all, -o.normal, -o.offset, tol)) continue;
-    bool outside_hull = false;
-    for (const HalfSpace& h : hull)
-      if (allOutside(o.polygon, h.m, h.c, tol)) {
-        outside_hull = true;
-        break;
-      }
-    if (!outside_hull) blockers.push_back(id);
+    blockers.push_back(id);
   }
+  if (blockers.empty() || pp.size() * qq.size() > kMaxHullCombinations) return;
+  std::vector<HalfSpace> hull;
+  hullPlanes(p_pieces, qq, all, tol, hull);
+  hullPlanes(q_pieces, pp, all, tol, hull);
+  const auto outside_hull = [&](int id) {
+    for (const HalfSpace& h : hull)
+      if (allOutside(index.occluders()[static_cast<size_t>(id)].polygon, h.m, h.c, tol)) return true;
+    return false;
+  };
+  blockers.erase(std::remove_if(blockers.begin(), blockers.end(), outside_hull), blockers.end());
 }
 
 namespace {

@@ -26,12 +26,13 @@ enum class PairKind { Culled, Hidden, Unoccluded, Occluded, Sampled, Free };
 // What every thread reads: patches, occluders, their clusters and point rules, and each
 // patch's share of its node's area.
 struct ExactScene {
-  ExactScene(const Scene& scene, int threads)
+  // opt.node_pairs spares the clusters' classification the cluster pairs it leaves out whole.
+  ExactScene(const Scene& scene, int threads, const ExactOptions& opt)
       : patches(buildPatches(scene)),
         index(buildOccluders(scene)),
         tol(1e-9 * std::max(scene.extent(), 1e-300)),
         rules(patches),
-        clusters(patches, index, tol, threads) {
+        clusters(patches, index, tol, threads, opt.node_pairs) {
     for (const Node& node : scene.nodes()) node_area.push_back(node.area_m2);
     for (const Patch& p : patches) {
       points.push_back(pointsOf(p));
@@ -364,7 +365,7 @@ ExactResult exactViewFactors(const Scene& scene, const ExactOptions& opt) {
 #else
   const int threads = 1;
 #endif
-  ExactScene shared(scene, threads);
+  ExactScene shared(scene, threads, opt);
   const size_t n = scene.nodes().size();
   ExactResult res;
   res.sampled_rows = shared.presample(n, opt.max_patches);
