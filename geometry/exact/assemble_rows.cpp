@@ -20,13 +20,11 @@ std::int64_t mergeRow(RowSparse& f, RowSparse& e, std::int64_t s, std::int64_t m
   int* cols = f.innerIndexPtr() + s;
   double *fs = f.valuePtr() + s, *es = e.valuePtr() + s;
   // Most rows arrive in order already, without repeats (one patch a node: the values of the
-  // patches before it, then its own, ascending): left as they are, σ's columns copied.
+  // patches before it, then its own, ascending): left as they are (σ's columns were written
+  // beside F's).
   bool in_order = true;
   for (std::int64_t k = 1; k < m && in_order; ++k) in_order = cols[k] > cols[k - 1];
-  if (in_order) {
-    std::copy(cols, cols + m, e.innerIndexPtr() + s);
-    return m;
-  }
+  if (in_order) return m;
   order.resize(size_t(m));
   std::iota(order.begin(), order.end(), 0);
   const auto by_column = [&](int a, int b) { return cols[a] < cols[b]; };
@@ -184,7 +182,7 @@ void creditValues(const std::vector<int>& patch_node, std::vector<std::vector<Pa
     if (i < 0 || sampled_rows[size_t(i)]) return;
     if (j < 0) return lost.push_back({i, g / area[i], err / area[i]});
     const auto at = row_fill[i]++;
-    f.innerIndexPtr()[at] = j;
+    f.innerIndexPtr()[at] = e.innerIndexPtr()[at] = j;
     f.valuePtr()[at] = g / area[i];
     e.valuePtr()[at] = err / area[i];
   };
