@@ -68,11 +68,9 @@ struct ExactScene {
 // Predicted cost of a pair, ns (integers, so that sums do not depend on the thread split):
 // measured on bench_exact_view_factors' 1,600-node satellite, about 2 µs an unoccluded
 // pair by the contour integral and 0.1 ms an occluded one (430 visibility points of a few
-// blockers each); a pair of a free cluster pair about 0.1 µs (order 0+ and its value's
-// store: 1.2–1.9 s of CPU for 15.7 M pairs on the 6,144-node room; 0.15 µs with order 1).
-// Every pair with a value costs about 0.15 µs more of wall time after the integrals (its
-// credit to F's compressed rows, the reciprocity/closure correction: 2.0–2.6 s for 15.7 M
-// pairs on the 6,144-node room, session 20; 0.3 µs before the correction lost its passes).
+// blockers each); a free pair 0.1 µs (order 0+ and its value's store: 1.2–1.9 s of CPU for
+// the 15.7 M of the 6,144-node room). Every pair with a value costs 0.15 µs more of wall time
+// after the integrals (its credit to F's rows, the reciprocity/closure correction).
 constexpr double kStoredPairSeconds = 0.15e-6;
 std::int64_t pairNanoseconds(PairKind kind, size_t blockers) {
   if (kind == PairKind::Free) return 100;
@@ -134,12 +132,14 @@ class PairSolver {
     by_quadrature = false;
     const bool whole = !clip_p_ && !clip_q_;
     long long evaluations = 0;
-    double scale = whole ? s_.rules.centroidValue(a_, b_) : 0.0;  // a value for the relative target
+    double scale = 0.0;  // a value for the relative target (the ladder's best, else the centroids')
     if (kind == PairKind::Free || (kind == PairKind::Unoccluded && whole)) {
       const FactorEstimate est = s_.rules.exchangeArea(a_, b_, tol, opt_.relative_tolerance, by_quadrature);
       if (by_quadrature) return est;
       evaluations = est.evaluations;
       scale = est.value;
+    } else if (whole) {
+      scale = s_.rules.centroidValue(a_, b_);
     }
     const double target = std::max(tol, opt_.relative_tolerance * scale);
     FactorEstimate out;
