@@ -89,6 +89,26 @@ void parallelFor(long long count, const Body& body, unsigned threads = 0) {
   if (first) std::rethrow_exception(first);
 }
 
+/// S X for a symmetric sparse S held column-major and compressed, on the cores: S's column
+/// arrays read as its rows (S = Sᵀ), in fixed blocks of `rows_per_block` rows, each an Eigen
+/// product of its own (every y_ij by one task: bit-identical for any thread count). Eigen's
+/// product of a sparse and a dense matrix runs on one thread. With X row-major, Eigen adds
+/// whole rows of X (vectorised over its columns) instead of one column at a time: 3× faster
+/// for the few hundred columns of an articulation's range finder.
+template <class Dense>
+Eigen::MatrixXd symmetricTimes(const Eigen::SparseMatrix<double>& s, const Dense& x, Eigen::Index rows_per_block) {
+  const Eigen::Index n = s.rows();
+  const Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor>> rows(n, n, s.nonZeros(), s.outerIndexPtr(),
+                                                                            s.innerIndexPtr(), s.valuePtr());
+  Eigen::MatrixXd y(n, x.cols());
+  const Eigen::Index blocks = (n + rows_per_block - 1) / rows_per_block;
+  parallelFor(blocks, [&](long long b) {
+    const Eigen::Index first = b * rows_per_block, count = std::min(rows_per_block, n - first);
+    y.middleRows(first, count).noalias() = rows.middleRows(first, count) * x;
+  });
+  return y;
+}
+
 /// The rows of a network's n × n matrices shared out over processes (MPI ranks,
 /// docs/mpi.md): row i is held by one process (holder(i)), and no process holds another's rows
 /// (a matrix keeps its n × n shape, the rows it does not hold empty). Vectors of length n,

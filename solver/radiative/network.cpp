@@ -288,19 +288,9 @@ const Eigen::MatrixXd& Network::heldDenseConductance() const {
 
 Eigen::MatrixXd Network::applyConductance(const Eigen::Ref<const Eigen::MatrixXd>& x) const {
   if (!sparse_) return g_dense_ * x;
-  // On the cores by fixed blocks of rows (each y_ij by one task: bit-identical for any thread
-  // count), G's column-major arrays read as its rows (G = Gᵀ): the band solves' and probes'
-  // products with n × P blocks, single-threaded in Eigen.
+  // The band solves' and probes' products with n × P blocks, on the cores by blocks of rows.
   constexpr Eigen::Index kRowsPerBlock = 4096;
-  const Eigen::Index n = g_sparse_.rows();
-  const Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor>> rows(
-      n, n, g_sparse_.nonZeros(), g_sparse_.outerIndexPtr(), g_sparse_.innerIndexPtr(), g_sparse_.valuePtr());
-  Eigen::MatrixXd y(n, x.cols());
-  const Eigen::Index blocks = (n + kRowsPerBlock - 1) / kRowsPerBlock;
-  parallelFor(blocks, [&](long long b) {
-    const Eigen::Index first = b * kRowsPerBlock, count = std::min(kRowsPerBlock, n - first);
-    y.middleRows(first, count).noalias() = rows.middleRows(first, count) * x;
-  }, blocks > 1 ? 0 : 1);
+  Eigen::MatrixXd y = symmetricTimes(g_sparse_, x, kRowsPerBlock);
   share_.joinRows(y.data(), static_cast<size_t>(y.size()));  // rows not held are +0.0 here
   return y;
 }
