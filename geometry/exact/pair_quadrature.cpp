@@ -11,11 +11,12 @@ namespace {
 // pairs would cost more here than there (a merged patch of many triangles).
 constexpr int kMaxPoints = 36;
 
-// The next term of order 0+, bounded by kFourthOrder ρ² |I_0| with ρ = (tr M_P + tr M_Q) / r²
-// the patches' spread against their distance: added to |T| so that a Taylor term that
-// cancels (|T| ≪ its parts) is not taken for a small error. The radial 1/r⁴ expansion gives
-// 35 ⟨x_r⁴⟩ / r⁴, about 7 ρ² on uniform patches; on the 8 × 8-cell room against the contour
-// integral the largest ratio is 6.7 (tests/test_pair_quadrature.cpp).
+// The next term of order 0+, taken as kFourthOrder ρ² |I_0| with ρ = (tr M_P + tr M_Q) / r²
+// the patches' spread against their distance (the kernel's fourth derivatives over its value
+// go as r⁻⁴, the patches' fourth moments as their second squared): added to |T| so that a
+// Taylor term that cancels (|T| ≪ its parts) is not taken for a small error. The constant is
+// measured, not derived: on the 8 × 8-cell room against the contour integral the largest
+// fourth-order error is 6.7 ρ² |I_0| (tests/test_pair_quadrature.cpp checks the coverage).
 constexpr double kFourthOrder = 8.0;
 
 // Gauss–Legendre on [0, 1].
