@@ -79,8 +79,9 @@ void Articulated::warnCollisions(const Configuration& k, std::ostream& progress)
 // row faces away from what turns, so its entries stay the base's, and so do the other pairs
 // of a turning row), with auto's plan: a row whose pairs the turn made dearer than its rays
 // (a wing turned to face the bus: 30,000 occluded pairs, 1.4 s) has its rays traced again in
-// this configuration instead, as the base's ray rows do where a turn can redirect them. The
-// ray counts go into `rays`.
+// this configuration instead, as the base's ray rows do where a turn can redirect them (the
+// first time, its rays are cast in the scene as written into the plan). The ray counts go
+// into `rays`.
 geometry::ViewFactorEstimate Articulated::turnedRows(const geometry::Scene& scene, const geometry::RayCaster& caster,
                                                      const std::vector<Eigen::Isometry3d>& motion,
                                                      Eigen::VectorXd& rays) {
@@ -103,6 +104,10 @@ geometry::ViewFactorEstimate Articulated::turnedRows(const geometry::Scene& scen
     from = &estimate;
   }
   if (std::find(recast.begin(), recast.end(), 1) == recast.end()) return *from;
+  std::vector<char> unplanned(n, 0);  // integrated rows this turn sends to rays the first time
+  for (size_t i = 0; i < n; ++i) unplanned[i] = recast[i] && base_.plan.per_replica[i] == 0;
+  if (std::find(unplanned.begin(), unplanned.end(), 1) != unplanned.end())
+    geometry::addPlannedRows(*configs_.front()->caster, base_.may_change, unplanned, base_.plan);
   const geometry::ViewFactorResult vf = geometry::recastRows(caster, base_.plan, base_.may_change, motion, recast);
   rays_ += vf.total_rays;
   for (size_t i = 0; i < n; ++i)

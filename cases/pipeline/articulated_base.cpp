@@ -4,6 +4,7 @@
 #include "cases/pipeline/articulated.hpp"
 
 #include "cases/config/error_budget.hpp"
+#include "cases/config/work_estimate.hpp"
 #include "cases/pipeline/view_factor_rows.hpp"
 #include "geometry/exact/view_factors.hpp"
 #include "geometry/scene/swept_volume.hpp"
@@ -49,6 +50,10 @@ std::vector<char> turningRows(const GeometryCase& c) {
 }
 
 namespace {
+
+// Rays drawn of an integrated row to find the share a turn can redirect (its binomial σ at
+// most 0.016 at 1,024: enough to weigh costs that differ tenfold).
+constexpr std::int64_t kRedirectPilotRays = 1024;
 
 // Every ray of a recast row is tested against each cylinder (a hot path): beyond this many
 // geometry entries (a CAD assembly of hundreds of parts) they share one cylinder.
@@ -145,10 +150,13 @@ void layOutTurningBoxes(const GeometryCase& c, ArticulatedBase& base) {
 
 // Which of the run's integrated turning rows to integrate again in every configuration: those
 // whose changing pairs (integrated once here, as a configuration would) auto's plan predicts
-// to cost no more than tracing again the row's redirectable rays (`plan`, cast for every
-// turning row); `method: exact` integrates them all. The others go to rays.
+// to cost no more than tracing again the row's redirectable rays: the rays auto predicts for a
+// row (rowRays) times the share of them a turn can redirect, from the row's first rays drawn,
+// not traced (casting every turning row to its target to count them was 2.4 s of the
+// 2,006-node wings' 16 s, for rows whose pairs cost 10 to 1,000 times less than the rays).
+// `method: exact` integrates them all. The others go to rays.
 std::vector<char> rowsToIntegrate(const GeometryCase& c, const ArticulatedBase& base,
-                                  const std::vector<char>& sampled_rows) {
+                                  const std::vector<char>& sampled_rows, const geometry::ViewFactorOptions& ray_options) {
   const size_t n = base.rows.size();
   std::vector<char> exact(n, 0);
   if (sampled_rows.size() != n) return exact;
@@ -158,9 +166,11 @@ std::vector<char> rowsToIntegrate(const GeometryCase& c, const ArticulatedBase& 
   opt.rows = exact;
   opt.node_pairs = [&base](int i, int j) { return base.changesWithTurn(i, j); };
   const geometry::ExactResult ex = geometry::exactViewFactors(c.scene, opt);
+  const std::vector<double> share = geometry::redirectableShares(c.scene, ray_options, base.may_change, exact,
+                                                                 kRedirectPilotRays / ray_options.replicas);
   for (size_t i = 0; i < n; ++i) {
     const double pairs_ns = ex.row_nanoseconds.size() == n ? double(ex.row_nanoseconds[i]) : 0.0;
-    const double rays_ns = double(base.plan.traced[i]) * geometry::kSecondsPerRay * 1e9;
+    const double rays_ns = share[i] * rowRays(c) * geometry::kSecondsPerRay * 1e9;
     exact[i] = exact[i] && !ex.sampled_rows[i] && pairs_ns <= rays_ns;
   }
   return exact;
@@ -178,20 +188,19 @@ ArticulatedBase articulatedBase(const GeometryCase& c, const geometry::RayCaster
     if (base.rows[i]) base.changed.push_back(static_cast<int>(i));
   base.may_change = redirectableRays(c);
   layOutTurningBoxes(c, base);
-  // Every turning row cast as rays once, with what a turn can redirect: their cost in a
-  // configuration, against which an integrated row's pairs are weighed.
+  // The rows left to rays cast once, with what a turn can redirect (the plan every configuration
+  // traces again). An integrated row is added to the plan by the first configuration whose turn
+  // makes its pairs dearer than its rays (auto's plan, again: Articulated::turnedRows).
   geometry::ViewFactorOptions opt = turningRayOptions(c);
-  opt.cast_rows = base.rows;
-  const geometry::ViewFactorResult vf = geometry::castPlannedRows(caster, opt, base.may_change, base.plan);
-  base.exact_rows = rowsToIntegrate(c, base, sampled_rows);
+  base.exact_rows = rowsToIntegrate(c, base, sampled_rows, opt);
   base.ray_rows.assign(n, 0);
+  for (size_t i = 0; i < n; ++i) base.ray_rows[i] = base.rows[i] && !base.exact_rows[i];
+  opt.cast_rows = base.ray_rows;
+  const geometry::ViewFactorResult vf = geometry::castPlannedRows(caster, opt, base.may_change, base.plan);
   std::int64_t traced = 0;
   int exact_count = 0;
   for (size_t i = 0; i < n; ++i) {
-    // An integrated row keeps its rays in the plan: a configuration whose turn makes its pairs
-    // dearer than them (auto's plan, again) traces them again instead.
     exact_count += base.exact_rows[i];
-    base.ray_rows[i] = base.rows[i] && !base.exact_rows[i];
     if (!base.ray_rows[i]) continue;
     rays[static_cast<Eigen::Index>(i)] = double(vf.rays[i]);
     traced += base.plan.traced[i];

@@ -162,6 +162,52 @@ ViewFactorResult castPlannedRows(const RayCaster& caster, const ViewFactorOption
   return res;
 }
 
+void addPlannedRows(const RayCaster& caster, const RayMayChange& may_change, const std::vector<char>& rows,
+                    RecastPlan& plan) {
+  const size_t n = caster.scene().nodes().size();
+  if (rows.size() != n || plan.per_replica.size() != n) throw std::invalid_argument("planned rows: one entry per node");
+  ViewFactorOptions opt = plan.options;
+  opt.cast_rows = rows;
+  RecastPlan more;
+  castPlannedRows(caster, opt, may_change, more);
+  std::int64_t held = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (rows[i]) {
+      plan.per_replica[i] = more.per_replica[i];
+      plan.kept[i] = std::move(more.kept[i]);
+      plan.traced[i] = more.traced[i];
+      plan.rays[i] = std::move(more.rays[i]);
+      if (!plan.options.cast_rows.empty()) plan.options.cast_rows[i] = 1;
+    }
+    for (const auto& replica : plan.rays[i]) held += static_cast<std::int64_t>(replica.size());
+  }
+  // Every row's redirectable rays within the memory they may take, or none.
+  plan.rays_kept = plan.rays_kept && more.rays_kept && double(held) * sizeof(RecastPlan::Ray) <= kMaxKeptRayBytes;
+  if (!plan.rays_kept) plan.rays.assign(n, {});
+}
+
+std::vector<double> redirectableShares(const Scene& scene, const ViewFactorOptions& opt, const RayMayChange& may_change,
+                                       const std::vector<char>& rows, std::int64_t per_replica) {
+  const int n = static_cast<int>(scene.nodes().size());
+  std::vector<double> share(static_cast<size_t>(n), 0.0);
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 16)
+#endif
+  for (int i = 0; i < n; ++i) {
+    if (!rows[static_cast<size_t>(i)]) continue;
+    const NodeSampler sampler(scene, i);
+    Streams streams(opt, i);
+    std::int64_t redirectable = 0;
+    for (int r = 0; r < opt.replicas; ++r)
+      for (std::int64_t k = 0; k < per_replica; ++k) {
+        const NodeSampler::Ray ray = sampler.map(streams.draw(r));
+        redirectable += may_change(i, ray.point, ray.direction);
+      }
+    share[static_cast<size_t>(i)] = double(redirectable) / double(std::max<std::int64_t>(1, per_replica * opt.replicas));
+  }
+  return share;
+}
+
 ViewFactorResult recastRows(const RayCaster& moved, const RecastPlan& plan, const RayMayChange& may_change,
                             const std::vector<Eigen::Isometry3d>& node_motion, const std::vector<char>& only) {
   const auto t0 = std::chrono::steady_clock::now();

@@ -47,6 +47,19 @@ inline constexpr double kMaxKeptRayBytes = 2e9;
 ViewFactorResult castPlannedRows(const RayCaster& caster, const ViewFactorOptions& opt, const RayMayChange& may_change,
                                  RecastPlan& plan);
 
+/// Casts rows `rows` (in `caster`'s scene, the arrangement as written) into a plan made by
+/// castPlannedRows, with its options: the same rays and counts as if they had been cast with
+/// it. Rows it already holds are cast again. (A plan first cast for the rows known to need
+/// it, and grown when a moved arrangement asks for another.)
+void addPlannedRows(const RayCaster& caster, const RayMayChange& may_change, const std::vector<char>& rows,
+                    RecastPlan& plan);
+
+/// Per row marked in `rows` (others 0): the share of its first `per_replica` rays of each
+/// replica (the plan's own first rays, with `opt`'s seed and replicas) that `may_change`
+/// says a motion can redirect. Draws and maps the rays, traces none.
+std::vector<double> redirectableShares(const Scene& scene, const ViewFactorOptions& opt, const RayMayChange& may_change,
+                                       const std::vector<char>& rows, std::int64_t per_replica);
+
 /// The plan's rows in a moved arrangement of the same scene: the same rays, the kept counts
 /// where no motion can redirect them, the rest traced in `moved`.
 /// @param node_motion  per node, the rigid motion of its part (empty, or identity: fixed)
