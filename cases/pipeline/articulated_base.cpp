@@ -167,7 +167,7 @@ std::vector<char> rowsToIntegrate(const GeometryCase& c, const ArticulatedBase& 
   opt.node_pairs = [&base](int i, int j) { return base.changesWithTurn(i, j); };
   const geometry::ExactResult ex = geometry::exactViewFactors(c.scene, opt);
   const std::vector<double> share = geometry::redirectableShares(c.scene, ray_options, base.may_change, exact,
-                                                                 kRedirectPilotRays / ray_options.replicas);
+                                                                 std::max(1, int(kRedirectPilotRays / ray_options.replicas)));
   for (size_t i = 0; i < n; ++i) {
     const double pairs_ns = ex.row_nanoseconds.size() == n ? double(ex.row_nanoseconds[i]) : 0.0;
     const double rays_ns = share[i] * rowRays(c) * geometry::kSecondsPerRay * 1e9;
