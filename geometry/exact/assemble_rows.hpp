@@ -4,16 +4,84 @@
 #include "geometry/exact/pair_values.hpp"
 #include "geometry/reciprocity.hpp"
 
+#include <cstdint>
 #include <vector>
 
 namespace radnet::geometry {
 
-/// Each pair value is credited to both its rows (A_P F_PQ / A_i and / A_j) unless the row is
-/// in `sampled_rows` (left empty: rays fill it); a pair with an inactive side (node −1)
-/// adds to F_blocked. F_space = max(0, 1 − row sum − F_blocked), its error the row's summed
-/// errors. `values` is emptied as it is read (it can be as large as F).
-/// @param patch_node  node of each patch (−1: an inactive side)
-/// @param area        node areas, m²
+/// F's and σ_F's compressed rows laid out before the pairs are integrated, so that each pair
+/// writes its two entries into place as it is computed (no list of pair values beside F: on
+/// the 6,144-node room those were 0.25 GB of memory touched for the first time, held while
+/// F and σ_F filled). The pairs are cut into chunks, runs of emitting patches in order;
+/// every pair of a chunk takes a slot in each row it credits, chunk c's slots of row i after
+/// those of chunks before it and in the order the chunk visits its pairs. So a row holds its
+/// entries in the order one pass over every pair gives, whichever thread integrates which
+/// chunk, and F is the same to the last bit for any threads and any chunking.
+///
+/// Each pair is credited to both its rows (A_P F_PQ / A_i and / A_j) unless the row is in
+/// `sampled_rows` (left empty: rays fill it); a pair with an inactive side (node −1) adds to
+/// F_blocked instead. finish() drops the slots of pairs that had no value, sums repeated
+/// columns (a node of several patches) in slot order, and sets F_space = max(0, 1 − row sum
+/// − F_blocked), its error the row's summed errors.
+class PairRowWriter {
+ public:
+  /// @param area          node areas, m²
+  /// @param chunk_count   the pairs' chunks
+  PairRowWriter(const Eigen::VectorXd& area, const std::vector<char>& sampled_rows, size_t chunk_count);
+
+  /// Counting, before layout(): a pair between nodes i and j (−1: inactive) in chunk c.
+  void count(size_t c, int i, int j) {
+    if (credits(i, j)) ++fill_[c * n_ + size_t(i)];
+    if (credits(j, i)) ++fill_[c * n_ + size_t(j)];
+  }
+  /// F's and σ's rows sized to the slots counted, in `out`.
+  void layout(ViewFactorEstimate& out);
+  /// Chunk c's next pair: its exchange area A_P F_PQ and the estimate's error, m². The error
+  /// is kept to float's seven digits, as a PairValue keeps it (so values gathered from
+  /// processes give the same σ as pairs written in place).
+  void credit(size_t c, int i, int j, double exchange_area_m2, double error_m2) {
+    const double error = static_cast<float>(error_m2);
+    creditRow(c, i, j, exchange_area_m2, error);
+    creditRow(c, j, i, exchange_area_m2, error);
+  }
+  /// Chunk c's next pair had no value (culled, hidden, left to rays, or zero): its slots stay empty.
+  void skip(size_t c, int i, int j) {
+    if (credits(i, j)) f_->innerIndexPtr()[fill_[c * n_ + size_t(i)]++] = kEmpty;
+    if (credits(j, i)) f_->innerIndexPtr()[fill_[c * n_ + size_t(j)]++] = kEmpty;  // σ's index follows F's in finish()
+  }
+  /// Empty slots dropped, repeated columns summed, F_blocked and F_space set.
+  void finish(int threads);
+
+ /// The column of a slot left empty until finish().
+  static constexpr int kEmpty = -1;
+
+ private:
+  bool credits(int i, int j) const { return i >= 0 && j >= 0 && !sampled_rows_[size_t(i)]; }
+  void creditRow(size_t c, int i, int j, double g, double err) {
+    if (i < 0 || sampled_rows_[size_t(i)]) return;
+    if (j < 0) return blocked_[c].push_back({i, g / area_[i], err / area_[i]});
+    const std::int64_t at = fill_[c * n_ + size_t(i)]++;
+    f_->innerIndexPtr()[at] = e_->innerIndexPtr()[at] = j;
+    f_->valuePtr()[at] = g / area_[i];
+    e_->valuePtr()[at] = err / area_[i];
+  }
+  struct Blocked {
+    int row;
+    double share, error;
+  };
+  const Eigen::VectorXd& area_;
+  const std::vector<char>& sampled_rows_;
+  size_t n_;
+  std::vector<std::int64_t> fill_;  // chunk c's count, then its cursor, of row i at c × n + i
+  std::vector<std::int64_t> start_, length_;
+  std::vector<std::vector<Blocked>> blocked_;  // per chunk, added in chunk order
+  ViewFactorEstimate* out_ = nullptr;
+  Eigen::SparseMatrix<double, Eigen::RowMajor>*f_ = nullptr, *e_ = nullptr;
+};
+
+/// Pair values integrated apart (the processes' parts gathered, ExactOptions::parts)
+/// credited through a PairRowWriter; `values` is emptied as it is read (it can be as large
+/// as F). @param patch_node  node of each patch (−1: an inactive side)
 void assemblePairRows(const std::vector<int>& patch_node, std::vector<std::vector<PairValue>>& values,
                       const Eigen::VectorXd& area, const std::vector<char>& sampled_rows, int threads,
                       ViewFactorEstimate& out);
