@@ -4,6 +4,7 @@
 // polygons). Tolerances: the method's own error estimate where it is the claim under
 // test, else the stated requested tolerance.
 #include "geometry/exact/view_factors.hpp"
+#include "geometry/exact/assemble_rows.hpp"
 #include "geometry/exact/occluded_factor.hpp"
 #include "geometry/exact/patches.hpp"
 #include "geometry/exact/polygon_factor.hpp"
@@ -185,6 +186,21 @@ Scene facingWalls() {
   return s;
 }
 
+// The entry whose error estimate is largest against max(tolerance, relative × F_ij), the
+// first of equals in row order: a plain scan of the result's F and σ.
+ErrorAgainstTarget worstAgainstTarget(const ExactResult& r, const ExactOptions& opt) {
+  ErrorAgainstTarget worst{0.0, opt.tolerance};
+  for (Eigen::Index i = 0; i < r.view_factors.outerSize(); ++i) {
+    Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator f(r.view_factors, i), e(r.standard_error, i);
+    for (; e; ++e, ++f) {
+      REQUIRE(f.col() == e.col());
+      const double target = std::max(opt.tolerance, opt.relative_tolerance * f.value());
+      if (e.value() / target > worst.error / worst.target) worst = {e.value(), target};
+    }
+  }
+  return worst;
+}
+
 }  // namespace
 
 TEST_CASE("exact method: rows credited in parallel chunks are the same bits for any thread count, and close") {
@@ -214,6 +230,27 @@ TEST_CASE("exact method: rows credited in parallel chunks are the same bits for 
   const double bound = a.standard_error.row(shell).sum() + a.blocked_error[shell];
   INFO("shell row " << row << ", its error estimates " << bound);
   CHECK(std::abs(row - 1.0) <= std::max(bound, 1e-9));
+  // The worst entry against its target, found as the rows are finished, is a scan's of the
+  // merged F and σ (node entries, summed over their patch pairs).
+  const ErrorAgainstTarget scanned = worstAgainstTarget(a, one);
+  CHECK(a.worst_error == scanned.error);
+  CHECK(a.worst_error_target == scanned.target);
+  CHECK(b.worst_error == a.worst_error);
+  CHECK(a.worst_error > 0);
+  CHECK(a.worst_error <= a.worst_error_target);  // every pair met its share of the target
+}
+
+TEST_CASE("exact method: an occluded pair held at depth 0 reports its error above its target") {
+  // The square blocker halfway: one occluded pair, its emitter quadrature unrefined, cannot
+  // reach 1e-9; the run says which entry and by how much (radnet warns from it).
+  ExactOptions shallow = ExactOptions::withTolerance(1e-9);
+  shallow.max_depth = 0;
+  const ExactResult r = exactViewFactors(occludedSquares(1), shallow);
+  REQUIRE(r.pairs_occluded == 1);
+  const ErrorAgainstTarget scanned = worstAgainstTarget(r, shallow);
+  CHECK(r.worst_error == scanned.error);
+  CHECK(r.worst_error_target == 1e-9);
+  CHECK(r.worst_error > 10 * r.worst_error_target);
 }
 
 TEST_CASE("auto: a patch whose pairs cost more than casting its row stops planning there (bounded on clutter)") {

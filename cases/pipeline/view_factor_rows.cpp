@@ -132,16 +132,7 @@ void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, Geomet
   }
   // The quadrature stops at max_depth: say so when an estimate stayed above its target
   // (the absolute tolerance, or the relative one times the entry).
-  double worst = 0.0, worst_target = opt.tolerance;
-  for (Eigen::Index i = 0; i < ex.standard_error.outerSize(); ++i) {
-    Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator f(ex.view_factors, i);
-    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator e(ex.standard_error, i); e; ++e) {
-      while (f && f.col() < e.col()) ++f;
-      const double value = (f && f.col() == e.col()) ? f.value() : 0.0;
-      const double target = std::max(opt.tolerance, opt.relative_tolerance * value);
-      if (e.value() / target > worst / worst_target) worst = e.value(), worst_target = target;
-    }
-  }
+  const double worst = ex.worst_error, worst_target = ex.worst_error_target;
   if (worst > worst_target * (1 + 1e-9))
     progress << "radnet: warning: exact view factors: an error estimate of " << worst << " exceeds its target "
              << worst_target << " (occluded pairs reached the refinement limit); /network/view_factor_stderr "

@@ -36,15 +36,21 @@ inline double rayFloorVariance(const Eigen::VectorXd& area, const Eigen::VectorX
   return std::pow(area[i] / std::max(1.0, rays[i]), 2);
 }
 
+// Every row's floor, rayFloorVariance(area, rays, i), formed once for combinedPair.
+inline Eigen::VectorXd rayFloorVariances(const Eigen::VectorXd& area, const Eigen::VectorXd& rays) {
+  Eigen::VectorXd floor(area.size());
+  for (Eigen::Index i = 0; i < area.size(); ++i) floor[i] = rayFloorVariance(area, rays, static_cast<int>(i));
+  return floor;
+}
+
 // Pair (i, j ≥ i) from its two directional estimates, x = A_i F_ij with variance (A_i σ_ij)²
-// floored at one ray's worth, combined by inverse variance; F and σ share one compressed
-// pattern, so an entry's σ sits at its index in F. k_ji < 0: F_ji is absent, and the other
-// side's zero counts with one ray's variance. Bit for bit whichever correction calls it.
-inline Pair combinedPair(const Eigen::VectorXd& area, const Eigen::VectorXd& rays, const double* value,
-                  const double* error, int i, int j, int k_ij, int k_ji) {
-  auto variance = [&](int row, int k) {
-    return std::max(std::pow(area[row] * error[k], 2), rayFloorVariance(area, rays, row));
-  };
+// floored at one ray's worth (`floor`, rayFloorVariances: a division less per side and pass),
+// combined by inverse variance; F and σ share one compressed pattern, so an entry's σ sits
+// at its index in F. k_ji < 0: F_ji is absent, and the other side's zero counts with one
+// ray's variance. Bit for bit whichever correction calls it.
+inline Pair combinedPair(const Eigen::VectorXd& area, const Eigen::VectorXd& floor, const double* value,
+                         const double* error, int i, int j, int k_ij, int k_ji) {
+  auto variance = [&](int row, int k) { return std::max(std::pow(area[row] * error[k], 2), floor[row]); };
   const double v = variance(i, k_ij);
   double num = area[i] * value[k_ij] / v, den = 1.0 / v;
   if (j != i) {
@@ -53,7 +59,7 @@ inline Pair combinedPair(const Eigen::VectorXd& area, const Eigen::VectorXd& ray
       num += area[j] * value[k_ji] / vj;
       den += 1.0 / vj;
     } else {
-      den += 1.0 / rayFloorVariance(area, rays, j);
+      den += 1.0 / floor[j];
     }
   }
   return {i, j, num / den, 1.0 / den};

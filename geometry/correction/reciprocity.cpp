@@ -23,12 +23,13 @@ std::vector<Pair> combinedPairs(const Eigen::VectorXd& area, const ViewFactorEst
   const int* inner = f.innerIndexPtr();
   const double* value = f.valuePtr();
   const double* error = sigma.valuePtr();
+  const Eigen::VectorXd floor = rayFloorVariances(area, rays);
   std::vector<Pair> pairs, one_sided;
   // At most one pair per upper entry: reserved (pages untouched until written), so the list
   // is never copied as it grows (15.7 M pairs on a 6,144-node room).
   pairs.reserve(static_cast<size_t>(f.nonZeros()) / 2 + static_cast<size_t>(n) + 1);
   auto lowerOnly = [&](int row, int k) {  // F_row,col (col < row) whose partner F_col,row is absent
-    const Pair p = combinedPair(area, rays, value, error, row, inner[k], k, -1);
+    const Pair p = combinedPair(area, floor, value, error, row, inner[k], k, -1);
     one_sided.push_back({inner[k], row, p.g_hat, p.var});
   };
   std::vector<int> cursor(outer, outer + n);  // each row's next lower entry not yet visited
@@ -43,7 +44,7 @@ std::vector<Pair> combinedPairs(const Eigen::VectorXd& area, const ViewFactorEst
         for (; c < outer[j + 1] && inner[c] < i; ++c) lowerOnly(j, c);
         k_ji = c < outer[j + 1] && inner[c] == i ? c++ : -1;
       }
-      pairs.push_back(combinedPair(area, rays, value, error, i, j, k, k_ji));
+      pairs.push_back(combinedPair(area, floor, value, error, i, j, k, k_ji));
     }
   }
   if (!one_sided.empty()) {  // sorted by (i, j) like the rest, then merged in

@@ -20,8 +20,8 @@ namespace {
 class PairsInPlace {
  public:
   PairsInPlace(const Eigen::VectorXd& area, const Eigen::VectorXd& rays, ViewFactorEstimate& est)
-      : area_(area), rays_(rays), f_(est.view_factors), error_(est.standard_error.valuePtr()),
-        n_(static_cast<int>(area.size())), upper_start_(static_cast<size_t>(n_)),
+      : area_(area), rays_(rays), floor_(rayFloorVariances(area, rays)), f_(est.view_factors),
+        error_(est.standard_error.valuePtr()), n_(static_cast<int>(area.size())), upper_start_(static_cast<size_t>(n_)),
         first_pair_(static_cast<size_t>(n_) + 1, 0) {
     const int* outer = f_.outerIndexPtr();
     const int* inner = f_.innerIndexPtr();
@@ -181,13 +181,14 @@ class PairsInPlace {
     }
     return true;
   }
-  Pair pair(int i, int j, int k, int k_ji) const { return combinedPair(area_, rays_, f_.valuePtr(), error_, i, j, k, k_ji); }
+  Pair pair(int i, int j, int k, int k_ji) const { return combinedPair(area_, floor_, f_.valuePtr(), error_, i, j, k, k_ji); }
   int rowAt(int block, int blocks) const {
     const size_t share = first_pair_.back() * size_t(block) / size_t(blocks);
     return static_cast<int>(std::lower_bound(first_pair_.begin(), first_pair_.end() - 1, share) - first_pair_.begin());
   }
 
   const Eigen::VectorXd &area_, &rays_;
+  Eigen::VectorXd floor_;  // per row, one ray's worth of variance
   RowSparse& f_;
   const double* error_;
   int n_;

@@ -93,20 +93,42 @@ void compact(RowSparse& m, const std::vector<std::int64_t>& start, const std::ve
 
 
 // What an integrated row leaves to space (1 − Σ F − blocked, its error the summed
-// estimates); sampled rows get theirs from the rays.
-void spaceTerms(const std::vector<char>& sampled_rows, ViewFactorEstimate& out) {
+// estimates; sampled rows get theirs from the rays), and the entry whose error estimate is
+// largest against its target max(tolerance, relative × F_ij), the first in row order of
+// equals (rows on all cores, each row's worst kept apart and compared in row order).
+ErrorAgainstTarget rowTerms(const std::vector<char>& sampled_rows, const ErrorTarget& target, int threads,
+                            ViewFactorEstimate& out) {
   const auto n = static_cast<Eigen::Index>(sampled_rows.size());
   out.space.resize(n);
   out.space_error.resize(n);
+  std::vector<ErrorAgainstTarget> worst(size_t(n), ErrorAgainstTarget{0.0, target.absolute});
+  const RowSparse &f = out.view_factors, &e = out.standard_error;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threads)
+#endif
   for (Eigen::Index k = 0; k < n; ++k) {
     if (sampled_rows[size_t(k)]) {
       out.space[k] = out.space_error[k] = 0.0;
       continue;
     }
-    const double row = out.view_factors.row(k).sum() + out.blocked[k];
+    double row = 0.0, row_error = 0.0;
+    ErrorAgainstTarget& mine = worst[size_t(k)];
+    for (auto s = f.outerIndexPtr()[k]; s < f.outerIndexPtr()[k + 1]; ++s) {
+      const double value = f.valuePtr()[s], error = e.valuePtr()[s];
+      row += value;
+      row_error += error;
+      const double entry_target = std::max(target.absolute, target.relative * value);
+      if (error / entry_target > mine.error / mine.target) mine = {error, entry_target};
+    }
+    row += out.blocked[k];
     out.space[k] = std::max(0.0, 1.0 - row);
-    out.space_error[k] = out.standard_error.row(k).sum() + out.blocked_error[k];
+    out.space_error[k] = row_error + out.blocked_error[k];
   }
+  (void)threads;
+  ErrorAgainstTarget largest{0.0, target.absolute};
+  for (const ErrorAgainstTarget& w : worst)
+    if (w.error / w.target > largest.error / largest.target) largest = w;
+  return largest;
 }
 
 // Pair values cut into kValueChunks runs of emitting patches holding about as many values
@@ -161,7 +183,7 @@ void PairRowWriter::layout(ViewFactorEstimate& out) {
   }
 }
 
-void PairRowWriter::finish(int threads) {
+ErrorAgainstTarget PairRowWriter::finish(int threads, const ErrorTarget& target) {
   RowSparse &f = *f_, &e = *e_;
 #ifdef _OPENMP
 #pragma omp parallel num_threads(threads)
@@ -180,15 +202,15 @@ void PairRowWriter::finish(int threads) {
   out_->blocked = out_->blocked_error = Eigen::VectorXd::Zero(area_.size());
   for (const std::vector<Blocked>& lost : blocked_)
     for (const Blocked& b : lost) out_->blocked[b.row] += b.share, out_->blocked_error[b.row] += b.error;
-  spaceTerms(sampled_rows_, *out_);
+  return rowTerms(sampled_rows_, target, threads, *out_);
 }
 
 // The values are freed as they are read and, when they are large, their pages handed back
 // after every round of chunks: they sit in the worker threads' malloc arenas, which keep
 // freed pages resident, and F and σ fill as they empty.
-void assemblePairRows(const std::vector<int>& patch_node, std::vector<std::vector<PairValue>>& values,
-                      const Eigen::VectorXd& area, const std::vector<char>& sampled_rows, int threads,
-                      ViewFactorEstimate& out) {
+ErrorAgainstTarget assemblePairRows(const std::vector<int>& patch_node, std::vector<std::vector<PairValue>>& values,
+                                    const Eigen::VectorXd& area, const std::vector<char>& sampled_rows,
+                                    const ErrorTarget& target, int threads, ViewFactorEstimate& out) {
   const std::vector<size_t> chunks = valueChunks(values);
   const size_t chunk_count = chunks.size() - 1;
   PairRowWriter rows(area, sampled_rows, chunk_count);
@@ -214,7 +236,7 @@ void assemblePairRows(const std::vector<int>& patch_node, std::vector<std::vecto
       }
     if (hand_back) solver::releaseFreedMemory();
   }
-  rows.finish(threads);
+  return rows.finish(threads, target);
 }
 
 }  // namespace radnet::geometry

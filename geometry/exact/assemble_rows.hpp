@@ -9,6 +9,15 @@
 
 namespace radnet::geometry {
 
+/// An entry's target error: the larger of an absolute one and a share of the entry.
+struct ErrorTarget {
+  double absolute = 0.0, relative = 0.0;
+};
+/// An entry's error estimate and its target.
+struct ErrorAgainstTarget {
+  double error = 0.0, target = 0.0;
+};
+
 /// F's and σ_F's compressed rows laid out before the pairs are integrated, so that each pair
 /// writes its two entries into place as it is computed (no list of pair values beside F: on
 /// the 6,144-node room those were 0.25 GB of memory touched for the first time, held while
@@ -22,7 +31,8 @@ namespace radnet::geometry {
 /// `sampled_rows` (left empty: rays fill it); a pair with an inactive side (node −1) adds to
 /// F_blocked instead. finish() drops the slots of pairs that had no value, sums repeated
 /// columns (a node of several patches) in slot order, and sets F_space = max(0, 1 − row sum
-/// − F_blocked), its error the row's summed errors.
+/// − F_blocked), its error the row's summed errors; it returns the entry whose error is
+/// largest against its target (the first of equals in row order).
 class PairRowWriter {
  public:
   /// @param area          node areas, m²
@@ -49,8 +59,9 @@ class PairRowWriter {
     if (credits(i, j)) f_->innerIndexPtr()[fill_[c * n_ + size_t(i)]++] = kEmpty;
     if (credits(j, i)) f_->innerIndexPtr()[fill_[c * n_ + size_t(j)]++] = kEmpty;  // σ's index follows F's in finish()
   }
-  /// Empty slots dropped, repeated columns summed, F_blocked and F_space set.
-  void finish(int threads);
+  /// Empty slots dropped, repeated columns summed, F_blocked and F_space set; the entry
+  /// whose error is largest against `target`.
+  ErrorAgainstTarget finish(int threads, const ErrorTarget& target);
 
  /// The column of a slot left empty until finish().
   static constexpr int kEmpty = -1;
@@ -82,8 +93,8 @@ class PairRowWriter {
 /// Pair values integrated apart (the processes' parts gathered, ExactOptions::parts)
 /// credited through a PairRowWriter; `values` is emptied as it is read (it can be as large
 /// as F). @param patch_node  node of each patch (−1: an inactive side)
-void assemblePairRows(const std::vector<int>& patch_node, std::vector<std::vector<PairValue>>& values,
-                      const Eigen::VectorXd& area, const std::vector<char>& sampled_rows, int threads,
-                      ViewFactorEstimate& out);
+ErrorAgainstTarget assemblePairRows(const std::vector<int>& patch_node, std::vector<std::vector<PairValue>>& values,
+                                    const Eigen::VectorXd& area, const std::vector<char>& sampled_rows,
+                                    const ErrorTarget& target, int threads, ViewFactorEstimate& out);
 
 }  // namespace radnet::geometry

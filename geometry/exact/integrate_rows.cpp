@@ -123,7 +123,7 @@ std::vector<size_t> rowChunks(const ExactScene& scene, const ExactOptions& opt, 
 // (PairRowWriter), chunk by chunk on all threads.
 PairCounts integrateIntoRows(const ExactScene& scene, const ExactOptions& opt, int threads,
                              const std::vector<int>& exact, const Eigen::VectorXd& area,
-                             const std::vector<char>& sampled_rows, ViewFactorEstimate& out) {
+                             const std::vector<char>& sampled_rows, ExactResult& out) {
   const std::vector<size_t> chunks = rowChunks(scene, opt, threads, exact, sampled_rows.size());
   const size_t chunk_count = chunks.size() - 1;
   const auto node = [&](int patch) { return scene.patches[static_cast<size_t>(patch)].node; };
@@ -173,7 +173,9 @@ PairCounts integrateIntoRows(const ExactScene& scene, const ExactOptions& opt, i
 #endif
     addCounts(counts, mine);
   }
-  rows.finish(threads);
+  const ErrorAgainstTarget worst = rows.finish(threads, {opt.tolerance, opt.relative_tolerance});
+  out.worst_error = worst.error;
+  out.worst_error_target = worst.target;
   return counts;
 }
 
@@ -181,7 +183,7 @@ PairCounts integrateIntoRows(const ExactScene& scene, const ExactOptions& opt, i
 
 PairCounts integrateExactRows(const ExactScene& scene, const ExactOptions& opt, int threads,
                               const Eigen::VectorXd& area, const std::vector<char>& sampled_rows,
-                              ViewFactorEstimate& out) {
+                              ExactResult& out) {
   const std::vector<int> exact = exactPatches(scene);
   if (opt.parts <= 1) return integrateIntoRows(scene, opt, threads, exact, area, sampled_rows, out);
   std::vector<int> mine;
@@ -191,7 +193,10 @@ PairCounts integrateExactRows(const ExactScene& scene, const ExactOptions& opt, 
   const PairCounts counts = unpackParts(opt.gather(packPart(values, integratePairs(scene, opt, threads, mine, values), mine)), values);
   std::vector<int> patch_node;
   for (const Patch& p : scene.patches) patch_node.push_back(p.node);
-  assemblePairRows(patch_node, values, area, sampled_rows, threads, out);
+  const ErrorAgainstTarget worst =
+      assemblePairRows(patch_node, values, area, sampled_rows, {opt.tolerance, opt.relative_tolerance}, threads, out);
+  out.worst_error = worst.error;
+  out.worst_error_target = worst.target;
   return counts;
 }
 

@@ -12,9 +12,10 @@ namespace radnet::geometry {
 /// Every pair of which at least one row is exact (rows not in `sampled_rows`) into `out`:
 /// straight into its rows in one process (PairRowWriter); shared out over processes
 /// (opt.parts), each integrates its emitting patches into values, gathered and then credited.
+/// Sets out's F, σ, space and blocked terms and its worst entry against the targets.
 /// @param area  node areas, m²
 PairCounts integrateExactRows(const ExactScene& scene, const ExactOptions& opt, int threads,
                               const Eigen::VectorXd& area, const std::vector<char>& sampled_rows,
-                              ViewFactorEstimate& out);
+                              ExactResult& out);
 
 }  // namespace radnet::geometry

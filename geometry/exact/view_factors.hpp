@@ -98,6 +98,10 @@ struct ExactResult : ViewFactorEstimate {
   std::vector<std::int64_t> row_nanoseconds;
   std::int64_t entries_for_memory = 0;  ///< the entries their pairs would have made
   long long evaluations = 0;          ///< integrand evaluations (outer contour points, visibility points)
+  /// The entry of F whose error estimate is largest against its target max(tolerance,
+  /// relative_tolerance × F_ij) (the first of equals in row order): above it only where
+  /// occluded pairs reached max_depth.
+  double worst_error = 0.0, worst_error_target = 0.0;
   double seconds = 0.0;
 };
 
