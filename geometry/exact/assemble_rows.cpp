@@ -93,42 +93,20 @@ void compact(RowSparse& m, const std::vector<std::int64_t>& start, const std::ve
 
 
 // What an integrated row leaves to space (1 − Σ F − blocked, its error the summed
-// estimates; sampled rows get theirs from the rays), and the entry whose error estimate is
-// largest against its target max(tolerance, relative × F_ij), the first in row order of
-// equals (rows on all cores, each row's worst kept apart and compared in row order).
-ErrorAgainstTarget rowTerms(const std::vector<char>& sampled_rows, const ErrorTarget& target, int threads,
-                            ViewFactorEstimate& out) {
-  const auto n = static_cast<Eigen::Index>(sampled_rows.size());
-  out.space.resize(n);
-  out.space_error.resize(n);
-  std::vector<ErrorAgainstTarget> worst(size_t(n), ErrorAgainstTarget{0.0, target.absolute});
-  const RowSparse &f = out.view_factors, &e = out.standard_error;
-#ifdef _OPENMP
-#pragma omp parallel for schedule(dynamic, 64) num_threads(threads)
-#endif
-  for (Eigen::Index k = 0; k < n; ++k) {
-    if (sampled_rows[size_t(k)]) {
-      out.space[k] = out.space_error[k] = 0.0;
-      continue;
-    }
-    double row = 0.0, row_error = 0.0;
-    ErrorAgainstTarget& mine = worst[size_t(k)];
-    for (auto s = f.outerIndexPtr()[k]; s < f.outerIndexPtr()[k + 1]; ++s) {
-      const double value = f.valuePtr()[s], error = e.valuePtr()[s];
-      row += value;
-      row_error += error;
-      const double entry_target = std::max(target.absolute, target.relative * value);
-      if (error / entry_target > mine.error / mine.target) mine = {error, entry_target};
-    }
-    row += out.blocked[k];
-    out.space[k] = std::max(0.0, 1.0 - row);
-    out.space_error[k] = row_error + out.blocked_error[k];
+// estimates), from its merged entries [s, s + m); and in `worst` its entry whose error
+// estimate is largest against its target max(tolerance, relative × F_ij), the first of equals.
+void rowTerms(const RowSparse& f, const RowSparse& e, Eigen::Index row, std::int64_t s, std::int64_t m,
+              const ErrorTarget& target, ViewFactorEstimate& out, ErrorAgainstTarget& worst) {
+  double sum = 0.0, sum_error = 0.0;
+  for (std::int64_t k = s; k < s + m; ++k) {
+    const double value = f.valuePtr()[k], error = e.valuePtr()[k];
+    sum += value;
+    sum_error += error;
+    const double entry_target = std::max(target.absolute, target.relative * value);
+    if (error / entry_target > worst.error / worst.target) worst = {error, entry_target};
   }
-  (void)threads;
-  ErrorAgainstTarget largest{0.0, target.absolute};
-  for (const ErrorAgainstTarget& w : worst)
-    if (w.error / w.target > largest.error / largest.target) largest = w;
-  return largest;
+  out.space[row] = std::max(0.0, 1.0 - (sum + out.blocked[row]));
+  out.space_error[row] = sum_error + out.blocked_error[row];
 }
 
 // Pair values cut into kValueChunks runs of emitting patches holding about as many values
@@ -183,8 +161,18 @@ void PairRowWriter::layout(ViewFactorEstimate& out) {
   }
 }
 
+// Each row merged, then its space terms and worst entry read while it is in cache (one pass
+// over F and σ on all cores; sampled rows get their space terms from the rays); the rows'
+// worst entries compared in row order.
 ErrorAgainstTarget PairRowWriter::finish(int threads, const ErrorTarget& target) {
   RowSparse &f = *f_, &e = *e_;
+  ViewFactorEstimate& out = *out_;
+  const auto n = static_cast<Eigen::Index>(n_);
+  out.blocked = out.blocked_error = Eigen::VectorXd::Zero(n);
+  for (const std::vector<Blocked>& lost : blocked_)
+    for (const Blocked& b : lost) out.blocked[b.row] += b.share, out.blocked_error[b.row] += b.error;
+  out.space = out.space_error = Eigen::VectorXd::Zero(n);
+  std::vector<ErrorAgainstTarget> worst(n_, ErrorAgainstTarget{0.0, target.absolute});
 #ifdef _OPENMP
 #pragma omp parallel num_threads(threads)
 #endif
@@ -194,15 +182,18 @@ ErrorAgainstTarget PairRowWriter::finish(int threads, const ErrorTarget& target)
 #ifdef _OPENMP
 #pragma omp for schedule(dynamic, 64)
 #endif
-    for (size_t i = 0; i < n_; ++i) length_[i] = mergeRow(f, e, start_[i], length_[i], order, col, fv, ev);
+    for (size_t i = 0; i < n_; ++i) {
+      length_[i] = mergeRow(f, e, start_[i], length_[i], order, col, fv, ev);
+      if (!sampled_rows_[i]) rowTerms(f, e, Eigen::Index(i), start_[i], length_[i], target, out, worst[i]);
+    }
   }
   (void)threads;
   compact(f, start_, length_);
   compact(e, start_, length_);
-  out_->blocked = out_->blocked_error = Eigen::VectorXd::Zero(area_.size());
-  for (const std::vector<Blocked>& lost : blocked_)
-    for (const Blocked& b : lost) out_->blocked[b.row] += b.share, out_->blocked_error[b.row] += b.error;
-  return rowTerms(sampled_rows_, target, threads, *out_);
+  ErrorAgainstTarget largest{0.0, target.absolute};
+  for (const ErrorAgainstTarget& w : worst)
+    if (w.error / w.target > largest.error / largest.target) largest = w;
+  return largest;
 }
 
 // The values are freed as they are read and, when they are large, their pages handed back
