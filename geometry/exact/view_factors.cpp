@@ -18,9 +18,12 @@ namespace {
 // measured on bench_exact_view_factors' 1,600-node satellite, about 2 µs an unoccluded
 // pair by the contour integral and 0.1 ms an occluded one (430 visibility points of a few
 // blockers each); a free pair 0.1 µs (order 0+ and its value's store: 1.2–1.9 s of CPU for
-// the 15.7 M of the 6,144-node room). Every pair with a value costs 0.15 µs more of wall time
-// after the integrals (its credit to F's rows, the reciprocity/closure correction).
-constexpr double kStoredPairSeconds = 0.15e-6;
+// the 15.7 M of the 6,144-node room). Every pair with a value costs 0.1 µs more of wall time
+// (its two entries written into F's and σ's rows, the reciprocity/closure correction): the
+// 6,144-node room's stage took 2.36–2.52 s against the 0.79 s its pairs' integrals are
+// priced at (docs/view-factor-defaults-benchmark.md, 2026-12-07; 0.15 µs before the pairs
+// were written straight into the rows).
+constexpr double kStoredPairSeconds = 0.1e-6;
 std::int64_t pairNanoseconds(PairKind kind, size_t blockers) {
   if (kind == PairKind::Free) return 100;
   if (kind == PairKind::Unoccluded) return 2000;
