@@ -240,6 +240,34 @@ TEST_CASE("exact method: rows credited in parallel chunks are the same bits for 
   CHECK(a.worst_error <= a.worst_error_target);  // every pair met its share of the target
 }
 
+TEST_CASE("exact method: σ left on F's pattern is the σ of the whole matrix, bit for bit") {
+  // Nodes of many patches (repeated columns summed) and an inactive side (F_blocked): σ
+  // written beside F's columns or on F's pattern alone must hold the same numbers, and
+  // expandErrors() must give back the matrix.
+  Scene s;
+  s.addSurface("ball", "ball", sphere(Vec3(0, 0, 0), 0.6, Vec3(0, 0, 1), 0, 180, {}, 3, 6), "ball", "");
+  s.addSurface("shell", "shell", sphere(Vec3(0, 0, 0), 2.0, Vec3(0, 0, 1), 0, 180, {}, 6, 10), "", "shell");
+  s.addSurface("plate", "plate", rectangle(Vec3(1.0, -0.3, -0.3), Vec3(0, 0.6, 0), Vec3(0, 0, 0.6), 2, 2), "plate", "");
+  ExactOptions matrix = ExactOptions::withTolerance(1e-4), pattern = matrix;
+  pattern.errors_on_pattern = true;
+  const ExactResult a = exactViewFactors(s, matrix);
+  ExactResult b = exactViewFactors(s, pattern);
+  CHECK_FALSE(a.errors_on_pattern);
+  REQUIRE(b.errors_on_pattern);
+  CHECK(b.standard_error.nonZeros() == 0);
+  CHECK(b.error_on_pattern.size() == b.view_factors.nonZeros());
+  CHECK(Eigen::MatrixXd(a.view_factors) == Eigen::MatrixXd(b.view_factors));
+  CHECK(Eigen::MatrixXd(errorsOf(b)) == Eigen::MatrixXd(a.standard_error));
+  CHECK(a.space == b.space);
+  CHECK(a.space_error == b.space_error);
+  CHECK(a.blocked_error == b.blocked_error);
+  CHECK(a.worst_error == b.worst_error);
+  expandErrors(b);
+  CHECK_FALSE(b.errors_on_pattern);
+  CHECK(b.error_on_pattern.size() == 0);
+  CHECK(Eigen::MatrixXd(b.standard_error) == Eigen::MatrixXd(a.standard_error));
+}
+
 TEST_CASE("exact method: an occluded pair held at depth 0 reports its error above its target") {
   // The square blocker halfway: one occluded pair, its emitter quadrature unrefined, cannot
   // reach 1e-9; the run says which entry and by how much (radnet warns from it).

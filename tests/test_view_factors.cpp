@@ -378,6 +378,24 @@ TEST_CASE("The correction laid over F in place equals the one beside it, and ref
     const double closure = (fo.rowwise().sum() - Eigen::VectorXd::Ones(n)).cwiseAbs().maxCoeff();
     INFO("closure " << std::scientific << closure << " max_closure_error " << over->max_closure_error << " beside " << beside.max_closure_error);
     CHECK(closure < 1e-9);
+    // σ on F's pattern (the exact method's, ExactOptions::errors_on_pattern): the same F to
+    // the last bit, σ readable as a matrix until the overwrite, then released with the raw
+    // pattern.
+    ViewFactorEstimate on = kept;
+    on.error_on_pattern = Eigen::Map<const Eigen::VectorXd>(kept.standard_error.valuePtr(), kept.standard_error.nonZeros());
+    on.errors_on_pattern = true;
+    on.standard_error = Eigen::SparseMatrix<double, Eigen::RowMajor>();
+    REQUIRE(Eigen::MatrixXd(errorsOf(on)) == Eigen::MatrixXd(kept.standard_error));
+    bool seen = false;
+    std::optional<ReciprocityCorrection> on_pattern = enforceReciprocityInPlace(area, on, rays, [&](long long) {
+      seen = Eigen::MatrixXd(errorsOf(on)) == Eigen::MatrixXd(kept.standard_error);
+    });
+    REQUIRE(on_pattern);
+    CHECK(seen);
+    CHECK(Eigen::MatrixXd(on_pattern->view_factors) == fo);
+    CHECK(on_pattern->max_change_sigma == over->max_change_sigma);
+    CHECK_FALSE(on.errors_on_pattern);
+    CHECK(on.error_on_pattern.size() == 0);
   }
   // One F_ij without its F_ji: refused, the estimate untouched, nothing written out.
   const int n = 4;

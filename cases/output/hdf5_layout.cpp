@@ -99,8 +99,8 @@ void writeGeometry(Hdf5Writer& h5, const geometry::Scene& scene, const geometry:
 
 namespace {
 
-void writeRawMatrices(Hdf5Writer& h5, const Eigen::SparseMatrix<double, Eigen::RowMajor>& raw_f,
-                      const Eigen::SparseMatrix<double, Eigen::RowMajor>& sigma, bool dense) {
+void writeRawMatrices(Hdf5Writer& h5, const Eigen::SparseMatrix<double, Eigen::RowMajor>& raw_f, const CsrRef& sigma,
+                      bool dense) {
   writeNetworkMatrix(h5, "view_factors_raw", raw_f, "1", dense);
   // σ is estimated entry by entry with the raw F: the same pattern (checked).
   writeNetworkMatrix(h5, "view_factor_stderr", sigma, "1", dense, {}, CsrPattern("/network/sparse/view_factors_raw", raw_f));
@@ -109,7 +109,7 @@ void writeRawMatrices(Hdf5Writer& h5, const Eigen::SparseMatrix<double, Eigen::R
 }  // namespace
 
 void writeRawViewFactors(Hdf5Writer& h5, const geometry::ViewFactorEstimate& raw, bool dense) {
-  writeRawMatrices(h5, raw.view_factors, raw.standard_error, dense);
+  writeRawMatrices(h5, raw.view_factors, geometry::errorsOf(raw), dense);  // σ on its own pattern or on F's
 }
 
 void writeViewFactorEstimate(Hdf5Writer& h5, const GeometryRunResult& r, ViewFactorMethod method,

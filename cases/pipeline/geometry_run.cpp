@@ -158,6 +158,8 @@ geometry::ReciprocityCorrection correctWritingRaw(const GeometryCase& c, const E
   auto writeRaw = [&](long long corrected_nonzeros) {
     const auto t0 = std::chrono::steady_clock::now();
     write_raw(estimate, c.output.denseMatrices(n, !solver::policy::storeSparse(corrected_nonzeros, n)));
+    // σ on F's pattern goes with the raw F's pattern: its rows' largest entries read now.
+    if (estimate.errors_on_pattern) r.row_stderr_max = rowLargestStderr(geometry::errorsOf(estimate), {});
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     timer.exclude(seconds);
     r.raw_estimate_write_seconds += seconds;
@@ -166,6 +168,7 @@ geometry::ReciprocityCorrection correctWritingRaw(const GeometryCase& c, const E
   if (std::optional<geometry::ReciprocityCorrection> in_place =
           geometry::enforceReciprocityInPlace(area, estimate, rays, writeRaw))
     return std::move(*in_place);
+  geometry::expandErrors(estimate);
   geometry::ReciprocityCorrection beside = geometry::enforceReciprocity(area, estimate, rays);
   writeRaw(beside.view_factors.nonZeros());
   return beside;
@@ -192,7 +195,8 @@ void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, c
     r.rays_per_second = vf.seconds > 0 ? double(vf.total_rays) / vf.seconds : 0.0;
     moveEstimate(vf, estimate);
   } else {
-    exactStage(c, caster, r, rays, show_progress, progress, estimate, shared);
+    // σ on F's pattern when it is read only while that pattern stands (written with the raw F).
+    exactStage(c, caster, r, rays, show_progress, progress, estimate, shared, early && !c.readsViewFactorErrors());
   }
   if (diffuse) *diffuse = {estimate, rays};  // what an optical set's own networks start from
   if (c.hasSpecular()) {
@@ -214,7 +218,8 @@ void viewFactorStage(const GeometryCase& c, const geometry::RayCaster& caster, c
   else
     r.raw_view_factors.swap(estimate.view_factors);
   r.view_factor_stderr.swap(estimate.standard_error);
-  r.row_stderr_max = rowLargestStderr(r.view_factor_stderr, shared ? clusterRowShare() : solver::RowShare());
+  if (r.row_stderr_max.size() == 0)  // else read with the raw F (σ on its pattern)
+    r.row_stderr_max = rowLargestStderr(r.view_factor_stderr, shared ? clusterRowShare() : solver::RowShare());
   if (r.raw_estimate_written && !c.readsViewFactorErrors()) solver::SparseRowMatrix().swap(r.view_factor_stderr);
   // What leaves to space or to inactive sides is uncertain too (it sets the GR to space).
   r.lost_view_factor_stderr = (estimate.space_error.array().square() + estimate.blocked_error.array().square()).sqrt();

@@ -65,7 +65,7 @@ void joinHeldRowVectors(geometry::ViewFactorResult& vf) {
   cluster::max(&vf.seconds, 1);
 }
 
-Eigen::VectorXd rowLargestStderr(const Eigen::SparseMatrix<double, Eigen::RowMajor>& sigma,
+Eigen::VectorXd rowLargestStderr(const Eigen::Ref<const Eigen::SparseMatrix<double, Eigen::RowMajor>>& sigma,
                                  const solver::RowShare& share) {
   Eigen::VectorXd out = solver::rowLargestEntries(sigma, sigma.rows());
   share.joinRows(out.data(), static_cast<std::size_t>(out.size()));

@@ -36,7 +36,7 @@ void keepHeldRows(geometry::ViewFactorEstimate& estimate, const solver::RowShare
 void joinHeldRowVectors(geometry::ViewFactorResult& vf);
 
 /// Each row's largest σ_F, whole on every rank (the held rows' from their holders).
-Eigen::VectorXd rowLargestStderr(const Eigen::SparseMatrix<double, Eigen::RowMajor>& sigma,
+Eigen::VectorXd rowLargestStderr(const Eigen::Ref<const Eigen::SparseMatrix<double, Eigen::RowMajor>>& sigma,
                                  const solver::RowShare& share);
 
 }  // namespace radnet::cases

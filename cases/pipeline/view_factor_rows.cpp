@@ -79,6 +79,8 @@ std::unique_ptr<solver::Network> buildNetwork(const GeometryCase& c, const Eigen
 void moveEstimate(geometry::ViewFactorEstimate& from, geometry::ViewFactorEstimate& to) {
   to.view_factors.swap(from.view_factors);
   to.standard_error.swap(from.standard_error);
+  to.error_on_pattern.swap(from.error_on_pattern);
+  std::swap(to.errors_on_pattern, from.errors_on_pattern);
   to.space.swap(from.space);
   to.space_error.swap(from.space_error);
   to.blocked.swap(from.blocked);
@@ -109,8 +111,9 @@ geometry::ExactOptions plannedExactOptions(const GeometryCase& c) {
 // F by the exact method into `estimate`, with the rows it leaves to sampling (auto) cast as rays.
 void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, GeometryRunResult& r,
                 Eigen::VectorXd& rays, bool show_progress, std::ostream& progress,
-                geometry::ViewFactorEstimate& estimate, bool shared) {
+                geometry::ViewFactorEstimate& estimate, bool shared, bool errors_on_pattern) {
   geometry::ExactOptions opt = plannedExactOptions(c);
+  opt.errors_on_pattern = errors_on_pattern && !shared;
   const bool automatic = c.view_factors.method == ViewFactorMethod::Auto;
   opt.max_entries = automatic ? pairEntriesCap(c) : -1;
   if (show_progress) opt.progress = progressBar(progress, "view factors", "patches");
@@ -148,6 +151,7 @@ void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, Geomet
              << "their pairs' " << ex.entries_for_memory << " entries of F would not fit in "
              << kPairEntriesMemoryShare * 100 << " % of " << memoryLimit().source << "\n";
   if (r.exact->sampled_rows == 0) return;
+  geometry::expandErrors(estimate);  // the sampled rows' σ has a pattern of its own
   const geometry::ViewFactorResult vf = castRays(c, caster, ex.sampled_rows, show_progress, progress, shared);
   for (Eigen::Index i = 0; i < rays.size(); ++i)
     if (ex.sampled_rows[static_cast<size_t>(i)]) rays[i] = double(vf.rays[static_cast<size_t>(i)]);

@@ -21,7 +21,7 @@ class PairsInPlace {
  public:
   PairsInPlace(const Eigen::VectorXd& area, const Eigen::VectorXd& rays, ViewFactorEstimate& est)
       : area_(area), rays_(rays), floor_(rayFloorVariances(area, rays)), f_(est.view_factors),
-        error_(est.standard_error.valuePtr()), n_(static_cast<int>(area.size())), upper_start_(static_cast<size_t>(n_)),
+        error_(errorsOf(est).valuePtr()), n_(static_cast<int>(area.size())), upper_start_(static_cast<size_t>(n_)),
         first_pair_(static_cast<size_t>(n_) + 1, 0) {
     const int* outer = f_.outerIndexPtr();
     const int* inner = f_.innerIndexPtr();
@@ -209,7 +209,10 @@ class PairsInPlace {
 std::optional<ReciprocityCorrection> enforceReciprocityInPlace(const Eigen::VectorXd& area, ViewFactorEstimate& est,
                                                                const Eigen::VectorXd& rays,
                                                                const std::function<void(long long)>& before_overwrite) {
-  if (!samePattern(est.view_factors, est.standard_error)) return std::nullopt;
+  const bool on_pattern = est.errors_on_pattern;
+  if (on_pattern ? est.error_on_pattern.size() != est.view_factors.nonZeros() || !est.view_factors.isCompressed()
+                 : !samePattern(est.view_factors, est.standard_error))
+    return std::nullopt;
   PairsInPlace pairs(area, rays, est);
   if (!pairs.symmetric()) return std::nullopt;
   NodeTerms terms(area, est, rays);
@@ -223,6 +226,10 @@ std::optional<ReciprocityCorrection> enforceReciprocityInPlace(const Eigen::Vect
   terms.corrected(mu, area, out);
   pairs.overwrite(mu, out);
   out.view_factors.swap(est.view_factors);
+  if (on_pattern) {  // its pattern is gone with the raw F
+    Eigen::VectorXd().swap(est.error_on_pattern);
+    est.errors_on_pattern = false;
+  }
   out.max_closure_error = largestClosureError(out);
   return out;
 }

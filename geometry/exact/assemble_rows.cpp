@@ -8,6 +8,15 @@ namespace {
 
 using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
+// Where a row's entries lie: F's columns and values, σ's values and σ's own columns (null
+// when σ lies on F's pattern).
+struct RowEntries {
+  int* f_cols;
+  int* e_cols;
+  double* f_values;
+  double* e_values;
+};
+
 // Orders row i of F and σ (entries [s, s + m) of their buffers, same columns) by column,
 // stably (a node pair's patch pairs are summed in the order they were credited, so the
 // result does not depend on the threads), and sums repeated columns; returns the length.
@@ -15,10 +24,10 @@ using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 // patch order, then its own patches' lists, cluster by cluster): the runs are merged
 // pairwise, stably, instead of sorting the row (the same order as a stable sort; the sort
 // was 0.2 s of the 6,144-node room's assembly).
-std::int64_t mergeRow(RowSparse& f, RowSparse& e, std::int64_t s, std::int64_t m, std::vector<int>& order,
+std::int64_t mergeRow(const RowEntries& row, std::int64_t s, std::int64_t m, std::vector<int>& order,
                       std::vector<int>& col, std::vector<double>& fv, std::vector<double>& ev) {
-  int *cols = f.innerIndexPtr() + s, *e_cols = e.innerIndexPtr() + s;
-  double *fs = f.valuePtr() + s, *es = e.valuePtr() + s;
+  int *cols = row.f_cols + s, *e_cols = row.e_cols ? row.e_cols + s : nullptr;
+  double *fs = row.f_values + s, *es = row.e_values + s;
   // Empty slots (pairs that had no value) out first, in order. Most rows then arrive in
   // order already, without repeats (one patch a node: the values of the patches before it,
   // then its own, ascending): left as they are (σ's columns were written beside F's).
@@ -27,7 +36,8 @@ std::int64_t mergeRow(RowSparse& f, RowSparse& e, std::int64_t s, std::int64_t m
   for (std::int64_t k = 0; k < m; ++k) {
     if (cols[k] == PairRowWriter::kEmpty) continue;
     if (kept != k) {
-      cols[kept] = e_cols[kept] = cols[k];
+      cols[kept] = cols[k];
+      if (e_cols) e_cols[kept] = cols[k];
       fs[kept] = fs[k];
       es[kept] = es[k];
     }
@@ -68,38 +78,47 @@ std::int64_t mergeRow(RowSparse& f, RowSparse& e, std::int64_t s, std::int64_t m
     }
   }
   std::copy(col.begin(), col.end(), cols);
-  std::copy(col.begin(), col.end(), e.innerIndexPtr() + s);
+  if (e_cols) std::copy(col.begin(), col.end(), e_cols);
   std::copy(fv.begin(), fv.end(), fs);
   std::copy(ev.begin(), ev.end(), es);
   return static_cast<std::int64_t>(col.size());
 }
 
-// Rows merged in place (row i at start[i], length[i]) shifted together, outer indices set.
-void compact(RowSparse& m, const std::vector<std::int64_t>& start, const std::vector<std::int64_t>& length) {
+// Rows merged in place (row i at start[i], length[i]) shifted together: the columns (none:
+// σ on F's pattern) and values. Returns the entries kept.
+std::int64_t compact(int* cols, double* values, const std::vector<std::int64_t>& start,
+                     const std::vector<std::int64_t>& length) {
   std::int64_t at = 0;
-  const auto n = static_cast<Eigen::Index>(length.size());
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const std::int64_t s = start[size_t(i)], len = length[size_t(i)];
-    if (s != at) {  // rows that lost no repeated column (all of them, often) stay where they are
-      std::copy(m.innerIndexPtr() + s, m.innerIndexPtr() + s + len, m.innerIndexPtr() + at);
-      std::copy(m.valuePtr() + s, m.valuePtr() + s + len, m.valuePtr() + at);
+  for (size_t i = 0; i < length.size(); ++i) {
+    const std::int64_t s = start[i], len = length[i];
+    if (s != at) {  // rows that lost no slot or repeated column (all of them, often) stay where they are
+      if (cols) std::copy(cols + s, cols + s + len, cols + at);
+      std::copy(values + s, values + s + len, values + at);
     }
-    m.outerIndexPtr()[i] = static_cast<int>(at);
     at += len;
   }
-  m.outerIndexPtr()[n] = static_cast<int>(at);
-  m.data().resize(static_cast<Eigen::Index>(at));
+  return at;
 }
 
+// A compressed matrix's outer indices set to the compacted rows, its entries cut to `total`.
+void setRows(RowSparse& m, const std::vector<std::int64_t>& length, std::int64_t total) {
+  std::int64_t at = 0;
+  for (size_t i = 0; i < length.size(); ++i) {
+    m.outerIndexPtr()[i] = static_cast<int>(at);
+    at += length[i];
+  }
+  m.outerIndexPtr()[length.size()] = static_cast<int>(at);
+  m.data().resize(static_cast<Eigen::Index>(total));
+}
 
 // What an integrated row leaves to space (1 − Σ F − blocked, its error the summed
 // estimates), from its merged entries [s, s + m); and in `worst` its entry whose error
 // estimate is largest against its target max(tolerance, relative × F_ij), the first of equals.
-void rowTerms(const RowSparse& f, const RowSparse& e, Eigen::Index row, std::int64_t s, std::int64_t m,
-              const ErrorTarget& target, ViewFactorEstimate& out, ErrorAgainstTarget& worst) {
+void rowTerms(const RowEntries& entries, Eigen::Index row, std::int64_t s, std::int64_t m, const ErrorTarget& target,
+              ViewFactorEstimate& out, ErrorAgainstTarget& worst) {
   double sum = 0.0, sum_error = 0.0;
   for (std::int64_t k = s; k < s + m; ++k) {
-    const double value = f.valuePtr()[k], error = e.valuePtr()[k];
+    const double value = entries.f_values[k], error = entries.e_values[k];
     sum += value;
     sum_error += error;
     const double entry_target = std::max(target.absolute, target.relative * value);
@@ -128,14 +147,16 @@ std::vector<size_t> valueChunks(const std::vector<std::vector<PairValue>>& value
 
 }  // namespace
 
-PairRowWriter::PairRowWriter(const Eigen::VectorXd& area, const std::vector<char>& sampled_rows, size_t chunk_count)
+PairRowWriter::PairRowWriter(const Eigen::VectorXd& area, const std::vector<char>& sampled_rows, size_t chunk_count,
+                             bool errors_on_pattern)
     : area_(area),
       sampled_rows_(sampled_rows),
       n_(sampled_rows.size()),
       fill_(chunk_count * sampled_rows.size(), 0),
       start_(sampled_rows.size(), 0),
       length_(sampled_rows.size(), 0),
-      blocked_(chunk_count) {}
+      blocked_(chunk_count),
+      errors_on_pattern_(errors_on_pattern) {}
 
 // Turns the chunks' counts into where chunk c writes row i: after the row's entries from the
 // chunks before it. Filled straight into F's and σ's own buffers (at 6,144 nodes F has 31 M
@@ -153,11 +174,22 @@ void PairRowWriter::layout(ViewFactorEstimate& out) {
     length_[i] = total - start_[i];
   }
   out_ = &out;
-  f_ = &out.view_factors;
-  e_ = &out.standard_error;
-  for (RowSparse* m : {f_, e_}) {
-    m->resize(area_.size(), area_.size());
-    m->resizeNonZeros(static_cast<Eigen::Index>(total));
+  out.view_factors.resize(area_.size(), area_.size());
+  out.view_factors.resizeNonZeros(static_cast<Eigen::Index>(total));
+  f_cols_ = out.view_factors.innerIndexPtr();
+  f_values_ = out.view_factors.valuePtr();
+  if (errors_on_pattern_) {  // uninitialised, as resizeNonZeros leaves F: each page is first touched where written
+    out.standard_error = RowSparse();
+    out.errors_on_pattern = true;
+    out.error_on_pattern.resize(static_cast<Eigen::Index>(total));
+    e_values_ = out.error_on_pattern.data();
+  } else {
+    out.error_on_pattern.resize(0);
+    out.errors_on_pattern = false;
+    out.standard_error.resize(area_.size(), area_.size());
+    out.standard_error.resizeNonZeros(static_cast<Eigen::Index>(total));
+    e_cols_ = out.standard_error.innerIndexPtr();
+    e_values_ = out.standard_error.valuePtr();
   }
 }
 
@@ -165,7 +197,6 @@ void PairRowWriter::layout(ViewFactorEstimate& out) {
 // over F and σ on all cores; sampled rows get their space terms from the rays); the rows'
 // worst entries compared in row order.
 ErrorAgainstTarget PairRowWriter::finish(int threads, const ErrorTarget& target) {
-  RowSparse &f = *f_, &e = *e_;
   ViewFactorEstimate& out = *out_;
   const auto n = static_cast<Eigen::Index>(n_);
   out.blocked = out.blocked_error = Eigen::VectorXd::Zero(n);
@@ -173,6 +204,7 @@ ErrorAgainstTarget PairRowWriter::finish(int threads, const ErrorTarget& target)
     for (const Blocked& b : lost) out.blocked[b.row] += b.share, out.blocked_error[b.row] += b.error;
   out.space = out.space_error = Eigen::VectorXd::Zero(n);
   std::vector<ErrorAgainstTarget> worst(n_, ErrorAgainstTarget{0.0, target.absolute});
+  const RowEntries entries{f_cols_, e_cols_, f_values_, e_values_};
 #ifdef _OPENMP
 #pragma omp parallel num_threads(threads)
 #endif
@@ -183,13 +215,18 @@ ErrorAgainstTarget PairRowWriter::finish(int threads, const ErrorTarget& target)
 #pragma omp for schedule(dynamic, 64)
 #endif
     for (size_t i = 0; i < n_; ++i) {
-      length_[i] = mergeRow(f, e, start_[i], length_[i], order, col, fv, ev);
-      if (!sampled_rows_[i]) rowTerms(f, e, Eigen::Index(i), start_[i], length_[i], target, out, worst[i]);
+      length_[i] = mergeRow(entries, start_[i], length_[i], order, col, fv, ev);
+      if (!sampled_rows_[i]) rowTerms(entries, Eigen::Index(i), start_[i], length_[i], target, out, worst[i]);
     }
   }
   (void)threads;
-  compact(f, start_, length_);
-  compact(e, start_, length_);
+  const std::int64_t total = compact(f_cols_, f_values_, start_, length_);
+  setRows(out.view_factors, length_, total);
+  compact(e_cols_, e_values_, start_, length_);
+  if (errors_on_pattern_)
+    out.error_on_pattern.conservativeResize(static_cast<Eigen::Index>(total));
+  else
+    setRows(out.standard_error, length_, total);
   ErrorAgainstTarget largest{0.0, target.absolute};
   for (const ErrorAgainstTarget& w : worst)
     if (w.error / w.target > largest.error / largest.target) largest = w;
@@ -201,10 +238,11 @@ ErrorAgainstTarget PairRowWriter::finish(int threads, const ErrorTarget& target)
 // freed pages resident, and F and σ fill as they empty.
 ErrorAgainstTarget assemblePairRows(const std::vector<int>& patch_node, std::vector<std::vector<PairValue>>& values,
                                     const Eigen::VectorXd& area, const std::vector<char>& sampled_rows,
-                                    const ErrorTarget& target, int threads, ViewFactorEstimate& out) {
+                                    const ErrorTarget& target, int threads, ViewFactorEstimate& out,
+                                    bool errors_on_pattern) {
   const std::vector<size_t> chunks = valueChunks(values);
   const size_t chunk_count = chunks.size() - 1;
-  PairRowWriter rows(area, sampled_rows, chunk_count);
+  PairRowWriter rows(area, sampled_rows, chunk_count, errors_on_pattern);
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
 #endif

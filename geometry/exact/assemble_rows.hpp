@@ -37,7 +37,9 @@ class PairRowWriter {
  public:
   /// @param area          node areas, m²
   /// @param chunk_count   the pairs' chunks
-  PairRowWriter(const Eigen::VectorXd& area, const std::vector<char>& sampled_rows, size_t chunk_count);
+  /// @param errors_on_pattern  σ into out.error_on_pattern (F's index) instead of standard_error
+  PairRowWriter(const Eigen::VectorXd& area, const std::vector<char>& sampled_rows, size_t chunk_count,
+                bool errors_on_pattern = false);
 
   /// Counting, before layout(): a pair between nodes i and j (−1: inactive) in chunk c.
   void count(size_t c, int i, int j) {
@@ -56,14 +58,14 @@ class PairRowWriter {
   }
   /// Chunk c's next pair had no value (culled, hidden, left to rays, or zero): its slots stay empty.
   void skip(size_t c, int i, int j) {
-    if (credits(i, j)) f_->innerIndexPtr()[fill_[c * n_ + size_t(i)]++] = kEmpty;
-    if (credits(j, i)) f_->innerIndexPtr()[fill_[c * n_ + size_t(j)]++] = kEmpty;  // σ's index follows F's in finish()
+    if (credits(i, j)) f_cols_[fill_[c * n_ + size_t(i)]++] = kEmpty;
+    if (credits(j, i)) f_cols_[fill_[c * n_ + size_t(j)]++] = kEmpty;  // σ's index follows F's in finish()
   }
   /// Empty slots dropped, repeated columns summed, F_blocked and F_space set; the entry
   /// whose error is largest against `target`.
   ErrorAgainstTarget finish(int threads, const ErrorTarget& target);
 
- /// The column of a slot left empty until finish().
+  /// The column of a slot left empty until finish().
   static constexpr int kEmpty = -1;
 
  private:
@@ -72,9 +74,10 @@ class PairRowWriter {
     if (i < 0 || sampled_rows_[size_t(i)]) return;
     if (j < 0) return blocked_[c].push_back({i, g / area_[i], err / area_[i]});
     const std::int64_t at = fill_[c * n_ + size_t(i)]++;
-    f_->innerIndexPtr()[at] = e_->innerIndexPtr()[at] = j;
-    f_->valuePtr()[at] = g / area_[i];
-    e_->valuePtr()[at] = err / area_[i];
+    f_cols_[at] = j;
+    if (e_cols_) e_cols_[at] = j;
+    f_values_[at] = g / area_[i];
+    e_values_[at] = err / area_[i];
   }
   struct Blocked {
     int row;
@@ -86,8 +89,12 @@ class PairRowWriter {
   std::vector<std::int64_t> fill_;  // chunk c's count, then its cursor, of row i at c × n + i
   std::vector<std::int64_t> start_, length_;
   std::vector<std::vector<Blocked>> blocked_;  // per chunk, added in chunk order
+  bool errors_on_pattern_ = false;
   ViewFactorEstimate* out_ = nullptr;
-  Eigen::SparseMatrix<double, Eigen::RowMajor>*f_ = nullptr, *e_ = nullptr;
+  int* f_cols_ = nullptr;
+  int* e_cols_ = nullptr;  // σ's own index (null: σ on F's pattern)
+  double* f_values_ = nullptr;
+  double* e_values_ = nullptr;
 };
 
 /// Pair values integrated apart (the processes' parts gathered, ExactOptions::parts)
@@ -95,6 +102,7 @@ class PairRowWriter {
 /// as F). @param patch_node  node of each patch (−1: an inactive side)
 ErrorAgainstTarget assemblePairRows(const std::vector<int>& patch_node, std::vector<std::vector<PairValue>>& values,
                                     const Eigen::VectorXd& area, const std::vector<char>& sampled_rows,
-                                    const ErrorTarget& target, int threads, ViewFactorEstimate& out);
+                                    const ErrorTarget& target, int threads, ViewFactorEstimate& out,
+                                    bool errors_on_pattern = false);
 
 }  // namespace radnet::geometry

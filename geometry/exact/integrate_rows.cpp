@@ -127,7 +127,7 @@ PairCounts integrateIntoRows(const ExactScene& scene, const ExactOptions& opt, i
   const std::vector<size_t> chunks = rowChunks(scene, opt, threads, exact, sampled_rows.size());
   const size_t chunk_count = chunks.size() - 1;
   const auto node = [&](int patch) { return scene.patches[static_cast<size_t>(patch)].node; };
-  PairRowWriter rows(area, sampled_rows, chunk_count);
+  PairRowWriter rows(area, sampled_rows, chunk_count, opt.errors_on_pattern);
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
 #endif
@@ -194,7 +194,8 @@ PairCounts integrateExactRows(const ExactScene& scene, const ExactOptions& opt, 
   std::vector<int> patch_node;
   for (const Patch& p : scene.patches) patch_node.push_back(p.node);
   const ErrorAgainstTarget worst =
-      assemblePairRows(patch_node, values, area, sampled_rows, {opt.tolerance, opt.relative_tolerance}, threads, out);
+      assemblePairRows(patch_node, values, area, sampled_rows, {opt.tolerance, opt.relative_tolerance}, threads, out,
+                       opt.errors_on_pattern);
   out.worst_error = worst.error;
   out.worst_error_target = worst.target;
   return counts;

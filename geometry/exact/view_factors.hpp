@@ -54,6 +54,9 @@ struct ExactOptions {
   /// rows hold at most one entry per distinct node hit. −1: no limit.
   std::int64_t max_entries = -1;
   int threads = 0;    ///< 0: OpenMP's default
+  /// σ left on F's pattern (ViewFactorEstimate::error_on_pattern, standard_error empty): for
+  /// a caller that corrects in place and reads σ only while F's pattern stands.
+  bool errors_on_pattern = false;
   /// Called as emitting patches finish (one thread at a time): (done, total).
   std::function<void(int, int)> progress;
   /// Per node (empty: all): only these rows are integrated; the others are left out as rows

@@ -34,10 +34,10 @@ inline double largestEntry(const SparseRowMatrix& m) {
 }
 
 /// The largest entry of each of n rows (zeros for an empty matrix).
-inline Eigen::VectorXd rowLargestEntries(const SparseRowMatrix& m, Eigen::Index n) {
+inline Eigen::VectorXd rowLargestEntries(const Eigen::Ref<const SparseRowMatrix>& m, Eigen::Index n) {
   Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
   for (Eigen::Index k = 0; k < m.outerSize() && k < n; ++k)
-    for (SparseRowMatrix::InnerIterator it(m, k); it; ++it) out[k] = std::max(out[k], it.value());
+    for (Eigen::Ref<const SparseRowMatrix>::InnerIterator it(m, k); it; ++it) out[k] = std::max(out[k], it.value());
   return out;
 }
 
