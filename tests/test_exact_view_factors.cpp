@@ -201,6 +201,17 @@ ErrorAgainstTarget worstAgainstTarget(const ExactResult& r, const ExactOptions& 
   return worst;
 }
 
+// A facetted ball inside a facetted shell (nodes of many patches: a node pair gets values
+// from many patch pairs, summed in credit order) and a plate between them whose back side is
+// inactive (its pairs credit F_blocked).
+Scene ballInShellWithPlate() {
+  Scene s;
+  s.addSurface("ball", "ball", sphere(Vec3(0, 0, 0), 0.6, Vec3(0, 0, 1), 0, 180, {}, 3, 6), "ball", "");
+  s.addSurface("shell", "shell", sphere(Vec3(0, 0, 0), 2.0, Vec3(0, 0, 1), 0, 180, {}, 6, 10), "", "shell");
+  s.addSurface("plate", "plate", rectangle(Vec3(1.0, -0.3, -0.3), Vec3(0, 0.6, 0), Vec3(0, 0, 0.6), 2, 2), "plate", "");
+  return s;
+}
+
 }  // namespace
 
 TEST_CASE("exact method: rows credited in parallel chunks are the same bits for any thread count, and close") {
@@ -210,10 +221,7 @@ TEST_CASE("exact method: rows credited in parallel chunks are the same bits for 
   // chunk. One and two threads must give F, σ, F_blocked and F_space to the last bit, and the
   // shell's row must close: Σ F + F_blocked = 1 within its summed error estimates (the shell
   // is closed, nothing leaves to space).
-  Scene s;
-  s.addSurface("ball", "ball", sphere(Vec3(0, 0, 0), 0.6, Vec3(0, 0, 1), 0, 180, {}, 3, 6), "ball", "");
-  s.addSurface("shell", "shell", sphere(Vec3(0, 0, 0), 2.0, Vec3(0, 0, 1), 0, 180, {}, 6, 10), "", "shell");
-  s.addSurface("plate", "plate", rectangle(Vec3(1.0, -0.3, -0.3), Vec3(0, 0.6, 0), Vec3(0, 0, 0.6), 2, 2), "plate", "");
+  const Scene s = ballInShellWithPlate();
   ExactOptions one = ExactOptions::withTolerance(1e-4), two = one;
   one.threads = 1;
   two.threads = 2;
@@ -244,10 +252,7 @@ TEST_CASE("exact method: σ left on F's pattern is the σ of the whole matrix, b
   // Nodes of many patches (repeated columns summed) and an inactive side (F_blocked): σ
   // written beside F's columns or on F's pattern alone must hold the same numbers, and
   // expandErrors() must give back the matrix.
-  Scene s;
-  s.addSurface("ball", "ball", sphere(Vec3(0, 0, 0), 0.6, Vec3(0, 0, 1), 0, 180, {}, 3, 6), "ball", "");
-  s.addSurface("shell", "shell", sphere(Vec3(0, 0, 0), 2.0, Vec3(0, 0, 1), 0, 180, {}, 6, 10), "", "shell");
-  s.addSurface("plate", "plate", rectangle(Vec3(1.0, -0.3, -0.3), Vec3(0, 0.6, 0), Vec3(0, 0, 0.6), 2, 2), "plate", "");
+  const Scene s = ballInShellWithPlate();
   ExactOptions matrix = ExactOptions::withTolerance(1e-4), pattern = matrix;
   pattern.errors_on_pattern = true;
   const ExactResult a = exactViewFactors(s, matrix);

@@ -3,6 +3,7 @@
 #include "geometry/exact/assemble_rows.hpp"
 
 #include <algorithm>
+#include <numeric>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -53,12 +54,14 @@ void addCounts(PairCounts& to, const PairCounts& from) {
   to.evaluations += from.evaluations;
 }
 
-// Integrates the emitting patches `exact` into values, per patch (a process's part, to be
-// gathered with the others').
-PairCounts integratePairs(const ExactScene& scene, const ExactOptions& opt, int threads, const std::vector<int>& exact,
-                          std::vector<std::vector<PairValue>>& values) {
+// Integrates the emitting patches `exact` on all threads, each run [runs[r], runs[r + 1]) of
+// them on one thread in order; store(r, a, b, value) and skip(r, a, b) take each pair.
+template <class Store, class Skip>
+PairCounts integrateRuns(const ExactScene& scene, const ExactOptions& opt, int threads, const std::vector<int>& exact,
+                         const std::vector<size_t>& runs, Store&& store, Skip&& skip) {
   PairCounts counts;
   int finished = 0;
+  const size_t run_count = runs.size() - 1;
 #ifdef _OPENMP
 #pragma omp parallel num_threads(threads)
 #endif
@@ -68,27 +71,46 @@ PairCounts integratePairs(const ExactScene& scene, const ExactOptions& opt, int 
 #ifdef _OPENMP
 #pragma omp for schedule(dynamic, 1)
 #endif
-    for (size_t k = 0; k < exact.size(); ++k) {
-      const int a = exact[k];
-      std::vector<PairValue>& to = values[static_cast<size_t>(a)];
-      to.reserve(pairsFrom(scene, opt, a));
-      integratePatch(
-          scene, opt, solver, a, mine,
-          [&](int b, const FactorEstimate& g) { to.push_back({b, std::max(g.value, 0.0), g.error}); }, [](int) {});
+    for (size_t r = 0; r < run_count; ++r)
+      for (size_t k = runs[r]; k < runs[r + 1]; ++k) {
+        const int a = exact[k];
+        integratePatch(
+            scene, opt, solver, a, mine, [&](int b, const FactorEstimate& g) { store(r, a, b, g); },
+            [&](int b) { skip(r, a, b); });
 #ifdef _OPENMP
 #pragma omp critical(radnet_exact_progress)
 #endif
-      {
-        ++finished;
-        if (opt.progress) opt.progress(finished, static_cast<int>(exact.size()));
+        {
+          ++finished;
+          if (opt.progress) opt.progress(finished, static_cast<int>(exact.size()));
+        }
       }
-    }
 #ifdef _OPENMP
 #pragma omp critical(radnet_exact_counts)
 #endif
     addCounts(counts, mine);
   }
+  (void)threads;
   return counts;
+}
+
+// Integrates the emitting patches `exact` into values, per patch (a process's part, to be
+// gathered with the others'), each patch's values reserved at once.
+PairCounts integratePairs(const ExactScene& scene, const ExactOptions& opt, int threads, const std::vector<int>& exact,
+                          std::vector<std::vector<PairValue>>& values) {
+  std::vector<size_t> runs(exact.size() + 1);
+  std::iota(runs.begin(), runs.end(), size_t(0));  // a patch a run
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 16) num_threads(threads)
+#endif
+  for (size_t k = 0; k < exact.size(); ++k)
+    values[static_cast<size_t>(exact[k])].reserve(pairsFrom(scene, opt, exact[k]));
+  return integrateRuns(
+      scene, opt, threads, exact, runs,
+      [&](size_t, int a, int b, const FactorEstimate& g) {
+        values[static_cast<size_t>(a)].push_back({b, std::max(g.value, 0.0), g.error});
+      },
+      [](size_t, int, int) {});
 }
 
 // Chunks of emitting patches for PairRowWriter: at most kMaxRowChunks runs of about as many
@@ -142,37 +164,12 @@ PairCounts integrateIntoRows(const ExactScene& scene, const ExactOptions& opt, i
     }
   }
   rows.layout(out);
-  PairCounts counts;
-  int finished = 0;
-#ifdef _OPENMP
-#pragma omp parallel num_threads(threads)
-#endif
-  {
-    PairSolver solver(scene, opt);
-    PairCounts mine;
-#ifdef _OPENMP
-#pragma omp for schedule(dynamic, 1)
-#endif
-    for (size_t c = 0; c < chunk_count; ++c)
-      for (size_t k = chunks[c]; k < chunks[c + 1]; ++k) {
-        const int a = exact[k];
-        integratePatch(
-            scene, opt, solver, a, mine,
-            [&](int b, const FactorEstimate& g) { rows.credit(c, node(a), node(b), std::max(g.value, 0.0), g.error); },
-            [&](int b) { rows.skip(c, node(a), node(b)); });
-#ifdef _OPENMP
-#pragma omp critical(radnet_exact_progress)
-#endif
-        {
-          ++finished;
-          if (opt.progress) opt.progress(finished, static_cast<int>(exact.size()));
-        }
-      }
-#ifdef _OPENMP
-#pragma omp critical(radnet_exact_counts)
-#endif
-    addCounts(counts, mine);
-  }
+  const PairCounts counts = integrateRuns(
+      scene, opt, threads, exact, chunks,
+      [&](size_t c, int a, int b, const FactorEstimate& g) {
+        rows.credit(c, node(a), node(b), std::max(g.value, 0.0), g.error);
+      },
+      [&](size_t c, int a, int b) { rows.skip(c, node(a), node(b)); });
   const ErrorAgainstTarget worst = rows.finish(threads, {opt.tolerance, opt.relative_tolerance});
   out.worst_error = worst.error;
   out.worst_error_target = worst.target;
