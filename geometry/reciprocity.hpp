@@ -66,15 +66,12 @@ struct ViewFactorEstimate {
   Eigen::VectorXd blocked, blocked_error;  ///< F_blocked,i (rays stopped by inactive sides) and σ, –
 };
 
-/// σ of an estimate as a compressed matrix: standard_error, or error_on_pattern on F's
-/// pattern (valid while F's pattern is).
+/// σ of an estimate as a matrix: standard_error, or error_on_pattern on F's pattern (valid
+/// while F's pattern is). Compressed or not, as the storage it views.
 inline Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor>> errorsOf(const ViewFactorEstimate& est) {
-  if (!est.errors_on_pattern) {
-    const auto& e = est.standard_error;
-    return {e.rows(), e.cols(), e.nonZeros(), e.outerIndexPtr(), e.innerIndexPtr(), e.valuePtr()};
-  }
-  const auto& f = est.view_factors;
-  return {f.rows(), f.cols(), f.nonZeros(), f.outerIndexPtr(), f.innerIndexPtr(), est.error_on_pattern.data()};
+  const auto& e = est.errors_on_pattern ? est.view_factors : est.standard_error;
+  const double* values = est.errors_on_pattern ? est.error_on_pattern.data() : e.valuePtr();
+  return {e.rows(), e.cols(), e.nonZeros(), e.outerIndexPtr(), e.innerIndexPtr(), values, e.innerNonZeroPtr()};
 }
 
 /// standard_error made of error_on_pattern (then released); nothing if σ is there already.

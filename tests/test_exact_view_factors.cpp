@@ -3,14 +3,14 @@
 // second route to the same number (a polygon with a hole against the difference of two
 // polygons). Tolerances: the method's own error estimate where it is the claim under
 // test, else the stated requested tolerance.
-#include "geometry/exact/view_factors.hpp"
 #include "geometry/exact/assemble_rows.hpp"
 #include "geometry/exact/occluded_factor.hpp"
 #include "geometry/exact/patches.hpp"
 #include "geometry/exact/polygon_factor.hpp"
+#include "geometry/exact/view_factors.hpp"
 #include "geometry/scene/primitives.hpp"
-#include "tests/room_scene.hpp"
 #include "tests/howell.hpp"
+#include "tests/room_scene.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -382,7 +382,8 @@ TEST_CASE("The correction laid over F in place equals the one beside it, and ref
     // the last bit, σ readable as a matrix until the overwrite, then released with the raw
     // pattern.
     ViewFactorEstimate on = kept;
-    on.error_on_pattern = Eigen::Map<const Eigen::VectorXd>(kept.standard_error.valuePtr(), kept.standard_error.nonZeros());
+    on.error_on_pattern =
+        Eigen::Map<const Eigen::VectorXd>(kept.standard_error.valuePtr(), kept.standard_error.nonZeros());
     on.errors_on_pattern = true;
     on.standard_error = Eigen::SparseMatrix<double, Eigen::RowMajor>();
     REQUIRE(Eigen::MatrixXd(errorsOf(on)) == Eigen::MatrixXd(kept.standard_error));
@@ -423,4 +424,28 @@ TEST_CASE("The correction laid over F in place equals the one beside it, and ref
   CHECK_FALSE(enforceReciprocityInPlace(Eigen::VectorXd::Ones(n), e, Eigen::VectorXd::Constant(n, 1e6),
                                         [&](long long) { called = true; }));
   CHECK_FALSE(called);
+}
+
+TEST_CASE("errorsOf views σ as stored: its own matrix, compressed or not, or F's pattern", "[reciprocity]") {
+  ViewFactorEstimate e;
+  e.view_factors.resize(3, 3);
+  e.standard_error.resize(3, 3);
+  e.standard_error.reserve(Eigen::VectorXi::Constant(3, 2));  // uncompressed: room left in each row
+  e.standard_error.insert(0, 2) = 0.25;
+  e.standard_error.insert(2, 0) = 0.5;
+  e.standard_error.insert(1, 1) = 0.125;
+  REQUIRE_FALSE(e.standard_error.isCompressed());
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(3, 3);
+  expected(0, 2) = 0.25, expected(2, 0) = 0.5, expected(1, 1) = 0.125;
+  CHECK(Eigen::MatrixXd(errorsOf(e)) == expected);
+  // The same numbers on F's pattern, F's values elsewhere.
+  e.view_factors = expected.sparseView() * 2.0;
+  e.view_factors.makeCompressed();
+  e.error_on_pattern = Eigen::Map<const Eigen::VectorXd>(e.view_factors.valuePtr(), e.view_factors.nonZeros()) / 2.0;
+  e.errors_on_pattern = true;
+  e.standard_error = Eigen::SparseMatrix<double, Eigen::RowMajor>();
+  CHECK(Eigen::MatrixXd(errorsOf(e)) == expected);
+  expandErrors(e);
+  CHECK_FALSE(e.errors_on_pattern);
+  CHECK(Eigen::MatrixXd(e.standard_error) == expected);
 }

@@ -109,9 +109,9 @@ geometry::ExactOptions plannedExactOptions(const GeometryCase& c) {
 }
 
 // F by the exact method into `estimate`, with the rows it leaves to sampling (auto) cast as rays.
-void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, GeometryRunResult& r,
-                Eigen::VectorXd& rays, bool show_progress, std::ostream& progress,
-                geometry::ViewFactorEstimate& estimate, bool shared, bool errors_on_pattern) {
+void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, GeometryRunResult& r, Eigen::VectorXd& rays,
+                bool show_progress, std::ostream& progress, geometry::ViewFactorEstimate& estimate, bool shared,
+                bool errors_on_pattern) {
   geometry::ExactOptions opt = plannedExactOptions(c);
   opt.errors_on_pattern = errors_on_pattern && !shared;
   const bool automatic = c.view_factors.method == ViewFactorMethod::Auto;

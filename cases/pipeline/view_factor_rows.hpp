@@ -34,9 +34,9 @@ void moveEstimate(geometry::ViewFactorEstimate& from, geometry::ViewFactorEstima
 /// `shared`: the rows this rank does not hold are dropped from the integrated F (and its
 /// σ) before the sampled rows are cast, each rank its own. `errors_on_pattern`: σ may stay on
 /// F's pattern (estimate.error_on_pattern) when no row is left to rays.
-void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, GeometryRunResult& r,
-                Eigen::VectorXd& rays, bool show_progress, std::ostream& progress,
-                geometry::ViewFactorEstimate& estimate, bool shared = false, bool errors_on_pattern = false);
+void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, GeometryRunResult& r, Eigen::VectorXd& rays,
+                bool show_progress, std::ostream& progress, geometry::ViewFactorEstimate& estimate, bool shared = false,
+                bool errors_on_pattern = false);
 
 /// The network from the corrected F, stored sparse or dense by the solver policy. The
 /// correction's F is released once read (the network's G holds it; 2.4 GB at 2e8 entries).

@@ -20,8 +20,13 @@ namespace {
 class PairsInPlace {
  public:
   PairsInPlace(const Eigen::VectorXd& area, const Eigen::VectorXd& rays, ViewFactorEstimate& est)
-      : area_(area), rays_(rays), floor_(rayFloorVariances(area, rays)), f_(est.view_factors),
-        error_(errorsOf(est).valuePtr()), n_(static_cast<int>(area.size())), upper_start_(static_cast<size_t>(n_)),
+      : area_(area),
+        rays_(rays),
+        floor_(rayFloorVariances(area, rays)),
+        f_(est.view_factors),
+        error_(errorsOf(est).valuePtr()),
+        n_(static_cast<int>(area.size())),
+        upper_start_(static_cast<size_t>(n_)),
         first_pair_(static_cast<size_t>(n_) + 1, 0) {
     const int* outer = f_.outerIndexPtr();
     const int* inner = f_.innerIndexPtr();
@@ -183,7 +188,9 @@ class PairsInPlace {
     }
     return true;
   }
-  Pair pair(int i, int j, int k, int k_ji) const { return combinedPair(area_, floor_, f_.valuePtr(), error_, i, j, k, k_ji); }
+  Pair pair(int i, int j, int k, int k_ji) const {
+    return combinedPair(area_, floor_, f_.valuePtr(), error_, i, j, k, k_ji);
+  }
   int rowAt(int block, int blocks) const {
     const size_t share = first_pair_.back() * size_t(block) / size_t(blocks);
     return static_cast<int>(std::lower_bound(first_pair_.begin(), first_pair_.end() - 1, share) - first_pair_.begin());
@@ -196,7 +203,7 @@ class PairsInPlace {
   int n_;
   std::vector<int> upper_start_;      // row i's first entry with column ≥ i
   std::vector<size_t> first_pair_;    // row i's first pair's index (n + 1: the count last)
-  Eigen::VectorXd var_;  // per pair, its variance v (0: pinned)
+  Eigen::VectorXd var_;               // per pair, its variance v (0: pinned)
   std::vector<bool> pinned_;
   bool symmetric_ = false;
   long long corrected_nonzeros_ = 0;

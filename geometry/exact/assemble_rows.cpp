@@ -128,24 +128,24 @@ void rowTerms(const RowEntries& entries, Eigen::Index row, std::int64_t s, std::
   out.space_error[row] = sum_error + out.blocked_error[row];
 }
 
-// Pair values cut into kValueChunks runs of emitting patches holding about as many values
-// each. Returns the first patch of each chunk and, last, the number of patches.
+// Pair values cut into at most kValueChunks runs of emitting patches (equalRuns).
 constexpr size_t kValueChunks = 32;
-std::vector<size_t> valueChunks(const std::vector<std::vector<PairValue>>& values) {
-  size_t total = 0;
-  for (const auto& v : values) total += v.size();
-  std::vector<size_t> first{0};
-  size_t seen = 0;
-  for (size_t a = 0; a < values.size(); ++a) {
-    seen += values[a].size();
-    if (first.size() < kValueChunks && seen * kValueChunks >= total * first.size() && a + 1 < values.size())
-      first.push_back(a + 1);
-  }
-  first.push_back(values.size());
-  return first;
-}
 
 }  // namespace
+
+std::vector<size_t> equalRuns(const std::vector<size_t>& weights, size_t wanted) {
+  size_t total = 0;
+  for (size_t w : weights) total += w;
+  std::vector<size_t> first{0};
+  size_t seen = 0;
+  for (size_t k = 0; k < weights.size(); ++k) {
+    seen += weights[k];
+    if (first.size() < wanted && seen * wanted >= total * first.size() && k + 1 < weights.size())
+      first.push_back(k + 1);
+  }
+  first.push_back(weights.size());
+  return first;
+}
 
 PairRowWriter::PairRowWriter(const Eigen::VectorXd& area, const std::vector<char>& sampled_rows, size_t chunk_count,
                              bool errors_on_pattern)
@@ -240,7 +240,9 @@ ErrorAgainstTarget assemblePairRows(const std::vector<int>& patch_node, std::vec
                                     const Eigen::VectorXd& area, const std::vector<char>& sampled_rows,
                                     const ErrorTarget& target, int threads, ViewFactorEstimate& out,
                                     bool errors_on_pattern) {
-  const std::vector<size_t> chunks = valueChunks(values);
+  std::vector<size_t> sizes;
+  for (const auto& v : values) sizes.push_back(v.size());
+  const std::vector<size_t> chunks = equalRuns(sizes, kValueChunks);
   const size_t chunk_count = chunks.size() - 1;
   PairRowWriter rows(area, sampled_rows, chunk_count, errors_on_pattern);
 #ifdef _OPENMP
@@ -260,7 +262,8 @@ ErrorAgainstTarget assemblePairRows(const std::vector<int>& patch_node, std::vec
 #endif
     for (size_t c = first; c < std::min(chunk_count, first + round); ++c)
       for (size_t a = chunks[c]; a < chunks[c + 1]; ++a) {
-        for (const PairValue& v : values[a]) rows.credit(c, patch_node[a], patch_node[size_t(v.q)], v.exchange_area, v.error);
+        for (const PairValue& v : values[a])
+          rows.credit(c, patch_node[a], patch_node[size_t(v.q)], v.exchange_area, v.error);
         std::vector<PairValue>().swap(values[a]);
       }
     if (hand_back) solver::releaseFreedMemory();

@@ -97,6 +97,10 @@ class PairRowWriter {
   double* e_values_ = nullptr;
 };
 
+/// Emitting patches cut into at most `wanted` runs in order, of about equal weight (pairs):
+/// the first position of each run and, last, weights.size().
+std::vector<size_t> equalRuns(const std::vector<size_t>& weights, size_t wanted);
+
 /// Pair values integrated apart (the processes' parts gathered, ExactOptions::parts)
 /// credited through a PairRowWriter; `values` is emptied as it is read (it can be as large
 /// as F). @param patch_node  node of each patch (−1: an inactive side)

@@ -127,18 +127,7 @@ std::vector<size_t> rowChunks(const ExactScene& scene, const ExactOptions& opt, 
 #endif
   for (size_t k = 0; k < exact.size(); ++k) pairs[k] = pairsFrom(scene, opt, exact[k]);
   (void)threads;
-  size_t total = 0;
-  for (size_t p : pairs) total += p;
-  const size_t wanted = std::clamp<size_t>(size_t(16e6 / 8) / std::max<size_t>(nodes, 1), 1, kMaxRowChunks);
-  std::vector<size_t> first{0};
-  size_t seen = 0;
-  for (size_t k = 0; k < exact.size(); ++k) {
-    seen += pairs[k];
-    if (first.size() < wanted && seen * wanted >= total * first.size() && k + 1 < exact.size())
-      first.push_back(k + 1);
-  }
-  first.push_back(exact.size());
-  return first;
+  return equalRuns(pairs, std::clamp<size_t>(size_t(16e6 / 8) / std::max<size_t>(nodes, 1), 1, kMaxRowChunks));
 }
 
 // Integrates every pair of which at least one row is exact straight into F's and σ's rows
@@ -179,15 +168,15 @@ PairCounts integrateIntoRows(const ExactScene& scene, const ExactOptions& opt, i
 }  // namespace
 
 PairCounts integrateExactRows(const ExactScene& scene, const ExactOptions& opt, int threads,
-                              const Eigen::VectorXd& area, const std::vector<char>& sampled_rows,
-                              ExactResult& out) {
+                              const Eigen::VectorXd& area, const std::vector<char>& sampled_rows, ExactResult& out) {
   const std::vector<int> exact = exactPatches(scene);
   if (opt.parts <= 1) return integrateIntoRows(scene, opt, threads, exact, area, sampled_rows, out);
   std::vector<int> mine;
   for (size_t k = static_cast<size_t>(opt.part); k < exact.size(); k += static_cast<size_t>(opt.parts))
     mine.push_back(exact[k]);
   std::vector<std::vector<PairValue>> values(scene.patches.size());
-  const PairCounts counts = unpackParts(opt.gather(packPart(values, integratePairs(scene, opt, threads, mine, values), mine)), values);
+  const PairCounts counts =
+      unpackParts(opt.gather(packPart(values, integratePairs(scene, opt, threads, mine, values), mine)), values);
   std::vector<int> patch_node;
   for (const Patch& p : scene.patches) patch_node.push_back(p.node);
   const ErrorAgainstTarget worst =

@@ -15,7 +15,6 @@ namespace radnet::geometry {
 /// Sets out's F, σ, space and blocked terms and its worst entry against the targets.
 /// @param area  node areas, m²
 PairCounts integrateExactRows(const ExactScene& scene, const ExactOptions& opt, int threads,
-                              const Eigen::VectorXd& area, const std::vector<char>& sampled_rows,
-                              ExactResult& out);
+                              const Eigen::VectorXd& area, const std::vector<char>& sampled_rows, ExactResult& out);
 
 }  // namespace radnet::geometry
