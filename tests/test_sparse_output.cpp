@@ -122,6 +122,48 @@ TEST_CASE("past 5,000 nodes a sparse network writes no (n,n) dataset: the names 
   CHECK(gr.rows(0, 10).cwiseAbs().maxCoeff() == 0.0);
 }
 
+TEST_CASE("σ_F kept in float on F's pattern is written as the σ every other path writes") {
+  // A closed box of 6 × 4 nodes by the exact method: without an orbit or temperatures nothing
+  // reads σ after the raw estimate, which then holds σ in float on F's pattern
+  // (ViewFactorEstimate::error_on_pattern); with a thermal block σ is a matrix of its own.
+  // The two files must hold the same σ, dense and CSR, and the same corrected F.
+  TempDir dir;
+  std::string box = "name: box\nmaterials:\n  grey: {emissivity: 0.9, absorptivity: 0.5}\ngeometry:\n";
+  const char* faces[6][4] = {
+      {"floor", "[0, 0, 0]", "[1, 0, 0]", "[0, 0.8, 0]"}, {"ceil", "[0, 0, 0.6]", "[0, 0.8, 0]", "[1, 0, 0]"},
+      {"wx0", "[0, 0, 0]", "[0, 0.8, 0]", "[0, 0, 0.6]"}, {"wx1", "[1, 0, 0]", "[0, 0, 0.6]", "[0, 0.8, 0]"},
+      {"wy0", "[0, 0, 0]", "[0, 0, 0.6]", "[1, 0, 0]"},   {"wy1", "[0, 0.8, 0]", "[1, 0, 0]", "[0, 0, 0.6]"}};
+  for (const auto& f : faces)
+    box += std::string("  - rectangle: {name: ") + f[0] + ", origin: " + f[1] + ", u: " + f[2] + ", v: " + f[3] +
+           ", front: grey, nodes: [2, 2]}\n";
+  const std::string output = "output: {dense_matrices: true}\n";
+  std::ofstream(dir.path / "bare.yaml") << box << output;
+  std::ofstream(dir.path / "warm.yaml")
+      << box << output << "thermal:\n  nodes:\n    floor.0.0: {temperature: 300.0}\n    ceil.0.0: {dissipation: 1.0}\n";
+  for (const char* name : {"bare", "warm"}) {
+    const Run run = runRadnet(std::string("run ") + name + ".yaml -o " + name + ".h5 -q", dir);
+    INFO(run.err);
+    REQUIRE(run.exit_code == 0);
+  }
+  const cases::Hdf5Reader bare((dir.path / "bare.h5").string()), warm((dir.path / "warm.h5").string());
+  const Eigen::Index n = bare.rows("/network/gr_space");
+  REQUIRE(n == 24);
+  const Eigen::MatrixXd sigma = bare.matrix("/network/view_factor_stderr");
+  CHECK(sigma.maxCoeff() > 0);
+  CHECK((sigma - warm.matrix("/network/view_factor_stderr")).cwiseAbs().maxCoeff() == 0.0);
+  CHECK((Eigen::MatrixXd(cases::readCsr(bare, "/network/sparse/view_factor_stderr", n, n)) - sigma)
+            .cwiseAbs()
+            .maxCoeff() == 0.0);
+  // Every σ is a float's value (kept to seven digits on either path).
+  CHECK((sigma.cast<float>().cast<double>() - sigma).cwiseAbs().maxCoeff() == 0.0);
+  // σ sits where the raw F does: F ≠ 0 exactly where σ's CSR has an entry.
+  const Eigen::MatrixXd raw = bare.matrix("/network/view_factors_raw");
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> sigma_csr =
+      cases::readCsr(bare, "/network/sparse/view_factor_stderr", n, n);
+  CHECK(sigma_csr.nonZeros() == (raw.array() != 0.0).count());
+  CHECK((bare.matrix("/network/view_factors") - warm.matrix("/network/view_factors")).cwiseAbs().maxCoeff() == 0.0);
+}
+
 TEST_CASE("output: keys are checked at their line") {
   TempDir dir;
   writeCase(dir, "bad.yaml", "output: {dense_matrix: true}\n");

@@ -109,7 +109,11 @@ void writeRawMatrices(Hdf5Writer& h5, const Eigen::SparseMatrix<double, Eigen::R
 }  // namespace
 
 void writeRawViewFactors(Hdf5Writer& h5, const geometry::ViewFactorEstimate& raw, bool dense) {
-  writeRawMatrices(h5, raw.view_factors, geometry::errorsOf(raw), dense);  // σ on its own pattern or on F's
+  if (!raw.errors_on_pattern) return writeRawMatrices(h5, raw.view_factors, raw.standard_error, dense);
+  // σ in single precision on F's own pattern: its indices are F's (linked, not written twice).
+  writeNetworkMatrix(h5, "view_factors_raw", raw.view_factors, "1", dense);
+  writeFloatNetworkMatrix(h5, "view_factor_stderr", geometry::errorsOnPattern(raw), "1", dense,
+                          CsrPattern("/network/sparse/view_factors_raw", raw.view_factors));
 }
 
 void writeViewFactorEstimate(Hdf5Writer& h5, const GeometryRunResult& r, ViewFactorMethod method,

@@ -38,7 +38,8 @@ void writeCsrParts(Hdf5Writer& h5, const std::string& group, const Eigen::Ref<co
 }
 
 // Equal sparsity patterns, entry for entry (both compressed).
-bool samePattern(const CsrRef& a, const CsrPattern& b) {
+template <class Rows>
+bool samePattern(const Rows& a, const CsrPattern& b) {
   if (!b.outer || a.rows() != b.rows || a.nonZeros() != b.nonzeros) return false;
   return std::equal(a.outerIndexPtr(), a.outerIndexPtr() + a.rows() + 1, b.outer) &&
          std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.inner);
@@ -138,6 +139,27 @@ void writeNetworkMatrix(Hdf5Writer& h5, const std::string& name, const CsrRef& m
                         bool dense, const Eigen::VectorXd& row_scale, const CsrPattern& shared) {
   if (dense) h5.writeMatrix("/network/" + name, m, units, row_scale);
   if (csrAlso(m.rows(), double(m.nonZeros()), dense)) writeCsr(h5, "/network/sparse/" + name, m, units, row_scale, shared);
+  if (!dense) h5.link("/network/sparse/" + name, "/network/" + name);
+}
+
+void writeFloatNetworkMatrix(Hdf5Writer& h5, const std::string& name, const Hdf5Writer::FloatRowsRef& m,
+                             const std::string& units, bool dense, const CsrPattern& shared) {
+  if (dense) h5.writeFloatMatrix("/network/" + name, m, units);
+  if (csrAlso(m.rows(), double(m.nonZeros()), dense)) {
+    const std::string group = "/network/sparse/" + name;
+    if (!m.isCompressed())
+      throw std::logic_error("writeFloatNetworkMatrix: single-precision values must be compressed");
+    const int* outer = m.outerIndexPtr();
+    h5.writeVectorBlocks(
+        group + "/data", m.nonZeros(),
+        [&](long long first, long long count, double* out) {
+          std::copy(m.valuePtr() + first, m.valuePtr() + first + count, out);
+        },
+        units);
+    const std::vector<long long> indptr(outer, outer + m.rows() + 1);
+    writeCsrPattern(h5, group, Eigen::Map<const Eigen::VectorXi>(m.innerIndexPtr(), m.nonZeros()), indptr, m.cols(),
+                    units, samePattern(m, shared) ? shared.group : "");
+  }
   if (!dense) h5.link("/network/sparse/" + name, "/network/" + name);
 }
 

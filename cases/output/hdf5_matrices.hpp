@@ -48,6 +48,9 @@ void writeCsrOfDense(Hdf5Writer& h5, const std::string& group, const Eigen::Matr
 /// /network/<name> (n,n) when `dense`, and /network/sparse/<name> always.
 void writeNetworkMatrix(Hdf5Writer& h5, const std::string& name, const CsrRef& m, const std::string& units,
                         bool dense, const Eigen::VectorXd& row_scale = {}, const CsrPattern& shared = {});
+/// The same from single-precision values (stored as doubles), unscaled.
+void writeFloatNetworkMatrix(Hdf5Writer& h5, const std::string& name, const Hdf5Writer::FloatRowsRef& m,
+                             const std::string& units, bool dense, const CsrPattern& shared = {});
 void writeDenseNetworkMatrix(Hdf5Writer& h5, const std::string& name, const Eigen::MatrixXd& m, const std::string& units,
                         bool dense, const Eigen::VectorXd& row_scale = {});
 

@@ -39,6 +39,10 @@ class Hdf5Writer {
   using SparseRowsRef = Eigen::Ref<const Eigen::SparseMatrix<double, Eigen::RowMajor>>;
   void writeMatrix(const std::string& path, const SparseRowsRef& m, const std::string& units,
                    const Eigen::VectorXd& row_scale = {});
+  /// The same from single-precision values (σ_F of the exact method, kept on F's pattern),
+  /// stored as doubles as every matrix of the file.
+  using FloatRowsRef = Eigen::Ref<const Eigen::SparseMatrix<float, Eigen::RowMajor>>;
+  void writeFloatMatrix(const std::string& path, const FloatRowsRef& m, const std::string& units);
   /// `deflate` false: stored whole (values that do not compress, e.g. a sparse matrix's non-zeros).
   void writeVector(const std::string& path, const Eigen::Ref<const Eigen::VectorXd>& v, const std::string& units,
                    bool deflate = true);
@@ -91,6 +95,9 @@ class Hdf5Writer {
   using ChunkFill = std::function<void(Eigen::Index row0, Eigen::Index col0, ChunkBlock& block)>;
   void writeChunkedMatrix(const std::string& path, Eigen::Index rows, Eigen::Index cols, const ChunkFill& fill,
                           const std::string& units);
+  template <class Rows>
+  void writeSparseRows(const std::string& path, const Rows& m, const std::string& units,
+                       const Eigen::VectorXd& row_scale);
   long long ensureGroup(const std::string& path);
   void writeBlocks(const std::string& path, long long size, const VectorFill& fill, const std::string& units,
                    bool integers);

@@ -47,9 +47,19 @@ void Hdf5Writer::writeMatrix(const std::string& path, const Eigen::Ref<const Eig
 
 void Hdf5Writer::writeMatrix(const std::string& path, const SparseRowsRef& m, const std::string& units,
                              const Eigen::VectorXd& row_scale) {
+  writeSparseRows(path, m, units, row_scale);
+}
+
+void Hdf5Writer::writeFloatMatrix(const std::string& path, const FloatRowsRef& m, const std::string& units) {
+  writeSparseRows(path, m, units, {});
+}
+
+template <class Rows>
+void Hdf5Writer::writeSparseRows(const std::string& path, const Rows& m, const std::string& units,
+                                 const Eigen::VectorXd& row_scale) {
   const auto scale = [&](Eigen::Index r) { return row_scale.size() ? row_scale[r] : 1.0; };
   if (!(m.rows() >= 2 * kMatrixChunk && m.cols() >= 2 * kMatrixChunk && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0)) {
-    Eigen::MatrixXd dense(m);  // small: the ordinary path
+    Eigen::MatrixXd dense = Eigen::MatrixXd(m.template cast<double>());  // small: the ordinary path
     for (Eigen::Index r = 0; r < dense.rows(); ++r) dense.row(r) *= scale(r);
     writeMatrix(path, dense, units);
     return;
@@ -59,8 +69,9 @@ void Hdf5Writer::writeMatrix(const std::string& path, const SparseRowsRef& m, co
       [&](Eigen::Index row0, Eigen::Index col0, auto& block) {
         const Eigen::Index rows = std::min<Eigen::Index>(kMatrixChunk, m.rows() - row0);
         for (Eigen::Index r = 0; r < rows; ++r)
-          for (SparseRowsRef::InnerIterator it(m, row0 + r); it; ++it)
-            if (it.col() >= col0 && it.col() < col0 + kMatrixChunk) block(r, it.col() - col0) = it.value() * scale(row0 + r);
+          for (typename Rows::InnerIterator it(m, row0 + r); it; ++it)
+            if (it.col() >= col0 && it.col() < col0 + kMatrixChunk)
+              block(r, it.col() - col0) = double(it.value()) * scale(row0 + r);
       },
       units);
 }

@@ -47,10 +47,12 @@ inline Eigen::VectorXd rayFloorVariances(const Eigen::VectorXd& area, const Eige
 // floored at one ray's worth (`floor`, rayFloorVariances: a division less per side and pass),
 // combined by inverse variance; F and σ share one compressed pattern, so an entry's σ sits
 // at its index in F. k_ji < 0: F_ji is absent, and the other side's zero counts with one
-// ray's variance. Bit for bit whichever correction calls it.
-inline Pair combinedPair(const Eigen::VectorXd& area, const Eigen::VectorXd& floor, const double* value,
-                         const double* error, int i, int j, int k_ij, int k_ji) {
-  auto variance = [&](int row, int k) { return std::max(std::pow(area[row] * error[k], 2), floor[row]); };
+// ray's variance. Bit for bit whichever correction calls it (σ in double or, on F's pattern,
+// float: the same numbers).
+template <class Error>
+Pair combinedPair(const Eigen::VectorXd& area, const Eigen::VectorXd& floor, const double* value, const Error* error,
+                  int i, int j, int k_ij, int k_ji) {
+  auto variance = [&](int row, int k) { return std::max(std::pow(area[row] * double(error[k]), 2), floor[row]); };
   const double v = variance(i, k_ij);
   double num = area[i] * value[k_ij] / v, den = 1.0 / v;
   if (j != i) {

@@ -17,14 +17,16 @@ namespace {
 // The pairs of a symmetric compressed pattern read where they lie in F and σ: each pair's
 // variance is kept (in pair order: upper entries row by row, 0 once pinned, 8 B a pair
 // instead of the list's 24), its estimate ĝ combined again from F and σ where a pass needs it.
+// σ's values (Error: double, or float on F's pattern) lie at F's indices.
+template <class Error>
 class PairsInPlace {
  public:
-  PairsInPlace(const Eigen::VectorXd& area, const Eigen::VectorXd& rays, ViewFactorEstimate& est)
+  PairsInPlace(const Eigen::VectorXd& area, const Eigen::VectorXd& rays, ViewFactorEstimate& est, const Error* error)
       : area_(area),
         rays_(rays),
         floor_(rayFloorVariances(area, rays)),
         f_(est.view_factors),
-        error_(errorsOf(est).valuePtr()),
+        error_(error),
         n_(static_cast<int>(area.size())),
         upper_start_(static_cast<size_t>(n_)),
         first_pair_(static_cast<size_t>(n_) + 1, 0) {
@@ -199,7 +201,7 @@ class PairsInPlace {
   const Eigen::VectorXd &area_, &rays_;
   Eigen::VectorXd floor_;  // per row, one ray's worth of variance
   RowSparse& f_;
-  const double* error_;
+  const Error* error_;
   int n_;
   std::vector<int> upper_start_;      // row i's first entry with column ≥ i
   std::vector<size_t> first_pair_;    // row i's first pair's index (n + 1: the count last)
@@ -213,6 +215,27 @@ class PairsInPlace {
   bool pinned_any_ = false;
 };
 
+// The correction over σ's values `error` (at F's indices).
+template <class Error>
+ReciprocityCorrection correctInPlace(const Eigen::VectorXd& area, ViewFactorEstimate& est, const Eigen::VectorXd& rays,
+                                     const Error* error, const std::function<void(long long)>& before_overwrite,
+                                     bool& symmetric) {
+  PairsInPlace<Error> pairs(area, rays, est, error);
+  symmetric = pairs.symmetric();
+  ReciprocityCorrection out;
+  if (!symmetric) return out;
+  NodeTerms terms(area, est, rays);
+  const Eigen::VectorXd mu = pinnedMultipliers(
+      area, terms, [&](int block, int blocks, auto&& fn) { pairs.freePairs(block, blocks, fn); },
+      [&](int block, int blocks, auto&& fn) { pairs.couplings(block, blocks, fn); },
+      [&](const Eigen::VectorXd& m) { return pairs.pinNegative(m); }, &pairs.firstSums());
+  pairs.keepOnlyPinned();
+  if (before_overwrite) before_overwrite(pairs.correctedNonZeros());
+  terms.corrected(mu, area, out);
+  pairs.overwrite(mu, out);
+  return out;
+}
+
 }  // namespace
 
 std::optional<ReciprocityCorrection> enforceReciprocityInPlace(const Eigen::VectorXd& area, ViewFactorEstimate& est,
@@ -222,21 +245,14 @@ std::optional<ReciprocityCorrection> enforceReciprocityInPlace(const Eigen::Vect
   if (on_pattern ? est.error_on_pattern.size() != est.view_factors.nonZeros() || !est.view_factors.isCompressed()
                  : !samePattern(est.view_factors, est.standard_error))
     return std::nullopt;
-  PairsInPlace pairs(area, rays, est);
-  if (!pairs.symmetric()) return std::nullopt;
-  NodeTerms terms(area, est, rays);
-  const Eigen::VectorXd mu = pinnedMultipliers(
-      area, terms, [&](int block, int blocks, auto&& fn) { pairs.freePairs(block, blocks, fn); },
-      [&](int block, int blocks, auto&& fn) { pairs.couplings(block, blocks, fn); },
-      [&](const Eigen::VectorXd& m) { return pairs.pinNegative(m); }, &pairs.firstSums());
-  pairs.keepOnlyPinned();
-  if (before_overwrite) before_overwrite(pairs.correctedNonZeros());
-  ReciprocityCorrection out;
-  terms.corrected(mu, area, out);
-  pairs.overwrite(mu, out);
+  bool symmetric = false;
+  ReciprocityCorrection out =
+      on_pattern ? correctInPlace(area, est, rays, est.error_on_pattern.data(), before_overwrite, symmetric)
+                 : correctInPlace(area, est, rays, est.standard_error.valuePtr(), before_overwrite, symmetric);
+  if (!symmetric) return std::nullopt;
   out.view_factors.swap(est.view_factors);
   if (on_pattern) {  // its pattern is gone with the raw F
-    Eigen::VectorXd().swap(est.error_on_pattern);
+    Eigen::VectorXf().swap(est.error_on_pattern);
     est.errors_on_pattern = false;
   }
   out.max_closure_error = largestClosureError(out);

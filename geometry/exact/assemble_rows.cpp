@@ -8,13 +8,14 @@ namespace {
 
 using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
-// Where a row's entries lie: F's columns and values, σ's values and σ's own columns (null
-// when σ lies on F's pattern).
+// Where a row's entries lie: F's columns and values, σ's values (double beside its own
+// columns, float on F's pattern) and σ's own columns (null when σ lies on F's pattern).
+template <class Error>
 struct RowEntries {
   int* f_cols;
   int* e_cols;
   double* f_values;
-  double* e_values;
+  Error* e_values;
 };
 
 // Orders row i of F and σ (entries [s, s + m) of their buffers, same columns) by column,
@@ -24,10 +25,12 @@ struct RowEntries {
 // patch order, then its own patches' lists, cluster by cluster): the runs are merged
 // pairwise, stably, instead of sorting the row (the same order as a stable sort; the sort
 // was 0.2 s of the 6,144-node room's assembly).
-std::int64_t mergeRow(const RowEntries& row, std::int64_t s, std::int64_t m, std::vector<int>& order,
+template <class Error>
+std::int64_t mergeRow(const RowEntries<Error>& row, std::int64_t s, std::int64_t m, std::vector<int>& order,
                       std::vector<int>& col, std::vector<double>& fv, std::vector<double>& ev) {
   int *cols = row.f_cols + s, *e_cols = row.e_cols ? row.e_cols + s : nullptr;
-  double *fs = row.f_values + s, *es = row.e_values + s;
+  double* fs = row.f_values + s;
+  Error* es = row.e_values + s;
   // Empty slots (pairs that had no value) out first, in order. Most rows then arrive in
   // order already, without repeats (one patch a node: the values of the patches before it,
   // then its own, ascending): left as they are (σ's columns were written beside F's).
@@ -80,13 +83,16 @@ std::int64_t mergeRow(const RowEntries& row, std::int64_t s, std::int64_t m, std
   std::copy(col.begin(), col.end(), cols);
   if (e_cols) std::copy(col.begin(), col.end(), e_cols);
   std::copy(fv.begin(), fv.end(), fs);
-  std::copy(ev.begin(), ev.end(), es);
+  // A repeated column's σ summed in double, kept to float's digits as every σ of the method
+  // (the same numbers whether σ is stored in double or float).
+  std::transform(ev.begin(), ev.end(), es, [](double e) { return static_cast<float>(e); });
   return static_cast<std::int64_t>(col.size());
 }
 
 // Rows merged in place (row i at start[i], length[i]) shifted together: the columns (none:
 // σ on F's pattern) and values. Returns the entries kept.
-std::int64_t compact(int* cols, double* values, const std::vector<std::int64_t>& start,
+template <class Value>
+std::int64_t compact(int* cols, Value* values, const std::vector<std::int64_t>& start,
                      const std::vector<std::int64_t>& length) {
   std::int64_t at = 0;
   for (size_t i = 0; i < length.size(); ++i) {
@@ -114,8 +120,9 @@ void setRows(RowSparse& m, const std::vector<std::int64_t>& length, std::int64_t
 // What an integrated row leaves to space (1 − Σ F − blocked, its error the summed
 // estimates), from its merged entries [s, s + m); and in `worst` its entry whose error
 // estimate is largest against its target max(tolerance, relative × F_ij), the first of equals.
-void rowTerms(const RowEntries& entries, Eigen::Index row, std::int64_t s, std::int64_t m, const ErrorTarget& target,
-              ViewFactorEstimate& out, ErrorAgainstTarget& worst) {
+template <class Error>
+void rowTerms(const RowEntries<Error>& entries, Eigen::Index row, std::int64_t s, std::int64_t m,
+              const ErrorTarget& target, ViewFactorEstimate& out, ErrorAgainstTarget& worst) {
   double sum = 0.0, sum_error = 0.0;
   for (std::int64_t k = s; k < s + m; ++k) {
     const double value = entries.f_values[k], error = entries.e_values[k];
@@ -182,7 +189,8 @@ void PairRowWriter::layout(ViewFactorEstimate& out) {
     out.standard_error = RowSparse();
     out.errors_on_pattern = true;
     out.error_on_pattern.resize(static_cast<Eigen::Index>(total));
-    e_values_ = out.error_on_pattern.data();
+    e_floats_ = out.error_on_pattern.data();
+    e_values_ = nullptr;
   } else {
     out.error_on_pattern.resize(0);
     out.errors_on_pattern = false;
@@ -190,6 +198,7 @@ void PairRowWriter::layout(ViewFactorEstimate& out) {
     out.standard_error.resizeNonZeros(static_cast<Eigen::Index>(total));
     e_cols_ = out.standard_error.innerIndexPtr();
     e_values_ = out.standard_error.valuePtr();
+    e_floats_ = nullptr;
   }
 }
 
@@ -197,6 +206,11 @@ void PairRowWriter::layout(ViewFactorEstimate& out) {
 // over F and σ on all cores; sampled rows get their space terms from the rays); the rows'
 // worst entries compared in row order.
 ErrorAgainstTarget PairRowWriter::finish(int threads, const ErrorTarget& target) {
+  return e_floats_ ? finishRows(threads, target, e_floats_) : finishRows(threads, target, e_values_);
+}
+
+template <class Error>
+ErrorAgainstTarget PairRowWriter::finishRows(int threads, const ErrorTarget& target, Error* e_values) {
   ViewFactorEstimate& out = *out_;
   const auto n = static_cast<Eigen::Index>(n_);
   out.blocked = out.blocked_error = Eigen::VectorXd::Zero(n);
@@ -204,7 +218,7 @@ ErrorAgainstTarget PairRowWriter::finish(int threads, const ErrorTarget& target)
     for (const Blocked& b : lost) out.blocked[b.row] += b.share, out.blocked_error[b.row] += b.error;
   out.space = out.space_error = Eigen::VectorXd::Zero(n);
   std::vector<ErrorAgainstTarget> worst(n_, ErrorAgainstTarget{0.0, target.absolute});
-  const RowEntries entries{f_cols_, e_cols_, f_values_, e_values_};
+  const RowEntries<Error> entries{f_cols_, e_cols_, f_values_, e_values};
 #ifdef _OPENMP
 #pragma omp parallel num_threads(threads)
 #endif
@@ -222,7 +236,7 @@ ErrorAgainstTarget PairRowWriter::finish(int threads, const ErrorTarget& target)
   (void)threads;
   const std::int64_t total = compact(f_cols_, f_values_, start_, length_);
   setRows(out.view_factors, length_, total);
-  compact(e_cols_, e_values_, start_, length_);
+  compact(e_cols_, e_values, start_, length_);
   if (errors_on_pattern_)
     out.error_on_pattern.conservativeResize(static_cast<Eigen::Index>(total));
   else

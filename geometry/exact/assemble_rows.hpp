@@ -50,7 +50,8 @@ class PairRowWriter {
   void layout(ViewFactorEstimate& out);
   /// Chunk c's next pair: its exchange area A_P F_PQ and the estimate's error, m². The error
   /// is kept to float's seven digits, as a PairValue keeps it (so values gathered from
-  /// processes give the same σ as pairs written in place).
+  /// processes give the same σ as pairs written in place), and so is each σ_ij (stored in
+  /// float when it lies on F's pattern, the same numbers either way).
   void credit(size_t c, int i, int j, double exchange_area_m2, double error_m2) {
     const double error = static_cast<float>(error_m2);
     creditRow(c, i, j, exchange_area_m2, error);
@@ -77,7 +78,11 @@ class PairRowWriter {
     f_cols_[at] = j;
     if (e_cols_) e_cols_[at] = j;
     f_values_[at] = g / area_[i];
-    e_values_[at] = err / area_[i];
+    const float e = static_cast<float>(err / area_[i]);
+    if (e_floats_)
+      e_floats_[at] = e;
+    else
+      e_values_[at] = e;
   }
   struct Blocked {
     int row;
@@ -93,8 +98,11 @@ class PairRowWriter {
   ViewFactorEstimate* out_ = nullptr;
   int* f_cols_ = nullptr;
   int* e_cols_ = nullptr;  // σ's own index (null: σ on F's pattern)
+  template <class Error>
+  ErrorAgainstTarget finishRows(int threads, const ErrorTarget& target, Error* e_values);
   double* f_values_ = nullptr;
-  double* e_values_ = nullptr;
+  double* e_values_ = nullptr;  // σ beside its own columns, or
+  float* e_floats_ = nullptr;   // σ on F's pattern
 };
 
 /// Emitting patches cut into at most `wanted` runs in order, of about equal weight (pairs):
