@@ -18,6 +18,33 @@ struct RowEntries {
   Error* e_values;
 };
 
+// A row's entries taken in `order` (by column), repeated columns summed, written back over
+// the row's first entries; returns how many remain.
+template <class Error>
+std::int64_t sumInOrder(const std::vector<int>& order, int* cols, int* e_cols, double* fs, Error* es,
+                        std::vector<int>& col, std::vector<double>& fv, std::vector<double>& ev) {
+  col.clear();
+  fv.clear();
+  ev.clear();
+  for (int k : order) {
+    if (!col.empty() && col.back() == cols[k]) {
+      fv.back() += fs[k];
+      ev.back() += es[k];
+    } else {
+      col.push_back(cols[k]);
+      fv.push_back(fs[k]);
+      ev.push_back(es[k]);
+    }
+  }
+  std::copy(col.begin(), col.end(), cols);
+  if (e_cols) std::copy(col.begin(), col.end(), e_cols);
+  std::copy(fv.begin(), fv.end(), fs);
+  // A repeated column's σ summed in double, kept to float's digits as every σ of the method
+  // (the same numbers whether σ is stored in double or float).
+  std::transform(ev.begin(), ev.end(), es, [](double e) { return static_cast<float>(e); });
+  return static_cast<std::int64_t>(col.size());
+}
+
 // Orders row i of F and σ (entries [s, s + m) of their buffers, same columns) by column,
 // stably (a node pair's patch pairs are summed in the order they were credited, so the
 // result does not depend on the threads), and sums repeated columns; returns the length.
@@ -67,26 +94,7 @@ std::int64_t mergeRow(const RowEntries<Error>& row, std::int64_t s, std::int64_t
     runs[kept++] = runs.back();
     runs.resize(kept);
   }
-  col.clear();
-  fv.clear();
-  ev.clear();
-  for (int k : order) {
-    if (!col.empty() && col.back() == cols[k]) {
-      fv.back() += fs[k];
-      ev.back() += es[k];
-    } else {
-      col.push_back(cols[k]);
-      fv.push_back(fs[k]);
-      ev.push_back(es[k]);
-    }
-  }
-  std::copy(col.begin(), col.end(), cols);
-  if (e_cols) std::copy(col.begin(), col.end(), e_cols);
-  std::copy(fv.begin(), fv.end(), fs);
-  // A repeated column's σ summed in double, kept to float's digits as every σ of the method
-  // (the same numbers whether σ is stored in double or float).
-  std::transform(ev.begin(), ev.end(), es, [](double e) { return static_cast<float>(e); });
-  return static_cast<std::int64_t>(col.size());
+  return sumInOrder(order, cols, e_cols, fs, es, col, fv, ev);
 }
 
 // Rows merged in place (row i at start[i], length[i]) shifted together: the columns (none:
