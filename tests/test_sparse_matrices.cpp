@@ -5,13 +5,14 @@
 #include "cases/config/errors.hpp"
 #include "cases/config/work_estimate.hpp"
 #include "cases/output/hdf5_chunks.hpp"
+#include "cases/output/hdf5_layout.hpp"
 #include "cases/output/hdf5_matrix_reader.hpp"
 #include "cases/output/hdf5_writer.hpp"
+#include "clustered_network.hpp"
 #include "geometry/rays/view_factors.hpp"
 #include "geometry/scene/primitives.hpp"
 #include "solver/radiative/eigenpairs.hpp"
 #include "solver/radiative/exchange.hpp"
-#include "clustered_network.hpp"
 #include "temp_dir.hpp"
 
 #include <catch2/catch.hpp>
@@ -262,4 +263,47 @@ TEST_CASE("n × n chunks: dense ones shuffled, mostly-zero ones not, and HDF5 re
   H5Pclose(dcpl);
   H5Dclose(ds);
   H5Fclose(file);
+}
+
+TEST_CASE("σ_F held in float on F's pattern is written as the doubles it holds, dense and CSR, at every size") {
+  // writeRawViewFactors with ViewFactorEstimate::errors_on_pattern: the (n,n) dataset by the
+  // small path (5 nodes) and by compressed chunks (600 nodes: 256 × 256 chunks), and the CSR
+  // group whose indices are the raw F's.
+  for (const int n : {5, 600}) {
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<Eigen::Triplet<double>> entries;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        if (i != j && u(rng) < 0.3) entries.emplace_back(i, j, 0.01 * u(rng));
+    geometry::ViewFactorEstimate est;
+    est.view_factors.resize(n, n);
+    est.view_factors.setFromTriplets(entries.begin(), entries.end());
+    est.view_factors.makeCompressed();
+    est.error_on_pattern.resize(est.view_factors.nonZeros());
+    for (Eigen::Index k = 0; k < est.error_on_pattern.size(); ++k)
+      est.error_on_pattern[k] = static_cast<float>(1e-5 * (1.0 + u(rng)));  // seven digits each
+    est.errors_on_pattern = true;
+    const Eigen::MatrixXd sigma = Eigen::MatrixXd(geometry::errorsOnPattern(est).cast<double>());
+    for (const bool dense : {true, false}) {
+      INFO("n = " << n << (dense ? ", dense and CSR" : ", CSR only"));
+      test::TempDir dir;
+      const std::string path = (dir.path / "raw.h5").string();
+      {
+        cases::Hdf5Writer h5(path);
+        h5.attribute("/meta", "program", std::string("radnet"));
+        cases::writeRawViewFactors(h5, est, dense);
+        h5.commit();
+      }
+      const cases::Hdf5Reader h5(path);
+      const cases::SparseRows csr = cases::readCsr(h5, "/network/sparse/view_factor_stderr", n, n);
+      CHECK(csr.nonZeros() == est.view_factors.nonZeros());
+      CHECK((Eigen::MatrixXd(csr) - sigma).cwiseAbs().maxCoeff() == 0.0);
+      CHECK((Eigen::MatrixXd(cases::readCsr(h5, "/network/sparse/view_factors_raw", n, n)) -
+             Eigen::MatrixXd(est.view_factors))
+                .cwiseAbs()
+                .maxCoeff() == 0.0);
+      if (dense) CHECK((h5.matrix("/network/view_factor_stderr") - sigma).cwiseAbs().maxCoeff() == 0.0);
+    }
+  }
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <type_traits>
 #include <vector>
 
 namespace radnet::cases {
@@ -62,35 +63,51 @@ Eigen::Map<const SparseRows> rowsOfSymmetric(const Eigen::SparseMatrix<double>& 
   return {m.rows(), m.cols(), m.nonZeros(), m.outerIndexPtr(), m.innerIndexPtr(), m.valuePtr()};
 }
 
-void writeCsr(Hdf5Writer& h5, const std::string& group, const CsrRef& m, const std::string& units,
-              const Eigen::VectorXd& row_scale, const CsrPattern& shared) {
+namespace {
+
+// writeCsr for double or float values (the latter written as doubles, by blocks).
+template <class Rows>
+void writeCsrRows(Hdf5Writer& h5, const std::string& group, const Rows& m, const std::string& units,
+                  const Eigen::VectorXd& row_scale, const CsrPattern& shared) {
+  using Value = typename Rows::Scalar;
   if (!m.isCompressed()) {
-    SparseRows compressed(m);
+    Eigen::SparseMatrix<Value, Eigen::RowMajor> compressed(m);
     compressed.makeCompressed();
-    writeCsr(h5, group, compressed, units, row_scale, {});
+    writeCsrRows(h5, group, compressed, units, row_scale, {});
     return;
   }
-  // The matrix's own arrays, no copy of them (2.4 GB at 2e8 non-zeros); scaled values made
-  // and written by blocks.
+  // The matrix's own arrays, no copy of them (2.4 GB at 2e8 non-zeros); scaled or converted
+  // values made and written by blocks.
   const Eigen::Index rows = m.rows(), nnz = m.nonZeros();
   const int* outer = m.outerIndexPtr();
   const std::vector<long long> indptr(outer, outer + rows + 1);
-  if (row_scale.size() == 0) {
-    h5.writeVector(group + "/data", Eigen::Map<const Eigen::VectorXd>(m.valuePtr(), nnz), units, false);
-  } else {
-    h5.writeVectorBlocks(
-        group + "/data", nnz,
-        [&](long long first, long long count, double* out) {
-          long long r = std::upper_bound(outer, outer + rows + 1, first) - outer - 1;  // the row of entry `first`
-          for (long long k = first; k < first + count; ++k) {
-            while (outer[r + 1] <= k) ++r;
-            out[k - first] = m.valuePtr()[k] * row_scale[r];
-          }
-        },
-        units);
+  if constexpr (std::is_same_v<Value, double>) {
+    if (row_scale.size() == 0) {
+      h5.writeVector(group + "/data", Eigen::Map<const Eigen::VectorXd>(m.valuePtr(), nnz), units, false);
+      writeCsrPattern(h5, group, Eigen::Map<const Eigen::VectorXi>(m.innerIndexPtr(), nnz), indptr, m.cols(), units,
+                      samePattern(m, shared) ? shared.group : "");
+      return;
+    }
   }
+  h5.writeVectorBlocks(
+      group + "/data", nnz,
+      [&](long long first, long long count, double* out) {
+        long long r = std::upper_bound(outer, outer + rows + 1, first) - outer - 1;  // the row of entry `first`
+        for (long long k = first; k < first + count; ++k) {
+          while (outer[r + 1] <= k) ++r;
+          out[k - first] = double(m.valuePtr()[k]) * (row_scale.size() ? row_scale[r] : 1.0);
+        }
+      },
+      units);
   writeCsrPattern(h5, group, Eigen::Map<const Eigen::VectorXi>(m.innerIndexPtr(), nnz), indptr, m.cols(), units,
                   samePattern(m, shared) ? shared.group : "");
+}
+
+}  // namespace
+
+void writeCsr(Hdf5Writer& h5, const std::string& group, const CsrRef& m, const std::string& units,
+              const Eigen::VectorXd& row_scale, const CsrPattern& shared) {
+  writeCsrRows(h5, group, m, units, row_scale, shared);
 }
 
 void writeCsrOfDense(Hdf5Writer& h5, const std::string& group, const Eigen::MatrixXd& m, const std::string& units,
@@ -145,21 +162,7 @@ void writeNetworkMatrix(Hdf5Writer& h5, const std::string& name, const CsrRef& m
 void writeFloatNetworkMatrix(Hdf5Writer& h5, const std::string& name, const Hdf5Writer::FloatRowsRef& m,
                              const std::string& units, bool dense, const CsrPattern& shared) {
   if (dense) h5.writeFloatMatrix("/network/" + name, m, units);
-  if (csrAlso(m.rows(), double(m.nonZeros()), dense)) {
-    const std::string group = "/network/sparse/" + name;
-    if (!m.isCompressed())
-      throw std::logic_error("writeFloatNetworkMatrix: single-precision values must be compressed");
-    const int* outer = m.outerIndexPtr();
-    h5.writeVectorBlocks(
-        group + "/data", m.nonZeros(),
-        [&](long long first, long long count, double* out) {
-          std::copy(m.valuePtr() + first, m.valuePtr() + first + count, out);
-        },
-        units);
-    const std::vector<long long> indptr(outer, outer + m.rows() + 1);
-    writeCsrPattern(h5, group, Eigen::Map<const Eigen::VectorXi>(m.innerIndexPtr(), m.nonZeros()), indptr, m.cols(),
-                    units, samePattern(m, shared) ? shared.group : "");
-  }
+  if (csrAlso(m.rows(), double(m.nonZeros()), dense)) writeCsrRows(h5, "/network/sparse/" + name, m, units, {}, shared);
   if (!dense) h5.link("/network/sparse/" + name, "/network/" + name);
 }
 
