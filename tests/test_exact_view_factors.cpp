@@ -212,6 +212,24 @@ Scene ballInShellWithPlate() {
   return s;
 }
 
+// The paper's room with every face cut into k × k nodes of one cell each (paperRoom's faces).
+Scene cellRoom(int k) {
+  const double lx = 5.0, ly = 3.0, lz = 2.5;
+  const Vec3 faces[6][3] = {
+      {Vec3(0, 0, lz), Vec3(0, ly, 0), Vec3(lx, 0, 0)}, {Vec3(0, 0, 0), Vec3(0, ly, 0), Vec3(0, 0, lz)},
+      {Vec3(lx, 0, 0), Vec3(0, 0, lz), Vec3(0, ly, 0)}, {Vec3(0, 0, 0), Vec3(0, 0, lz), Vec3(lx, 0, 0)},
+      {Vec3(0, ly, 0), Vec3(lx, 0, 0), Vec3(0, 0, lz)}, {Vec3(0, 0, 0), Vec3(lx, 0, 0), Vec3(0, ly, 0)}};
+  Scene s;
+  for (int f = 0; f < 6; ++f)
+    for (int a = 0; a < k; ++a)
+      for (int b = 0; b < k; ++b) {
+        const Vec3 u = faces[f][1] / k, v = faces[f][2] / k;
+        const std::string name = "f" + std::to_string(f) + "." + std::to_string(a) + "." + std::to_string(b);
+        s.addSurface(name, name, rectangle(faces[f][0] + a * u + b * v, u, v, 1, 1), name, "");
+      }
+  return s;
+}
+
 }  // namespace
 
 TEST_CASE("exact method: rows credited in parallel chunks are the same bits for any thread count, and close") {
@@ -273,6 +291,72 @@ TEST_CASE("exact method: σ left on F's pattern is the σ of the whole matrix, b
   CHECK_FALSE(b.errors_on_pattern);
   CHECK(b.error_on_pattern.size() == 0);
   CHECK(Eigen::MatrixXd(b.standard_error) == Eigen::MatrixXd(a.standard_error));
+}
+
+// Each pair held once (ExactOptions::upper_exchange) against the whole matrix with σ on its
+// pattern, on one scene. F: a node pair's patch pairs summed before the division by the area
+// instead of after, a few ulps of the entry (bound 1e-14 of it). σ: the same float sums in
+// another order, within two float ulps (2.4e-7 of the entry). The correction's weights are
+// the pairs' variances rounded to float (6e-8 of each): the corrected entries agree to 1e-6
+// of the correction's largest move (and 1e-15 of a unit row, where nothing moves).
+void checkUpperAgainstWhole(const Scene& s, double tolerance) {
+  ExactOptions whole = ExactOptions::withTolerance(tolerance), once = whole;
+  whole.errors_on_pattern = true;
+  once.upper_exchange = true;
+  once.threads = 2;
+  ExactResult a = exactViewFactors(s, whole);
+  ExactResult u = exactViewFactors(s, once);
+  REQUIRE(u.upper_exchange);
+  CHECK(u.view_factors.nonZeros() == 0);
+  const Eigen::VectorXd area = u.upper_area;
+  const Eigen::Index n = area.size();
+  for (int i = 0; i < n; ++i)
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(u.exchange_upper, i); it; ++it)
+      CHECK(it.col() >= i);
+  CHECK(fullNonZeros(u.exchange_upper) == a.view_factors.nonZeros());
+  const Eigen::MatrixXd f_whole = a.view_factors, f_once = viewFactorsFromUpper(u.exchange_upper, area);
+  CHECK(((f_once - f_whole).array().abs() <= 1e-14 * f_whole.array().abs()).all());
+  CHECK(denseViewFactorsFromUpper(u.exchange_upper, area) == f_once);
+  CHECK((upperRowSums(u.exchange_upper, area) - f_once.rowwise().sum()).cwiseAbs().maxCoeff() <= 1e-15);
+  CHECK((u.space - a.space).cwiseAbs().maxCoeff() <= 1e-14);
+  CHECK(u.blocked == a.blocked);
+  CHECK((u.space_error - a.space_error).cwiseAbs().maxCoeff() <= 1e-6 * a.space_error.maxCoeff());
+  const Eigen::MatrixXd sigma_whole = errorsOnPattern(a).cast<double>();
+  CHECK((rowLargestErrors(u) - rowLargestErrors(a)).cwiseAbs().maxCoeff() <= 2.4e-7 * sigma_whole.maxCoeff());
+  CHECK(std::abs(u.worst_error - a.worst_error) <= 2.4e-7 * a.worst_error);
+  ViewFactorEstimate expanded = u;
+  expandUpper(expanded);
+  REQUIRE(expanded.errors_on_pattern);
+  const Eigen::MatrixXd sigma_once = errorsOnPattern(expanded).cast<double>();
+  CHECK(((sigma_once - sigma_whole).array().abs() <= 2.4e-7 * sigma_whole.array().abs()).all());
+  CHECK(Eigen::MatrixXd(expanded.view_factors) == f_once);
+  // The same bits on one thread as on two.
+  once.threads = 1;
+  const ExactResult one = exactViewFactors(s, once);
+  CHECK(Eigen::MatrixXd(one.exchange_upper) == Eigen::MatrixXd(u.exchange_upper));
+  CHECK(one.exchange_error_upper == u.exchange_error_upper);
+  CHECK(one.space == u.space);
+  // The corrections, each in place.
+  const Eigen::VectorXd rays = Eigen::VectorXd::Constant(n, 1.0 / tolerance);
+  const auto ca = enforceReciprocityInPlace(area, a, rays), cu = enforceReciprocityInPlace(area, u, rays);
+  REQUIRE(ca);
+  REQUIRE(cu);
+  CHECK(cu->view_factors.nonZeros() == 0);
+  const Eigen::MatrixXd corrected = viewFactorsFromUpper(cu->exchange_upper, area);
+  INFO("largest move " << ca->max_change);
+  CHECK(ca->max_change > 0);
+  CHECK((corrected - Eigen::MatrixXd(ca->view_factors)).cwiseAbs().maxCoeff() <= 1e-6 * ca->max_change + 1e-15);
+  CHECK(std::abs(cu->max_change - ca->max_change) <= 1e-6 * ca->max_change + 1e-15);
+  CHECK(cu->max_closure_error <= 1e-12);
+  CHECK(((corrected.rowwise().sum() + cu->space + cu->blocked).array() - 1.0).abs().maxCoeff() <= 1e-12);
+  CHECK((area.asDiagonal() * corrected - (area.asDiagonal() * corrected).transpose()).cwiseAbs().maxCoeff() <=
+        1e-15 * area.maxCoeff());
+}
+
+TEST_CASE("exact method: each pair held once is the whole matrix's F and σ, and corrects as it does") {
+  // Nodes of many patches and an inactive side (F_blocked), then a room of 3 × 3 nodes a wall.
+  checkUpperAgainstWhole(ballInShellWithPlate(), 1e-4);
+  checkUpperAgainstWhole(cellRoom(3), 1e-5);
 }
 
 TEST_CASE("exact method: an occluded pair held at depth 0 reports its error above its target") {

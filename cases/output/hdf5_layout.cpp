@@ -109,6 +109,17 @@ void writeRawMatrices(Hdf5Writer& h5, const Eigen::SparseMatrix<double, Eigen::R
 }  // namespace
 
 void writeRawViewFactors(Hdf5Writer& h5, const geometry::ViewFactorEstimate& raw, bool dense) {
+  if (raw.upper_exchange) {
+    // Each pair held once: F laid out for the file, then σ over its values (one n × n
+    // pattern beside the pairs, not two), the CSR's indices F's.
+    Eigen::SparseMatrix<double, Eigen::RowMajor> full =
+        geometry::viewFactorsFromUpper(raw.exchange_upper, raw.upper_area);
+    writeNetworkMatrix(h5, "view_factors_raw", full, "1", dense);
+    const CsrPattern pattern("/network/sparse/view_factors_raw", full);  // the pattern stays as σ is laid over it
+    geometry::errorsOverUpperLayout(full, raw.exchange_upper, raw.upper_area, raw.exchange_error_upper.data());
+    writeNetworkMatrix(h5, "view_factor_stderr", full, "1", dense, {}, pattern);
+    return;
+  }
   if (!raw.errors_on_pattern) return writeRawMatrices(h5, raw.view_factors, raw.standard_error, dense);
   // σ in single precision on F's own pattern: its indices are F's (linked, not written twice).
   writeNetworkMatrix(h5, "view_factors_raw", raw.view_factors, "1", dense);

@@ -159,7 +159,7 @@ geometry::ReciprocityCorrection correctWritingRaw(const GeometryCase& c, const E
     const auto t0 = std::chrono::steady_clock::now();
     write_raw(estimate, c.output.denseMatrices(n, !solver::policy::storeSparse(corrected_nonzeros, n)));
     // σ on F's pattern goes with the raw F's pattern: its rows' largest entries read now.
-    if (estimate.errors_on_pattern) r.row_stderr_max = geometry::rowLargestErrors(estimate);
+    if (estimate.errors_on_pattern || estimate.upper_exchange) r.row_stderr_max = geometry::rowLargestErrors(estimate);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     timer.exclude(seconds);
     r.raw_estimate_write_seconds += seconds;

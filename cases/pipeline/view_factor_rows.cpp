@@ -59,6 +59,17 @@ std::unique_ptr<solver::Network> buildNetwork(const GeometryCase& c, const Eigen
     Eigen::SparseMatrix<double, Eigen::RowMajor>().swap(correction.transposed);
     return net;
   }
+  if (correction.exchange_upper.rows() > 0) {  // exchange areas held once per pair (the exact method's)
+    Eigen::SparseMatrix<double, Eigen::RowMajor> upper;
+    upper.swap(correction.exchange_upper);
+    if (!solver::policy::storeSparse(geometry::fullNonZeros(upper), n)) {
+      // G is formed in the storage of F laid out dense (as below), straight from the pairs.
+      Eigen::MatrixXd dense = geometry::denseViewFactorsFromUpper(upper, area);
+      Eigen::SparseMatrix<double, Eigen::RowMajor>().swap(upper);
+      return std::make_unique<solver::Network>(c.node_names, area, std::move(dense), correction.blocked, tol);
+    }
+    correction.view_factors = geometry::viewFactorsFromUpper(upper, area);
+  }
   // Nothing reads the correction's F after the network: swapped out once copied (an
   // assignment would keep Eigen's storage allocated).
   if (solver::policy::storeSparse(correction.view_factors.nonZeros(), n)) {
@@ -81,6 +92,10 @@ void moveEstimate(geometry::ViewFactorEstimate& from, geometry::ViewFactorEstima
   to.standard_error.swap(from.standard_error);
   to.error_on_pattern.swap(from.error_on_pattern);
   std::swap(to.errors_on_pattern, from.errors_on_pattern);
+  to.exchange_upper.swap(from.exchange_upper);
+  to.exchange_error_upper.swap(from.exchange_error_upper);
+  to.upper_area.swap(from.upper_area);
+  std::swap(to.upper_exchange, from.upper_exchange);
   to.space.swap(from.space);
   to.space_error.swap(from.space_error);
   to.blocked.swap(from.blocked);
@@ -114,6 +129,8 @@ void exactStage(const GeometryCase& c, const geometry::RayCaster& caster, Geomet
                 bool errors_on_pattern) {
   geometry::ExactOptions opt = plannedExactOptions(c);
   opt.errors_on_pattern = errors_on_pattern && !shared;
+  // Every row integrated: each pair held once, corrected where it lies (correctWritingRaw).
+  opt.upper_exchange = opt.errors_on_pattern;
   const bool automatic = c.view_factors.method == ViewFactorMethod::Auto;
   opt.max_entries = automatic ? pairEntriesCap(c) : -1;
   if (show_progress) opt.progress = progressBar(progress, "view factors", "patches");

@@ -328,6 +328,12 @@ inline void mergeChange(const ReciprocityCorrection& part, ReciprocityCorrection
   out.max_change_sigma = std::max(out.max_change_sigma, part.max_change_sigma);
 }
 
+// enforceReciprocityInPlace for an upper_exchange estimate (reciprocity_upper.cpp): the
+// corrected exchange areas in the result's exchange_upper, est's released.
+ReciprocityCorrection correctUpperInPlace(const Eigen::VectorXd& area, ViewFactorEstimate& est,
+                                          const Eigen::VectorXd& rays,
+                                          const std::function<void(long long)>& before_overwrite);
+
 inline double largestClosureError(const ReciprocityCorrection& out) {
   double worst = 0.0;
   for (Eigen::Index i = 0; i < out.view_factors.outerSize(); ++i)

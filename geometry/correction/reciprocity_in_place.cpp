@@ -241,6 +241,7 @@ ReciprocityCorrection correctInPlace(const Eigen::VectorXd& area, ViewFactorEsti
 std::optional<ReciprocityCorrection> enforceReciprocityInPlace(const Eigen::VectorXd& area, ViewFactorEstimate& est,
                                                                const Eigen::VectorXd& rays,
                                                                const std::function<void(long long)>& before_overwrite) {
+  if (est.upper_exchange) return correctUpperInPlace(area, est, rays, before_overwrite);
   const bool on_pattern = est.errors_on_pattern;
   if (on_pattern ? est.error_on_pattern.size() != est.view_factors.nonZeros() || !est.view_factors.isCompressed()
                  : !samePattern(est.view_factors, est.standard_error))

@@ -143,6 +143,56 @@ void rowTerms(const RowEntries<Error>& entries, Eigen::Index row, std::int64_t s
   out.space_error[row] = sum_error + out.blocked_error[row];
 }
 
+// An upper_exchange estimate's space terms and its entry whose error is largest against
+// its target: row i's Σ_j F_ij holds its own upper entries (g_ij / A_i) and, from the rows
+// before it, g_ji / A_i; each entry is measured in both directions, σ as the expanded σ holds
+// it (float of e / A). Summed by fixed blocks of rows, added in block order (the same bits
+// for any thread count).
+ErrorAgainstTarget upperTerms(ViewFactorEstimate& out, const ErrorTarget& target) {
+  const RowSparse& g = out.exchange_upper;
+  const Eigen::VectorXd& area = out.upper_area;
+  const float* e = out.exchange_error_upper.data();
+  const int n = static_cast<int>(g.rows());
+  const int* outer = g.outerIndexPtr();
+  const int* inner = g.innerIndexPtr();
+  constexpr int kBlocks = 8;
+  std::vector<int> first(kBlocks + 1, n);
+  for (int b = 0; b < kBlocks; ++b)
+    first[size_t(b)] =
+        static_cast<int>(std::lower_bound(outer, outer + n, std::int64_t(outer[n]) * b / kBlocks) - outer);
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(n), sum_error = Eigen::VectorXd::Zero(n);
+  std::vector<Eigen::VectorXd> column(kBlocks), column_error(kBlocks);
+  std::vector<ErrorAgainstTarget> worst(kBlocks, ErrorAgainstTarget{0.0, target.absolute});
+  solver::parallelFor(kBlocks, [&](long long b) {
+    Eigen::VectorXd& col = column[size_t(b)] = Eigen::VectorXd::Zero(n);
+    Eigen::VectorXd& col_error = column_error[size_t(b)] = Eigen::VectorXd::Zero(n);
+    ErrorAgainstTarget& mine = worst[size_t(b)];
+    auto measure = [&](double value, double error) {
+      const double entry_target = std::max(target.absolute, target.relative * value);
+      if (error / entry_target > mine.error / mine.target) mine = {error, entry_target};
+    };
+    for (int i = first[size_t(b)]; i < first[size_t(b) + 1]; ++i)
+      for (int u = outer[i]; u < outer[i + 1]; ++u) {
+        const int j = inner[u];
+        const double fi = g.valuePtr()[u] / area[i], si = static_cast<float>(double(e[u]) / area[i]);
+        sum[i] += fi, sum_error[i] += si;
+        measure(fi, si);
+        if (j == i) continue;
+        const double fj = g.valuePtr()[u] / area[j], sj = static_cast<float>(double(e[u]) / area[j]);
+        col[j] += fj, col_error[j] += sj;
+        measure(fj, sj);
+      }
+  });
+  ErrorAgainstTarget largest{0.0, target.absolute};
+  for (int b = 0; b < kBlocks; ++b) {
+    sum += column[size_t(b)], sum_error += column_error[size_t(b)];
+    if (worst[size_t(b)].error / worst[size_t(b)].target > largest.error / largest.target) largest = worst[size_t(b)];
+  }
+  out.space = (1.0 - (sum + out.blocked).array()).max(0.0).matrix();
+  out.space_error = sum_error + out.blocked_error;
+  return largest;
+}
+
 // Pair values cut into at most kValueChunks runs of emitting patches (equalRuns).
 constexpr size_t kValueChunks = 32;
 
@@ -163,7 +213,7 @@ std::vector<size_t> equalRuns(const std::vector<size_t>& weights, size_t wanted)
 }
 
 PairRowWriter::PairRowWriter(const Eigen::VectorXd& area, const std::vector<char>& sampled_rows, size_t chunk_count,
-                             bool errors_on_pattern)
+                             bool errors_on_pattern, bool upper_exchange)
     : area_(area),
       sampled_rows_(sampled_rows),
       n_(sampled_rows.size()),
@@ -171,7 +221,11 @@ PairRowWriter::PairRowWriter(const Eigen::VectorXd& area, const std::vector<char
       start_(sampled_rows.size(), 0),
       length_(sampled_rows.size(), 0),
       blocked_(chunk_count),
-      errors_on_pattern_(errors_on_pattern) {}
+      errors_on_pattern_(errors_on_pattern || upper_exchange),
+      upper_(upper_exchange) {
+  if (upper_ && std::find(sampled_rows.begin(), sampled_rows.end(), 1) != sampled_rows.end())
+    throw std::logic_error("exchange areas in the upper triangle need every row integrated");
+}
 
 // Turns the chunks' counts into where chunk c writes row i: after the row's entries from the
 // chunks before it. Filled straight into F's and σ's own buffers (at 6,144 nodes F has 31 M
@@ -189,11 +243,23 @@ void PairRowWriter::layout(ViewFactorEstimate& out) {
     length_[i] = total - start_[i];
   }
   out_ = &out;
-  out.view_factors.resize(area_.size(), area_.size());
-  out.view_factors.resizeNonZeros(static_cast<Eigen::Index>(total));
-  f_cols_ = out.view_factors.innerIndexPtr();
-  f_values_ = out.view_factors.valuePtr();
-  if (errors_on_pattern_) {  // uninitialised, as resizeNonZeros leaves F: each page is first touched where written
+  RowSparse& f = upper_ ? out.exchange_upper : out.view_factors;
+  f.resize(area_.size(), area_.size());
+  f.resizeNonZeros(static_cast<Eigen::Index>(total));
+  f_cols_ = f.innerIndexPtr();
+  f_values_ = f.valuePtr();
+  if (upper_) {  // F and σ empty: the exchange areas and their errors only
+    out.view_factors = RowSparse();
+    out.standard_error = RowSparse();
+    out.errors_on_pattern = false;
+    out.error_on_pattern.resize(0);
+    out.upper_exchange = true;
+    out.upper_area = area_;
+    out.exchange_error_upper.resize(static_cast<Eigen::Index>(total));
+    e_floats_ = out.exchange_error_upper.data();
+    e_values_ = nullptr;
+  } else if (errors_on_pattern_) {  // uninitialised, as resizeNonZeros leaves F: each page is first touched where
+                                    // written
     out.standard_error = RowSparse();
     out.errors_on_pattern = true;
     out.error_on_pattern.resize(static_cast<Eigen::Index>(total));
@@ -238,13 +304,18 @@ ErrorAgainstTarget PairRowWriter::finishRows(int threads, const ErrorTarget& tar
 #endif
     for (size_t i = 0; i < n_; ++i) {
       length_[i] = mergeRow(entries, start_[i], length_[i], order, col, fv, ev);
-      if (!sampled_rows_[i]) rowTerms(entries, Eigen::Index(i), start_[i], length_[i], target, out, worst[i]);
+      if (!sampled_rows_[i] && !upper_)
+        rowTerms(entries, Eigen::Index(i), start_[i], length_[i], target, out, worst[i]);
     }
   }
   (void)threads;
   const std::int64_t total = compact(f_cols_, f_values_, start_, length_);
-  setRows(out.view_factors, length_, total);
+  setRows(upper_ ? out.exchange_upper : out.view_factors, length_, total);
   compact(e_cols_, e_values, start_, length_);
+  if (upper_) {
+    out.exchange_error_upper.conservativeResize(static_cast<Eigen::Index>(total));
+    return upperTerms(out, target);
+  }
   if (errors_on_pattern_)
     out.error_on_pattern.conservativeResize(static_cast<Eigen::Index>(total));
   else

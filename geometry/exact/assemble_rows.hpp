@@ -4,6 +4,7 @@
 #include "geometry/exact/pair_values.hpp"
 #include "geometry/reciprocity.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -38,11 +39,18 @@ class PairRowWriter {
   /// @param area          node areas, m²
   /// @param chunk_count   the pairs' chunks
   /// @param errors_on_pattern  σ into out.error_on_pattern (F's index) instead of standard_error
+  /// @param upper_exchange     each pair once, as its exchange area in the upper triangle
+  ///        (ViewFactorEstimate::upper_exchange, σ on its pattern): only when no row is sampled
+  ///        and every pair is credited once
   PairRowWriter(const Eigen::VectorXd& area, const std::vector<char>& sampled_rows, size_t chunk_count,
-                bool errors_on_pattern = false);
+                bool errors_on_pattern = false, bool upper_exchange = false);
 
   /// Counting, before layout(): a pair between nodes i and j (−1: inactive) in chunk c.
   void count(size_t c, int i, int j) {
+    if (upper_) {
+      if (i >= 0 && j >= 0) ++fill_[c * n_ + size_t(std::min(i, j))];
+      return;
+    }
     if (credits(i, j)) ++fill_[c * n_ + size_t(i)];
     if (credits(j, i)) ++fill_[c * n_ + size_t(j)];
   }
@@ -54,11 +62,24 @@ class PairRowWriter {
   /// float when it lies on F's pattern, the same numbers either way).
   void credit(size_t c, int i, int j, double exchange_area_m2, double error_m2) {
     const double error = static_cast<float>(error_m2);
+    if (upper_ && i >= 0 && j >= 0) {
+      // A node's own pair counts in both orders (A_P F_PQ + A_Q F_QP): twice, exactly.
+      const double times = i == j ? 2.0 : 1.0;
+      const std::int64_t at = fill_[c * n_ + size_t(std::min(i, j))]++;
+      f_cols_[at] = std::max(i, j);
+      f_values_[at] = times * exchange_area_m2;
+      e_floats_[at] = static_cast<float>(times * error);
+      return;
+    }
     creditRow(c, i, j, exchange_area_m2, error);
     creditRow(c, j, i, exchange_area_m2, error);
   }
   /// Chunk c's next pair had no value (culled, hidden, left to rays, or zero): its slots stay empty.
   void skip(size_t c, int i, int j) {
+    if (upper_) {
+      if (i >= 0 && j >= 0) f_cols_[fill_[c * n_ + size_t(std::min(i, j))]++] = kEmpty;
+      return;
+    }
     if (credits(i, j)) f_cols_[fill_[c * n_ + size_t(i)]++] = kEmpty;
     if (credits(j, i)) f_cols_[fill_[c * n_ + size_t(j)]++] = kEmpty;  // σ's index follows F's in finish()
   }
@@ -95,6 +116,7 @@ class PairRowWriter {
   std::vector<std::int64_t> start_, length_;
   std::vector<std::vector<Blocked>> blocked_;  // per chunk, added in chunk order
   bool errors_on_pattern_ = false;
+  bool upper_ = false;
   ViewFactorEstimate* out_ = nullptr;
   int* f_cols_ = nullptr;
   int* e_cols_ = nullptr;  // σ's own index (null: σ on F's pattern)

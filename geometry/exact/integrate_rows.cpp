@@ -138,7 +138,9 @@ PairCounts integrateIntoRows(const ExactScene& scene, const ExactOptions& opt, i
   const std::vector<size_t> chunks = rowChunks(scene, opt, threads, exact, sampled_rows.size());
   const size_t chunk_count = chunks.size() - 1;
   const auto node = [&](int patch) { return scene.patches[static_cast<size_t>(patch)].node; };
-  PairRowWriter rows(area, sampled_rows, chunk_count, opt.errors_on_pattern);
+  const bool upper = opt.upper_exchange && opt.rows.empty() && !opt.node_pairs &&
+                     std::find(sampled_rows.begin(), sampled_rows.end(), 1) == sampled_rows.end();
+  PairRowWriter rows(area, sampled_rows, chunk_count, opt.errors_on_pattern, upper);
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
 #endif

@@ -57,6 +57,11 @@ struct ExactOptions {
   /// σ left on F's pattern (ViewFactorEstimate::error_on_pattern, standard_error empty): for
   /// a caller that corrects in place and reads σ only while F's pattern stands.
   bool errors_on_pattern = false;
+  /// Each pair's exchange area held once, in the upper triangle (ViewFactorEstimate::
+  /// upper_exchange), when every row is integrated on one process with no row mask or pair
+  /// filter (else as errors_on_pattern says): for a caller that corrects with
+  /// enforceReciprocityInPlace and reads F through it.
+  bool upper_exchange = false;
   /// Called as emitting patches finish (one thread at a time): (done, total).
   std::function<void(int, int)> progress;
   /// Per node (empty: all): only these rows are integrated; the others are left out as rows
