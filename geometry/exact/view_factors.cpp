@@ -22,8 +22,10 @@ namespace {
 // (its two entries written into F's and σ's rows, the reciprocity/closure correction): the
 // 6,144-node room's stage took 2.36–2.52 s against the 0.79 s its pairs' integrals are
 // priced at (docs/view-factor-defaults-benchmark.md, 2026-12-07; 0.15 µs before the pairs
-// were written straight into the rows).
-constexpr double kStoredPairSeconds = 0.1e-6;
+// were written straight into the rows). Held once in the upper triangle (upper_exchange:
+// one entry a pair, corrected where it lies) 0.05 µs: the room's stage 1.28–1.44 s against
+// 0.79 s of integrals (2026-12-08).
+constexpr double kStoredPairSeconds = 0.1e-6, kStoredPairOnceSeconds = 0.05e-6;
 std::int64_t pairNanoseconds(PairKind kind, size_t blockers) {
   if (kind == PairKind::Free) return 100;
   if (kind == PairKind::Unoccluded) return 2000;
@@ -137,7 +139,8 @@ ExactResult exactViewFactors(const Scene& scene, const ExactOptions& opt) {
   res.pairs_by_quadrature = counts.by_quadrature;
   res.evaluations = counts.evaluations;
   res.threads = threads;
-  res.predicted_seconds = res.predicted_seconds / threads + double(stored) * kStoredPairSeconds;
+  res.predicted_seconds =
+      res.predicted_seconds / threads + double(stored) * (res.upper_exchange ? kStoredPairOnceSeconds : kStoredPairSeconds);
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
 }
