@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -327,12 +328,6 @@ inline void mergeChange(const ReciprocityCorrection& part, ReciprocityCorrection
   }
   out.max_change_sigma = std::max(out.max_change_sigma, part.max_change_sigma);
 }
-
-// enforceReciprocityInPlace for an upper_exchange estimate (reciprocity_upper.cpp): the
-// corrected exchange areas in the result's exchange_upper, est's released.
-ReciprocityCorrection correctUpperInPlace(const Eigen::VectorXd& area, ViewFactorEstimate& est,
-                                          const Eigen::VectorXd& rays,
-                                          const std::function<void(long long)>& before_overwrite);
 
 inline double largestClosureError(const ReciprocityCorrection& out) {
   double worst = 0.0;

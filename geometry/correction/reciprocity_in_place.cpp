@@ -1,6 +1,6 @@
 #include "geometry/reciprocity.hpp"
 
-#include "geometry/correction/pairs.hpp"
+#include "geometry/correction/in_place.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -58,9 +58,9 @@ class PairsInPlace {
       });
     });
     symmetric_ = std::all_of(block_symmetric.begin(), block_symmetric.end(), [](char s) { return s != 0; });
-    least_ratio_ = Eigen::VectorXd::Constant(n_, INFINITY);
-    for (const Eigen::VectorXd& least : smallest) least_ratio_ = least_ratio_.cwiseMin(least);
-    for (const PairSums::Count& e : entries) free_entries_ += e.value;
+    bound_.least_ratio = Eigen::VectorXd::Constant(n_, INFINITY);
+    for (const Eigen::VectorXd& least : smallest) bound_.least_ratio = bound_.least_ratio.cwiseMin(least);
+    for (const PairSums::Count& e : entries) bound_.free_entries += e.value;
   }
   bool symmetric() const { return symmetric_; }
   const PairSums& firstSums() const { return first_sums_; }
@@ -85,42 +85,16 @@ class PairsInPlace {
         if (var_[u] != 0.0 && inner[k] != i) fn(i, inner[k], var_[u]);
     }
   }
-  // Pins the pairs μ drives below zero; counts the corrected F's entries (the others').
-  // A pair's corrected g = v (ĝ/v + μ_i + μ_j) is positive wherever row i's smallest ĝ/v
-  // (a bound on every pair it holds) plus μ_i and the smallest μ_j is: when every row
-  // passes, no pair is visited (on a room of exact pairs the bound holds a thousandfold;
-  // the pass was a sixth of the correction).
+  // pinDrivenNegative over the pairs where they lie.
   bool pinNegative(const Eigen::VectorXd& mu) {
-    if (!pinned_any_ && mu.size() == n_ && mu.allFinite()) {
-      // A margin of 1e-9 of the ratio: g is formed in floating point, where a bound met by
-      // rounding's width would not keep it positive.
-      const double mu_least = std::min(0.0, mu.minCoeff());
-      bool all_positive = true;
-      for (int i = 0; i < n_ && all_positive; ++i)
-        all_positive = std::isinf(least_ratio_[i]) || least_ratio_[i] + mu[i] + mu_least > 1e-9 * std::abs(least_ratio_[i]);
-      if (all_positive) {
-        corrected_nonzeros_ = free_entries_;
-        return false;
-      }
-    }
-    pinned_any_ = true;  // the bound is of the pairs as first read: from here, every pair visited
-    std::vector<PairSums::Count> pinned(kCouplingBlocks), entries(kCouplingBlocks);
-    solver::parallelFor(kCouplingBlocks, [&](long long b) {
-      forEachPairOfBlock(static_cast<int>(b), [&](size_t u, int i, int j, int k, int k_ji) {
-        if (var_[u] == 0.0) return;
-        const double g = corrected(pair(i, j, k, k_ji), mu);
-        if (g < 0) {
-          var_[u] = 0.0;
-          ++pinned[size_t(b)].value;
-        } else if (g > 0) {
-          entries[size_t(b)].value += i == j ? 1 : 2;
-        }
-      });
-    });
-    long long any_pinned = 0;
-    corrected_nonzeros_ = 0;
-    for (size_t b = 0; b < entries.size(); ++b) corrected_nonzeros_ += entries[b].value, any_pinned += pinned[b].value;
-    return any_pinned > 0;
+    return pinDrivenNegative(
+        bound_, mu, corrected_nonzeros_,
+        [&](int b, auto&& fn) {
+          forEachPairOfBlock(b, [&](size_t u, int i, int j, int k, int k_ji) {
+            if (var_[u] != 0.0) fn(u, pair(i, j, k, k_ji));
+          });
+        },
+        [&](size_t u) { var_[u] = 0.0; });
   }
   long long correctedNonZeros() const { return corrected_nonzeros_; }
 
@@ -210,9 +184,7 @@ class PairsInPlace {
   bool symmetric_ = false;
   long long corrected_nonzeros_ = 0;
   PairSums first_sums_{n_};
-  Eigen::VectorXd least_ratio_;   // per row, the smallest ĝ / v of its free pairs (∞: none)
-  long long free_entries_ = 0;    // F's entries of the free pairs as first read
-  bool pinned_any_ = false;
+  PinBound bound_;
 };
 
 // The correction over σ's values `error` (at F's indices).
@@ -224,15 +196,7 @@ ReciprocityCorrection correctInPlace(const Eigen::VectorXd& area, ViewFactorEsti
   symmetric = pairs.symmetric();
   ReciprocityCorrection out;
   if (!symmetric) return out;
-  NodeTerms terms(area, est, rays);
-  const Eigen::VectorXd mu = pinnedMultipliers(
-      area, terms, [&](int block, int blocks, auto&& fn) { pairs.freePairs(block, blocks, fn); },
-      [&](int block, int blocks, auto&& fn) { pairs.couplings(block, blocks, fn); },
-      [&](const Eigen::VectorXd& m) { return pairs.pinNegative(m); }, &pairs.firstSums());
-  pairs.keepOnlyPinned();
-  if (before_overwrite) before_overwrite(pairs.correctedNonZeros());
-  terms.corrected(mu, area, out);
-  pairs.overwrite(mu, out);
+  correctPairs(pairs, area, est, rays, before_overwrite, out);
   return out;
 }
 

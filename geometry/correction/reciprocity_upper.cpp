@@ -2,7 +2,7 @@
 // (ViewFactorEstimate::upper_exchange): every pair is one entry, g_ij (j ≥ i) with its error
 // e_ij, so a pair is read where it lies, with no walk to its partner entry F_ji, and the
 // corrected g is written over it.
-#include "geometry/correction/pairs.hpp"
+#include "geometry/correction/in_place.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -47,9 +47,9 @@ class PairsUpper {
         entries[size_t(b)].value += i == j ? 1 : 2;
       });
     });
-    least_ratio_ = Eigen::VectorXd::Constant(n_, INFINITY);
-    for (const Eigen::VectorXd& least : smallest) least_ratio_ = least_ratio_.cwiseMin(least);
-    for (const PairSums::Count& e : entries) free_entries_ += e.value;
+    bound_.least_ratio = Eigen::VectorXd::Constant(n_, INFINITY);
+    for (const Eigen::VectorXd& least : smallest) bound_.least_ratio = bound_.least_ratio.cwiseMin(least);
+    for (const PairSums::Count& e : entries) bound_.free_entries += e.value;
   }
   const PairSums& firstSums() const { return first_sums_; }
 
@@ -67,38 +67,16 @@ class PairsUpper {
       if (var_[u] != 0.0f && j != i) fn(i, j, double(var_[u]));
     });
   }
-  // As PairsInPlace::pinNegative: no pair is visited while every row's smallest ĝ/v bounds
-  // its pairs' corrected g above zero.
+  // pinDrivenNegative over the pairs where they lie.
   bool pinNegative(const Eigen::VectorXd& mu) {
-    if (!pinned_any_ && mu.size() == n_ && mu.allFinite()) {
-      const double mu_least = std::min(0.0, mu.minCoeff());
-      bool all_positive = true;
-      for (int i = 0; i < n_ && all_positive; ++i)
-        all_positive =
-            std::isinf(least_ratio_[i]) || least_ratio_[i] + mu[i] + mu_least > 1e-9 * std::abs(least_ratio_[i]);
-      if (all_positive) {
-        corrected_nonzeros_ = free_entries_;
-        return false;
-      }
-    }
-    pinned_any_ = true;
-    std::vector<PairSums::Count> pinned(kCouplingBlocks), entries(kCouplingBlocks);
-    solver::parallelFor(kCouplingBlocks, [&](long long b) {
-      forEachPair(static_cast<int>(b), [&](int u, int i, int j) {
-        if (var_[u] == 0.0f) return;
-        const double g = corrected(pair(i, j, u), mu);
-        if (g < 0) {
-          var_[u] = 0.0f;
-          ++pinned[size_t(b)].value;
-        } else if (g > 0) {
-          entries[size_t(b)].value += i == j ? 1 : 2;
-        }
-      });
-    });
-    long long any_pinned = 0;
-    corrected_nonzeros_ = 0;
-    for (size_t b = 0; b < entries.size(); ++b) corrected_nonzeros_ += entries[b].value, any_pinned += pinned[b].value;
-    return any_pinned > 0;
+    return pinDrivenNegative(
+        bound_, mu, corrected_nonzeros_,
+        [&](int b, auto&& fn) {
+          forEachPair(b, [&](int u, int i, int j) {
+            if (var_[u] != 0.0f) fn(size_t(u), pair(i, j, u));
+          });
+        },
+        [&](size_t u) { var_[Eigen::Index(u)] = 0.0f; });
   }
   long long correctedNonZeros() const { return corrected_nonzeros_; }
 
@@ -164,9 +142,7 @@ class PairsUpper {
   std::vector<bool> pinned_;
   long long corrected_nonzeros_ = 0;
   PairSums first_sums_{n_};
-  Eigen::VectorXd least_ratio_;
-  long long free_entries_ = 0;
-  bool pinned_any_ = false;
+  PinBound bound_;
 };
 
 }  // namespace
@@ -180,15 +156,7 @@ ReciprocityCorrection correctUpperInPlace(const Eigen::VectorXd& area, ViewFacto
   ReciprocityCorrection out;
   {
     PairsUpper pairs(area, rays, est);
-    NodeTerms terms(area, est, rays);
-    const Eigen::VectorXd mu = pinnedMultipliers(
-        area, terms, [&](int block, int blocks, auto&& fn) { pairs.freePairs(block, blocks, fn); },
-        [&](int block, int blocks, auto&& fn) { pairs.couplings(block, blocks, fn); },
-        [&](const Eigen::VectorXd& m) { return pairs.pinNegative(m); }, &pairs.firstSums());
-    pairs.keepOnlyPinned();
-    if (before_overwrite) before_overwrite(pairs.correctedNonZeros());
-    terms.corrected(mu, area, out);
-    pairs.overwrite(mu, out);
+    correctPairs(pairs, area, est, rays, before_overwrite, out);
   }
   out.exchange_upper.swap(est.exchange_upper);
   Eigen::VectorXf().swap(est.exchange_error_upper);
