@@ -30,7 +30,9 @@ struct ErrorAgainstTarget {
 ///
 /// Each pair is credited to both its rows (A_P F_PQ / A_i and / A_j) unless the row is in
 /// `sampled_rows` (left empty: rays fill it); a pair with an inactive side (node −1) adds to
-/// F_blocked instead. finish() drops the slots of pairs that had no value, sums repeated
+/// F_blocked instead. In the upper mode (no row sampled) a pair takes one slot, in row
+/// min(i, j), holding its exchange area and error themselves (ViewFactorEstimate::
+/// upper_exchange), and the space terms are summed from both directions of each entry. finish() drops the slots of pairs that had no value, sums repeated
 /// columns (a node of several patches) in slot order, and sets F_space = max(0, 1 − row sum
 /// − F_blocked), its error the row's summed errors; it returns the entry whose error is
 /// largest against its target (the first of equals in row order).
