@@ -20,6 +20,7 @@
 #include <optional>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 namespace radnet::geometry {
 
@@ -98,6 +99,11 @@ void errorsOverUpperLayout(Eigen::SparseMatrix<double, Eigen::RowMajor>& full,
 /// The same F laid out dense (n × n), on all cores.
 Eigen::MatrixXd denseViewFactorsFromUpper(const Eigen::SparseMatrix<double, Eigen::RowMajor>& upper,
                                           const Eigen::VectorXd& area);
+
+/// The upper triangle's rows cut into `blocks` runs of about equal entries: the first row of
+/// each, then n. Fixed by the pattern alone, so sums formed block by block and added in block
+/// order are the same bits for any thread count.
+std::vector<int> upperRowBlocks(const Eigen::SparseMatrix<double, Eigen::RowMajor>& upper, int blocks);
 
 /// F's entries when its exchange areas are held as their upper triangle.
 long long fullNonZeros(const Eigen::SparseMatrix<double, Eigen::RowMajor>& upper);

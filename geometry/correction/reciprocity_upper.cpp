@@ -25,14 +25,8 @@ class PairsUpper {
         floor_(rayFloorVariances(area, rays)),
         g_(est.exchange_upper),
         error_(est.exchange_error_upper.data()),
-        n_(static_cast<int>(area.size())) {
-    const int* outer = g_.outerIndexPtr();
-    for (int b = 0; b <= kCouplingBlocks; ++b)
-      block_first_.push_back(
-          b == kCouplingBlocks
-              ? n_
-              : static_cast<int>(std::lower_bound(outer, outer + n_, std::int64_t(outer[n_]) * b / kCouplingBlocks) -
-                                 outer));
+        n_(static_cast<int>(area.size())),
+        block_first_(upperRowBlocks(g_, kCouplingBlocks)) {
     var_.resize(g_.nonZeros());  // first touched below, on all cores
     std::vector<Eigen::VectorXd> smallest(kCouplingBlocks);
     std::vector<PairSums::Count> entries(kCouplingBlocks);

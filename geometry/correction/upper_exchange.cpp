@@ -12,22 +12,6 @@ namespace {
 
 using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
-// Rows cut into `blocks` runs of about equal entries: the first row of each, then n. The
-// blocks are fixed by the pattern alone, so sums formed block by block and added in block
-// order are the same bits for any thread count.
-std::vector<int> rowBlocks(const RowSparse& upper, int blocks) {
-  const int n = static_cast<int>(upper.rows());
-  const int* outer = upper.outerIndexPtr();
-  std::vector<int> first{0};
-  const long long total = outer[n];
-  for (int b = 1; b < blocks; ++b) {
-    const long long share = total * b / blocks;
-    first.push_back(std::max(first.back(), static_cast<int>(std::lower_bound(outer, outer + n, share) - outer)));
-  }
-  first.push_back(n);
-  return first;
-}
-
 constexpr int kBlocks = 8;
 
 // Calls visit(i, j, u) for the upper entries of rows [first, last), u the entry's index.
@@ -74,9 +58,25 @@ void fillFromUpper(const RowSparse& upper, RowSparse& full, bool columns, const 
 
 }  // namespace
 
+std::vector<int> upperRowBlocks(const RowSparse& upper, int blocks) {
+  const int n = static_cast<int>(upper.rows());
+  const int* outer = upper.outerIndexPtr();
+  std::vector<int> first{0};
+  const long long total = outer[n];
+  for (int b = 1; b < blocks; ++b) {
+    const long long share = total * b / blocks;
+    first.push_back(std::max(first.back(), static_cast<int>(std::lower_bound(outer, outer + n, share) - outer)));
+  }
+  first.push_back(n);
+  return first;
+}
+
+// A row's diagonal entry, when it has one, is its first (columns ascending, all ≥ the row).
 long long fullNonZeros(const RowSparse& upper) {
+  const int* outer = upper.outerIndexPtr();
+  const int* inner = upper.innerIndexPtr();
   long long diagonal = 0;
-  forEachUpper(upper, 0, static_cast<int>(upper.rows()), [&](int i, int j, int) { diagonal += i == j; });
+  for (int i = 0; i < upper.rows(); ++i) diagonal += outer[i] < outer[i + 1] && inner[outer[i]] == i;
   return 2 * static_cast<long long>(upper.nonZeros()) - diagonal;
 }
 
@@ -131,7 +131,7 @@ Eigen::VectorXd upperRowSums(const RowSparse& upper, const Eigen::VectorXd& area
   checkUpper(upper, area);
   const int n = static_cast<int>(upper.rows());
   const double* g = upper.valuePtr();
-  const std::vector<int> blocks = rowBlocks(upper, kBlocks);
+  const std::vector<int> blocks = upperRowBlocks(upper, kBlocks);
   Eigen::VectorXd own = Eigen::VectorXd::Zero(n);
   std::vector<Eigen::VectorXd> column(kBlocks);
   solver::parallelFor(kBlocks, [&](long long b) {
@@ -165,7 +165,7 @@ Eigen::VectorXd upperRowLargestErrors(const ViewFactorEstimate& est) {
   checkUpper(upper, area);
   const int n = static_cast<int>(upper.rows());
   const float* e = est.exchange_error_upper.data();
-  const std::vector<int> blocks = rowBlocks(upper, kBlocks);
+  const std::vector<int> blocks = upperRowBlocks(upper, kBlocks);
   std::vector<Eigen::VectorXd> largest(kBlocks);
   solver::parallelFor(kBlocks, [&](long long b) {
     Eigen::VectorXd& mine = largest[static_cast<size_t>(b)] = Eigen::VectorXd::Zero(n);

@@ -156,10 +156,7 @@ ErrorAgainstTarget upperTerms(ViewFactorEstimate& out, const ErrorTarget& target
   const int* outer = g.outerIndexPtr();
   const int* inner = g.innerIndexPtr();
   constexpr int kBlocks = 8;
-  std::vector<int> first(kBlocks + 1, n);
-  for (int b = 0; b < kBlocks; ++b)
-    first[size_t(b)] =
-        static_cast<int>(std::lower_bound(outer, outer + n, std::int64_t(outer[n]) * b / kBlocks) - outer);
+  const std::vector<int> first = upperRowBlocks(g, kBlocks);
   Eigen::VectorXd sum = Eigen::VectorXd::Zero(n), sum_error = Eigen::VectorXd::Zero(n);
   std::vector<Eigen::VectorXd> column(kBlocks), column_error(kBlocks);
   std::vector<ErrorAgainstTarget> worst(kBlocks, ErrorAgainstTarget{0.0, target.absolute});
